@@ -1,0 +1,31 @@
+// UV error in texels (MODEL.md §7) and order statistics, in double.
+#pragma once
+
+#include <cmath>
+#include <vector>
+
+#include "core/math.h"
+#include "heightfield/texture.h"
+
+namespace pgt {
+
+// e = sqrt((d.u*W)^2 + (d.v*H)^2), d = a - b, each component wrapped into [-0.5, 0.5) with
+// `repeat` because the texture repeats every UV unit. NaN if either input is not finite.
+inline double uvErrorTexels(Vec2d a, Vec2d b, int width, int height, Address address) {
+    Vec2d d = a - b;
+    if (address == Address::Repeat) d -= glm::floor(d + 0.5);
+    double eu = d.x * width, ev = d.y * height;
+    return std::sqrt(eu * eu + ev * ev);
+}
+
+// Linear interpolation between order statistics at rank q*(n-1); reorders `values`.
+double percentile(std::vector<double>& values, double q);
+
+struct Summary {
+    int64_t count = 0;
+    double mean = NAN, rms = NAN, p50 = NAN, p90 = NAN, p99 = NAN, max = NAN;
+};
+// Summary of finite values (reorders `values`).
+Summary summarize(std::vector<double>& values);
+
+}  // namespace pgt

@@ -1,0 +1,282 @@
+// Height-field loading (OpenImageIO), procedural generators, and 003's derived maps.
+#include "heightfield/heightfield.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/json_fields.h"
+
+namespace pgt {
+
+std::string toString(Address a) { return a == Address::Repeat ? "repeat" : "clamp"; }
+
+namespace {
+
+// Largest accepted map side: 65536 texels; 8192^2 is the stress case of issue 5.
+constexpr int kMaxSide = 65536;
+constexpr double kMaxTexels = 1 << 28;
+
+void checkSize(const std::string& file, const std::string& field, int w, int h) {
+    if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide || double(w) * h > kMaxTexels)
+        throw InputError(file, field, std::to_string(w) + "x" + std::to_string(h),
+                         "image size out of range (1..65536 per side, at most 2^28 texels)");
+}
+
+}  // namespace
+
+Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
+                        const std::string& field, bool channelGiven) {
+    using namespace OIIO;
+    auto in = ImageInput::open(path);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        throw InputError(sceneFile, field + ".file", path,
+                         "cannot read image" + (why.empty() ? std::string() : ": " + why));
+    }
+    const ImageSpec& spec = in->spec();
+    int w = spec.width, h = spec.height, nc = spec.nchannels;
+    checkSize(sceneFile, field + ".file", w, h);
+    if (channel < 0 || channel >= nc)
+        throw InputError(sceneFile, field + ".channel", std::to_string(channel),
+                         "image " + path + " has " + std::to_string(nc) + " channel(s)");
+
+    // Normalise as MODEL.md §1 says: 8-bit / 255, 16-bit / 65535, float as is. Reading the
+    // native integer type and dividing here keeps the exact quotient (no table lookup).
+    std::vector<double> values(size_t(w) * h * nc);
+    bool ok = false;
+    if (spec.format == TypeDesc::UINT8) {
+        std::vector<uint8_t> raw(values.size());
+        ok = in->read_image(0, 0, 0, nc, TypeDesc::UINT8, raw.data());
+        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 255.0;
+    } else if (spec.format == TypeDesc::UINT16) {
+        std::vector<uint16_t> raw(values.size());
+        ok = in->read_image(0, 0, 0, nc, TypeDesc::UINT16, raw.data());
+        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 65535.0;
+    } else {
+        std::vector<float> raw(values.size());
+        ok = in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, raw.data());
+        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k];
+    }
+    if (!ok)
+        throw InputError(sceneFile, field + ".file", path, "cannot decode image: " + in->geterror());
+
+    // A colour image without an explicit channel is accepted only when its colour channels
+    // agree (a grey image saved as RGB); otherwise the choice is ambiguous.
+    if (!channelGiven && nc > 1) {
+        int colour = std::min(nc, 3);
+        if (nc == 2) colour = 1;  // grey + alpha
+        for (size_t p = 0; p < size_t(w) * h && colour > 1; ++p)
+            for (int c = 1; c < colour; ++c)
+                if (values[p * nc + c] != values[p * nc]) {
+                    throw InputError(sceneFile, field + ".channel", "(missing)",
+                                     "image " + path + " has " + std::to_string(nc) +
+                                         " channels that differ; choose one with \"channel\"");
+                }
+    }
+
+    Texture t;
+    t.width = w;
+    t.height = h;
+    t.channels = 1;
+    t.texels.resize(size_t(w) * h);
+    for (int row = 0; row < h; ++row) {
+        int j = h - 1 - row;  // file rows run top-down; v = 0 is the bottom row
+        for (int i = 0; i < w; ++i) {
+            double value = values[(size_t(row) * w + i) * nc + channel];
+            if (!std::isfinite(value)) {
+                std::ostringstream os;
+                os << path << " texel (column " << i << ", row " << row << " from the top)";
+                throw InputError(sceneFile, field + ".file", os.str(),
+                                 "non-finite height value " + std::to_string(value));
+            }
+            t.texel(i, j) = float(value);
+        }
+    }
+    return t;
+}
+
+namespace {
+
+// Tileable value noise: lattice values on a period-`cells` grid, smooth (quintic) blend.
+double valueNoise(const std::vector<double>& lattice, int cells, double x, double y) {
+    int xi = int(std::floor(x)), yi = int(std::floor(y));
+    double fx = x - xi, fy = y - yi;
+    auto at = [&](int i, int j) {
+        i = ((i % cells) + cells) % cells;
+        j = ((j % cells) + cells) % cells;
+        return lattice[size_t(j) * cells + i];
+    };
+    auto fade = [](double t) { return t * t * t * (t * (t * 6 - 15) + 10); };
+    double sx = fade(fx), sy = fade(fy);
+    double a = at(xi, yi) + (at(xi + 1, yi) - at(xi, yi)) * sx;
+    double b = at(xi, yi + 1) + (at(xi + 1, yi + 1) - at(xi, yi + 1)) * sx;
+    return a + (b - a) * sy;
+}
+
+double smoothstep01(double t) {
+    t = std::clamp(t, 0.0, 1.0);
+    return t * t * (3 - 2 * t);
+}
+
+}  // namespace
+
+Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
+                             const std::string& field) {
+    JsonFields f(params, sceneFile, field);
+    const std::vector<std::string> kinds = {"constant", "ramp",  "sine",   "bricks",
+                                            "steps",    "checker", "noise", "spike"};
+    std::string kind = f.choice("procedural", kinds, "");
+    std::vector<int> size = f.has("size") ? f.integers("size", 2, 1, kMaxSide)
+                                          : std::vector<int>{256, 256};
+    checkSize(sceneFile, field + ".size", size[0], size[1]);
+    int w = size[0], h = size[1];
+    unsigned seed = unsigned(f.integer("seed", 1, 0, 2147483647));
+    f.has("channel");  // allowed and meaningless for procedural maps
+
+    // Each generator is a function of the texel centre (u, v) in [0,1)^2.
+    std::function<double(double, double)> fn;
+    if (kind == "constant") {
+        double value = f.number("value", 0.5, -1e6, 1e6);
+        fn = [=](double, double) { return value; };
+    } else if (kind == "ramp") {
+        // h = offset + slope_u * u + slope_v * v at texel centres (exact under bilinear).
+        std::vector<double> slope =
+            f.has("slope") ? f.numbers("slope", 2, -1e6, 1e6) : std::vector<double>{1.0, 0.0};
+        double offset = f.number("offset", 0.0, -1e6, 1e6);
+        fn = [=](double u, double v) { return offset + slope[0] * u + slope[1] * v; };
+    } else if (kind == "sine") {
+        // h = 0.5 + amplitude * prod over axes with frequency > 0 of sin(2 pi f x).
+        std::vector<double> freq =
+            f.has("frequency") ? f.numbers("frequency", 2, 0, 1e4) : std::vector<double>{4, 4};
+        double amplitude = f.number("amplitude", 0.5, -1e6, 1e6);
+        fn = [=](double u, double v) {
+            double p = 1.0;
+            if (freq[0] > 0) p *= std::sin(2 * kPi * freq[0] * u);
+            if (freq[1] > 0) p *= std::sin(2 * kPi * freq[1] * v);
+            return 0.5 + amplitude * p;
+        };
+    } else if (kind == "bricks") {
+        // Running bond: `bricks` = [columns, rows] per repeat, odd rows shifted by half a
+        // brick; mortar width and bevel as fractions of a brick's height; h = 1 on bricks.
+        std::vector<int> count =
+            f.has("bricks") ? f.integers("bricks", 2, 1, 4096) : std::vector<int>{4, 8};
+        double mortar = f.number("mortar", 0.1, 0.0, 0.9);
+        double bevel = f.number("bevel", 0.15, 0.0, 1.0);
+        double mortarHeight = f.number("mortar_height", 0.0, -1e6, 1e6);
+        double jitter = f.number("jitter", 0.0, 0.0, 1.0);
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> uni(0.0, 1.0);
+        std::vector<double> brickHeight(static_cast<size_t>(count[0]) * count[1]);
+        for (auto& b : brickHeight) b = 1.0 - jitter * uni(rng);
+        fn = [=](double u, double v) {
+            double rowF = v * count[1];
+            int row = std::min(int(rowF), count[1] - 1);
+            double colF = u * count[0] + (row % 2 ? 0.5 : 0.0);
+            int col = int(std::floor(colF)) % count[0];
+            // Distances to the brick's edges in units of brick height.
+            double aspect = double(count[1]) / count[0];  // brick width / height in UV
+            double dy = std::min(rowF - row, row + 1 - rowF);
+            double dx = std::min(colF - std::floor(colF), std::ceil(colF) - colF) / aspect;
+            double inside = std::min(dx, dy) - mortar / 2;
+            if (inside <= 0) return mortarHeight;
+            double top = brickHeight[size_t(row) * count[0] + col];
+            double t = bevel > 0 ? smoothstep01(inside / bevel) : 1.0;
+            return mortarHeight + (top - mortarHeight) * t;
+        };
+    } else if (kind == "steps") {
+        // A staircase along u: `levels` flat treads from 0 to 1 with jumps between them.
+        int levels = f.integer("levels", 4, 2, 65536);
+        fn = [=](double u, double) {
+            return std::floor(u * levels) / (levels - 1);
+        };
+    } else if (kind == "checker") {
+        std::vector<int> cells =
+            f.has("cells") ? f.integers("cells", 2, 1, kMaxSide) : std::vector<int>{8, 8};
+        fn = [=](double u, double v) {
+            return double((int(u * cells[0]) + int(v * cells[1])) % 2);
+        };
+    } else if (kind == "spike") {
+        // One texel at `texel` = [column, row from the bottom] has `value`, all others 0.
+        std::vector<int> at = f.has("texel") ? f.integers("texel", 2, 0, kMaxSide - 1)
+                                             : std::vector<int>{w / 2, h / 2};
+        double value = f.number("value", 1.0, -1e6, 1e6);
+        if (at[0] >= w || at[1] >= h) f.fail("texel", "outside the map");
+        fn = [=](double u, double v) {
+            return int(u * w) == at[0] && int(v * h) == at[1] ? value : 0.0;
+        };
+    } else {  // noise
+        int cells = f.integer("frequency", 4, 1, 4096);
+        int octaves = f.integer("octaves", 4, 1, 12);
+        double gain = f.number("gain", 0.5, 0.0, 1.0);
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> uni(0.0, 1.0);
+        std::vector<std::vector<double>> lattices;
+        for (int o = 0; o < octaves; ++o) {
+            int c = cells << o;
+            std::vector<double> lat(size_t(c) * c);
+            for (auto& x : lat) x = uni(rng);
+            lattices.push_back(std::move(lat));
+        }
+        double norm = 0, amp = 1;
+        for (int o = 0; o < octaves; ++o) norm += amp, amp *= gain;
+        fn = [=](double u, double v) {
+            double sum = 0, a = 1;
+            for (int o = 0; o < octaves; ++o) {
+                int c = cells << o;
+                sum += a * valueNoise(lattices[o], c, u * c, v * c);
+                a *= gain;
+            }
+            return sum / norm;
+        };
+    }
+    f.finish();
+
+    Texture t;
+    t.width = w;
+    t.height = h;
+    t.texels.resize(size_t(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) t.texel(i, j) = float(fn((i + 0.5) / w, (j + 0.5) / h));
+    return t;
+}
+
+DerivedMaps makeDerivedMaps(const Texture& height, double scaleUv, double biasUv) {
+    const int w = height.width, h = height.height;
+    DerivedMaps maps;
+    maps.normal.width = maps.parallax.width = w;
+    maps.normal.height = maps.parallax.height = h;
+    maps.normal.channels = 3;
+    maps.normal.address = maps.parallax.address = height.address;
+    maps.normal.texels.resize(size_t(w) * h * 3);
+    maps.parallax.texels.resize(size_t(w) * h);
+    // Neighbour index: wrapped for repeat, clamped for clamp (003 after Eq. 7.41).
+    auto nb = [&](int k, int n) {
+        if (height.address == Address::Repeat) return (k + n) % n;
+        return std::clamp(k, 0, n - 1);
+    };
+    for (int j = 0; j < h; ++j) {
+        for (int i = 0; i < w; ++i) {
+            // 003 Eq. 7.41 with s in texel units = s_uv * W (resp. H).
+            double dx = scaleUv * w / 2 *
+                        (double(height.texel(nb(i + 1, w), j)) - height.texel(nb(i - 1, w), j));
+            double dy = scaleUv * h / 2 *
+                        (double(height.texel(i, nb(j + 1, h))) - height.texel(i, nb(j - 1, h)));
+            // 003 Eq. 7.43.
+            double len = std::sqrt(dx * dx + dy * dy + 1.0);
+            double mz = 1.0 / len;
+            maps.normal.texel(i, j, 0) = float(-dx / len);
+            maps.normal.texel(i, j, 1) = float(-dy / len);
+            maps.normal.texel(i, j, 2) = float(mz);
+            maps.parallax.texel(i, j) = float(mz * (scaleUv * height.texel(i, j) + biasUv));
+        }
+    }
+    return maps;
+}
+
+}  // namespace pgt

@@ -1,0 +1,86 @@
+// Textures and the one bilinear sampler (MODEL.md §1) used by the truth and by every method.
+// Texel (i, j) is column i, row j counted from the BOTTOM; its centre is at
+// ((i + 0.5) / W, (j + 0.5) / H). Sampling is templated on the scalar so that methods run in
+// float (as a GPU does) and the truth in double, with the same arithmetic.
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+
+namespace pgt {
+
+enum class Address { Repeat, Clamp };
+
+std::string toString(Address a);
+
+struct Texture {
+    int width = 0;
+    int height = 0;
+    int channels = 1;
+    Address address = Address::Repeat;
+    std::vector<float> texels;  // (j * width + i) * channels + c, j from the bottom
+
+    float texel(int i, int j, int c = 0) const {
+        return texels[(size_t(j) * width + i) * channels + c];
+    }
+    float& texel(int i, int j, int c = 0) { return texels[(size_t(j) * width + i) * channels + c]; }
+};
+
+namespace detail {
+
+// Integer texel index of a continuous texel coordinate x (texel units, centres at k + 0.5
+// already subtracted). Returns the two neighbours and the fraction. Non-finite or huge
+// coordinates are reduced first so that the integer conversion is always defined.
+template <class Real>
+inline void texelPair(Real x, int n, Address address, int& i0, int& i1, Real& f) {
+    Real fl = std::floor(x);
+    f = x - fl;
+    // Beyond 2^30 texels the float position has no fractional precision left; reduce so
+    // that the int conversion below is defined (callers count non-finite inputs separately).
+    if (!(std::fabs(fl) < Real(1 << 30))) {
+        fl = std::isfinite(fl) ? std::fmod(fl, Real(n)) : Real(0);
+        if (!std::isfinite(f)) f = Real(0);
+    }
+    long k = long(fl);
+    if (address == Address::Repeat) {
+        long m = k % n;
+        if (m < 0) m += n;
+        i0 = int(m);
+        i1 = (i0 + 1 == n) ? 0 : i0 + 1;
+    } else {
+        i0 = int(k < 0 ? 0 : (k >= n ? n - 1 : k));
+        long k1 = k + 1;
+        i1 = int(k1 < 0 ? 0 : (k1 >= n ? n - 1 : k1));
+    }
+}
+
+}  // namespace detail
+
+// Bilinear interpolation of texel centres (MODEL.md §1) of channel c; NaN in, NaN out.
+template <class Real>
+inline Real sampleBilinear(const Texture& t, Vec2<Real> uv, int c = 0) {
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return Real(NAN);
+    Real x = uv.x * Real(t.width) - Real(0.5);
+    Real y = uv.y * Real(t.height) - Real(0.5);
+    int i0, i1, j0, j1;
+    Real fx, fy;
+    detail::texelPair(x, t.width, t.address, i0, i1, fx);
+    detail::texelPair(y, t.height, t.address, j0, j1, fy);
+    Real a = Real(t.texel(i0, j0, c)), b = Real(t.texel(i1, j0, c));
+    Real d = Real(t.texel(i0, j1, c)), e = Real(t.texel(i1, j1, c));
+    Real bottom = a + (b - a) * fx;
+    Real top = d + (e - d) * fx;
+    return bottom + (top - bottom) * fy;
+}
+
+// All channels at once (normal maps): same weights as sampleBilinear.
+template <class Real>
+inline Vec3<Real> sampleBilinear3(const Texture& t, Vec2<Real> uv) {
+    return {sampleBilinear<Real>(t, uv, 0), sampleBilinear<Real>(t, uv, 1),
+            sampleBilinear<Real>(t, uv, 2)};
+}
+
+}  // namespace pgt

@@ -1,0 +1,37 @@
+// Lengyel, FGED vol. 2 (003): iterative parallax (Listing 7.9, Eq. 7.51-7.52) and the
+// tangent-plane offset (Eq. 7.50), on the normal and parallax maps of Eq. 7.41-7.43
+// (heightfield/heightfield.h makeDerivedMaps).
+#pragma once
+
+#include <cmath>
+
+#include "methods/method.h"
+
+namespace pgt {
+
+// 003 Listing 7.9 with k = iterations: pdir = V.xy * scale; k times texcoord += pdir * P.
+// Our P already holds s (UV units) and the bias, so scale = 1/k (Eq. 7.52 without s, r, 2).
+template <class Real>
+Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                           const MethodConfig& cfg) {
+    Vec2<Real> pdir = Vec2<Real>(v.x, v.y) / Real(cfg.iterations);
+    Vec2<Real> uv = uv0;
+    for (int i = 0; i < cfg.iterations; ++i) {
+        Real parallax = c.parallaxMap(uv);
+        uv += pdir * parallax;
+    }
+    return uv;
+}
+
+// 003 Eq. 7.50: offset = V.xy * (n_z h) / dot(n, V) with n the normalised bilinear normal.
+template <class Real>
+Vec2<Real> methodTangentPlane(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                              const MethodConfig&) {
+    Vec3<Real> n = glm::normalize(c.normalMap(uv0));
+    Real parallax = c.parallaxMap(uv0);
+    Real ndotv = glm::dot(n, v);
+    if (!(ndotv > Real(0))) c.flags |= kFlagZeroDivide;  // plane faces away or is edge-on
+    return uv0 + Vec2<Real>(v.x, v.y) * parallax / ndotv;
+}
+
+}  // namespace pgt

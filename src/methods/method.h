@@ -1,0 +1,75 @@
+// The common signature of every parallax method (MODEL.md §6b) and the configuration a scene
+// gives it. Methods are pure functions templated on the scalar: float by default (as a GPU
+// computes), double with `precision: double`. They read textures only through
+// MethodContext, which counts fetches (MODEL.md §8) and never throw: stiff cases are flagged.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/math.h"
+#include "heightfield/texture.h"
+
+namespace pgt {
+
+enum class MethodKind { None, Parallax, OffsetLimited, Steep, Pom, Relief, Iterative, TangentPlane };
+
+struct MethodConfig {
+    MethodKind kind = MethodKind::None;
+    std::string name;   // "pom"
+    std::string label;  // unique within a scene: "pom" or "pom_32"
+    int minLayers = 8, maxLayers = 32;  // steep, pom (LearnOpenGL's defaults)
+    int maxSteps = 0;                   // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
+    int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
+    int iterations = 4;                     // iterative (003 Listing 7.9)
+    bool discardOutside = false;  // LearnOpenGL: discard when uv' leaves [0, tiling]^2
+    bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
+};
+
+// Stiff-case flags a method raises (counted per frame, never thrown).
+enum MethodFlag : uint32_t {
+    kFlagZeroDivide = 1u << 0,  // pom's w = 0/0, tangent_plane's dot(n, V) <= 0
+    kFlagStepLimit = 1u << 1,   // the march hit max_steps (or the safety cap) before the surface
+};
+
+// A march longer than this is a runaway (non-finite or absurd depth values): stop and flag.
+inline constexpr int kSafetyStepCap = 1 << 16;
+
+// Texture access for the methods: every sample is one fetch (MODEL.md §8).
+template <class Real>
+struct MethodContext {
+    const Texture* height = nullptr;    // h
+    const Texture* normal = nullptr;    // m (iterative, tangent_plane)
+    const Texture* parallax = nullptr;  // m_z * (s*h + b)
+    Real scale = 0, bias = 0;           // s, b in UV units (MODEL.md §3)
+    int fetches = 0;
+    uint32_t flags = 0;
+
+    Real h(Vec2<Real> uv) {
+        ++fetches;
+        return sampleBilinear<Real>(*height, uv);
+    }
+    Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (002)
+    Real parallaxMap(Vec2<Real> uv) {
+        ++fetches;
+        return sampleBilinear<Real>(*parallax, uv);
+    }
+    Vec3<Real> normalMap(Vec2<Real> uv) {
+        ++fetches;
+        return sampleBilinear3<Real>(*normal, uv);
+    }
+};
+
+// GLSL's mix(x, y, a) = x * (1 - a) + y * a.
+template <class Real>
+inline Real glslMix(Real x, Real y, Real a) {
+    return x * (Real(1) - a) + y * a;
+}
+
+std::string toString(MethodKind kind);
+const std::vector<std::string>& methodNames();
+// Which method kinds need the derived normal/parallax maps (003).
+bool needsDerivedMaps(MethodKind kind);
+
+}  // namespace pgt

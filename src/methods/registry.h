@@ -1,0 +1,30 @@
+// Method names, parsing of the scene's "methods" list, and dispatch to the method functions.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "methods/method.h"
+
+namespace pgt {
+
+// Parses a "methods" array: each entry a name or an object {"name": ..., parameters}.
+// Labels are unique: a method listed twice gets its parameters in the label ("pom_32").
+std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::string& file,
+                                       const std::string& path);
+MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
+                         const std::string& path);
+nlohmann::json toJson(const MethodConfig& cfg);
+
+// Runs one method on one fragment. Never throws; stiff cases land in ctx.flags.
+template <class Real>
+Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Real> uv0,
+                     Vec3<Real> viewTangent);
+
+extern template Vec2<float> runMethod<float>(const MethodConfig&, MethodContext<float>&,
+                                             Vec2<float>, Vec3<float>);
+extern template Vec2<double> runMethod<double>(const MethodConfig&, MethodContext<double>&,
+                                               Vec2<double>, Vec3<double>);
+
+}  // namespace pgt

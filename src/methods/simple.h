@@ -1,0 +1,32 @@
+// The single-fetch methods: none, parallax (000 §4.1) and offset limiting (000 §4.3).
+#pragma once
+
+#include "methods/method.h"
+
+namespace pgt {
+
+// Normal-mapping baseline: uv' = uv0.
+template <class Real>
+Vec2<Real> methodNone(MethodContext<Real>&, Vec2<Real> uv0, Vec3<Real>, const MethodConfig&) {
+    return uv0;
+}
+
+// 000 §4.1, ARB fragment program: MAD h*s+b; RCP V.z; MUL; MAD offset*V.xy + T0.
+template <class Real>
+Vec2<Real> methodParallax(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                          const MethodConfig&) {
+    Real height = c.h(uv0) * c.scale + c.bias;
+    Real rcpZ = Real(1) / v.z;
+    height = height * rcpZ;
+    return height * Vec2<Real>(v.x, v.y) + uv0;
+}
+
+// 000 §4.3: Tn = To + hsb * V.xy (no division by V.z).
+template <class Real>
+Vec2<Real> methodOffsetLimited(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                               const MethodConfig&) {
+    Real height = c.h(uv0) * c.scale + c.bias;
+    return height * Vec2<Real>(v.x, v.y) + uv0;
+}
+
+}  // namespace pgt

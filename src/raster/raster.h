@@ -1,0 +1,50 @@
+// CPU rasteriser of the base mesh (MODEL.md §6): what the GPU's parallax-mapped draw sees.
+// Pixel centres, the top-left fill rule, a depth test, near-plane clipping, and
+// perspective-correct interpolation of UV, position and the tangent frame. Per covered
+// pixel it gives uv0 and the tangent-space view vector V.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/image.h"
+#include "core/math.h"
+#include "scene/camera.h"
+
+namespace pgt {
+
+struct BaseVertex {
+    Vec3d position;
+    Vec2d uv;
+    Vec3d tangent, bitangent, normal;  // per-vertex frame (T along dS/du, B along dS/dv)
+};
+
+struct BaseMesh {
+    std::vector<BaseVertex> vertices;
+    std::vector<uint32_t> indices;  // triangles, counter-clockwise seen from the front (+N)
+};
+
+// The plane of MODEL.md §2 as two triangles.
+BaseMesh makePlaneMesh(Vec3d center, double size, double tiling);
+
+struct Fragment {
+    bool covered = false;
+    Vec2d uv0{0};
+    Vec3d position{0};
+    Vec3d viewTangent{0};  // unit V in tangent space (V.T, V.B, V.N); methods round to float
+};
+
+struct RasterOptions {
+    bool cullBackFaces = true;
+};
+
+struct RasterStats {
+    int64_t covered = 0;
+    int64_t trianglesDrawn = 0;
+    int64_t trianglesCulled = 0;
+};
+
+Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
+                            const RasterOptions& options, RasterStats* stats = nullptr);
+
+}  // namespace pgt

@@ -1,0 +1,68 @@
+// Camera bases and pixel rays (MODEL.md §4).
+#include "scene/camera.h"
+
+#include <cmath>
+
+namespace pgt {
+
+Vec3d viewFromAngles(double thetaDegrees, double phiDegrees) {
+    double t = radians(thetaDegrees), p = radians(phiDegrees);
+    return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+Camera Camera::pinhole(Vec3d eye, Vec3d target, Vec3d up, double fovDegrees, int width,
+                       int height) {
+    Camera c;
+    c.ortho_ = false;
+    c.width_ = width;
+    c.height_ = height;
+    c.eye_ = eye;
+    c.target_ = target;
+    c.forward_ = glm::normalize(target - eye);
+    c.right_ = glm::normalize(glm::cross(c.forward_, up));
+    c.up_ = glm::cross(c.right_, c.forward_);
+    c.fovDegrees_ = fovDegrees;
+    c.halfHeight_ = std::tan(radians(fovDegrees) / 2);
+    c.halfWidth_ = c.halfHeight_ * width / height;
+    return c;
+}
+
+Camera Camera::orthographic(Vec3d dir, Vec3d target, Vec3d up, double viewHeight, int width,
+                            int height) {
+    Camera c;
+    c.ortho_ = true;
+    c.width_ = width;
+    c.height_ = height;
+    c.target_ = target;
+    c.forward_ = glm::normalize(dir);
+    c.right_ = glm::normalize(glm::cross(c.forward_, up));
+    c.up_ = glm::cross(c.right_, c.forward_);
+    c.halfHeight_ = viewHeight / 2;
+    c.halfWidth_ = c.halfHeight_ * width / height;
+    return c;
+}
+
+Ray Camera::ray(double sx, double sy) const {
+    double x = (2 * sx / width_ - 1) * halfWidth_;
+    double y = (1 - 2 * sy / height_) * halfHeight_;
+    if (ortho_) return {target_ + right_ * x + up_ * y, forward_, true};
+    return {eye_, glm::normalize(forward_ + right_ * x + up_ * y), false};
+}
+
+Vec3d Camera::toCamera(Vec3d world) const {
+    Vec3d d = world - (ortho_ ? target_ : eye_);
+    return {glm::dot(d, right_), glm::dot(d, up_), glm::dot(d, forward_)};
+}
+
+Vec2d Camera::toScreen(Vec3d cam) const {
+    double x = cam.x, y = cam.y;
+    if (!ortho_) x /= cam.z, y /= cam.z;
+    return {(x / halfWidth_ + 1) * width_ / 2, (1 - y / halfHeight_) * height_ / 2};
+}
+
+Vec3d Camera::viewVector(Vec3d world) const {
+    if (ortho_) return -forward_;
+    return glm::normalize(eye_ - world);
+}
+
+}  // namespace pgt

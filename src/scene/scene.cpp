@@ -1,0 +1,205 @@
+// Scene file parsing and validation; the camera a scene describes.
+#include "scene/scene.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/json_fields.h"
+#include "heightfield/heightfield.h"
+#include "methods/registry.h"
+
+namespace pgt {
+
+namespace fs = std::filesystem;
+
+Scene loadScene(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw InputError(path, "", "", "cannot open scene file");
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    std::string text = buffer.str();
+    Json json;
+    try {
+        json = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+        // Translate the byte offset into line and column for people.
+        size_t offset = std::min<size_t>(e.byte, text.size());
+        int line = 1, column = 1;
+        for (size_t i = 0; i + 1 < offset; ++i) {
+            if (text[i] == '\n') ++line, column = 1;
+            else ++column;
+        }
+        std::string what = e.what();
+        auto pos = what.find("parse error");
+        throw InputError(path, "line " + std::to_string(line) + ", column " +
+                                   std::to_string(column), "",
+                         "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+    }
+    return parseScene(json, path);
+}
+
+namespace {
+
+Vec3d vec3(JsonFields& f, const std::string& key, double lo = -1e9, double hi = 1e9) {
+    auto v = f.numbers(key, 3, lo, hi);
+    return {v[0], v[1], v[2]};
+}
+
+void parseHeightmap(Scene& s, JsonFields& root) {
+    const Json& hm = root.raw("heightmap");
+    JsonFields f(hm, s.file, "heightmap");
+    if (f.has("file") == f.has("procedural"))
+        throw InputError(s.file, "heightmap", shortDump(hm),
+                         "give exactly one of \"file\" or \"procedural\"");
+    if (f.has("file")) {
+        std::string rel = f.string("file");
+        bool channelGiven = f.has("channel");
+        int channel = f.integer("channel", 0, 0, 1023);
+        f.finish();
+        fs::path p = fs::path(rel).is_absolute() ? fs::path(rel)
+                                                 : fs::path(s.file).parent_path() / rel;
+        s.height = loadHeightImage(p.string(), channel, s.file, "heightmap", channelGiven);
+        s.heightSource = rel;
+    } else {
+        s.height = makeProceduralHeight(hm, s.file, "heightmap");
+        s.heightSource = "procedural:" + hm.at("procedural").get<std::string>();
+    }
+}
+
+}  // namespace
+
+Scene parseScene(const Json& json, const std::string& file) {
+    Scene s;
+    s.file = file;
+    s.json = json;
+    JsonFields root(json, file, "");
+    root.string("description", "");
+
+    parseHeightmap(s, root);
+    s.height.address =
+        root.choice("address", {"repeat", "clamp"}, "repeat") == "clamp" ? Address::Clamp
+                                                                         : Address::Repeat;
+
+    {
+        JsonFields f(root.raw("base"), file, "base");
+        f.choice("type", {"plane"}, "plane");
+        s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
+        s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
+        if (f.has("center")) s.plane.center = vec3(f, "center");
+        s.plane.cullBackFaces = f.boolean("cull_back_faces", true);
+        f.finish();
+    }
+    if (root.has("displacement")) {
+        JsonFields f(root.raw("displacement"), file, "displacement");
+        s.displacement.scale = f.number("scale", 0.05, -1e3, 1e3);
+        s.displacement.bias = f.number("bias", -s.displacement.scale / 2, -1e3, 1e3);
+        f.finish();
+    }
+    {
+        JsonFields f(root.raw("camera"), file, "camera");
+        CameraSpec& c = s.camera;
+        c.type = f.choice("type", {"orthographic", "pinhole"}, "orthographic");
+        auto res = f.integers("resolution", 2, 1, 16384);
+        c.width = res[0];
+        c.height = res[1];
+        if (double(c.width) * c.height > double(1 << 26))
+            f.fail("resolution", "more than 2^26 pixels");
+        if (c.type == "orthographic") {
+            c.theta = f.number("theta", 0.0, 90.0);
+            c.phi = f.number("phi", 0.0, -360.0, 360.0);
+            c.frameWholePlane = !f.has("view_height");
+            c.viewHeight = f.number("view_height", 0.0, 1e-9, 1e9);
+            c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
+        } else {
+            c.eye = vec3(f, "eye");
+            c.target = vec3(f, "target");
+            c.up = f.has("up") ? vec3(f, "up") : Vec3d(0, 0, 1);
+            c.fov = f.number("fov", 45.0, 1e-3, 179.0);
+            Vec3d fwd = c.target - c.eye;
+            if (glm::length(fwd) < 1e-12) f.fail("target", "equals eye");
+            if (glm::length(glm::cross(glm::normalize(fwd), c.up)) < 1e-9)
+                f.fail("up", "is parallel to the viewing direction");
+        }
+        f.finish();
+    }
+    s.methods = parseMethods(root.raw("methods"), file, "methods");
+    if (root.has("truth")) {
+        JsonFields f(root.raw("truth"), file, "truth");
+        s.truth.rate = f.integer("rate", 4, 1, 64);
+        s.truth.geometry = f.choice("geometry", {"grid", "triangles"}, "grid") == "triangles"
+                               ? TruthGeometry::Triangles
+                               : TruthGeometry::Grid;
+        s.truth.uncertainty = f.boolean("uncertainty", true);
+        f.finish();
+    }
+    root.finish();
+    return s;
+}
+
+Camera makeCamera(const Scene& s) {
+    const CameraSpec& c = s.camera;
+    if (c.type == "pinhole")
+        return Camera::pinhole(c.eye, c.target, c.up, c.fov, c.width, c.height);
+    // MODEL.md §4: the camera looks along -V; image up is world +z made perpendicular to the
+    // view direction, (-cos t cos p, -cos t sin p, sin t), which stays defined at theta = 0.
+    Vec3d v = viewFromAngles(c.theta, c.phi);
+    double t = radians(c.theta), p = radians(c.phi);
+    Vec3d up(-std::cos(t) * std::cos(p), -std::cos(t) * std::sin(p), std::sin(t));
+    if (!c.frameWholePlane)
+        return Camera::orthographic(-v, c.target, up, c.viewHeight, c.width, c.height);
+    // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.
+    Camera probe = Camera::orthographic(-v, s.plane.center, up, 1.0, c.width, c.height);
+    double l = s.plane.worldPerUv(), sc = s.displacement.scale, b = s.displacement.bias;
+    double zLo = std::min(l * b, l * (sc + b)), zHi = std::max(l * b, l * (sc + b));
+    Vec2d lo(1e300), hi(-1e300);
+    for (int k = 0; k < 8; ++k) {
+        Vec3d corner = s.plane.center + Vec3d((k & 1 ? 0.5 : -0.5) * s.plane.size,
+                                              (k & 2 ? 0.5 : -0.5) * s.plane.size,
+                                              k & 4 ? zHi : zLo);
+        Vec3d q = probe.toCamera(corner);
+        lo = glm::min(lo, Vec2d(q.x, q.y));
+        hi = glm::max(hi, Vec2d(q.x, q.y));
+    }
+    Vec2d mid = (lo + hi) * 0.5;
+    Vec3d target = s.plane.center + probe.right() * mid.x + probe.up() * mid.y;
+    double aspect = double(c.width) / c.height;
+    double height = std::max(hi.y - lo.y, (hi.x - lo.x) / aspect) * 1.02;
+    return Camera::orthographic(-v, target, up, height, c.width, c.height);
+}
+
+Json resolvedSceneJson(const Scene& s) {
+    Json methods = Json::array();
+    for (const auto& m : s.methods) methods.push_back(toJson(m));
+    Json camera;
+    if (s.camera.type == "pinhole") {
+        camera = {{"type", "pinhole"},
+                  {"eye", {s.camera.eye.x, s.camera.eye.y, s.camera.eye.z}},
+                  {"target", {s.camera.target.x, s.camera.target.y, s.camera.target.z}},
+                  {"up", {s.camera.up.x, s.camera.up.y, s.camera.up.z}},
+                  {"fov", s.camera.fov}};
+    } else {
+        camera = {{"type", "orthographic"}, {"theta", s.camera.theta}, {"phi", s.camera.phi}};
+    }
+    camera["resolution"] = {s.camera.width, s.camera.height};
+    return {
+        {"heightmap", {{"source", s.heightSource}, {"size", {s.height.width, s.height.height}}}},
+        {"address", toString(s.height.address)},
+        {"base",
+         {{"type", "plane"},
+          {"size", s.plane.size},
+          {"tiling", s.plane.tiling},
+          {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
+          {"cull_back_faces", s.plane.cullBackFaces}}},
+        {"displacement", {{"scale", s.displacement.scale}, {"bias", s.displacement.bias}}},
+        {"camera", camera},
+        {"methods", methods},
+        {"truth",
+         {{"rate", s.truth.rate},
+          {"geometry", s.truth.geometry == TruthGeometry::Grid ? "grid" : "triangles"},
+          {"uncertainty", s.truth.uncertainty}}},
+    };
+}
+
+}  // namespace pgt

@@ -1,0 +1,71 @@
+// A validated scene (the JSON scene file of README "Scene file"): height field, base plane,
+// displacement (MODEL.md §3), camera (§4), methods (§6b) and truth settings (§5).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "heightfield/texture.h"
+#include "methods/method.h"
+#include "scene/camera.h"
+
+namespace pgt {
+
+struct PlaneBase {
+    double size = 1.0;        // side L in world units
+    double tiling = 1.0;      // UV range [0, tiling]^2
+    Vec3d center{0, 0, 0};    // plane centre; the plane lies in z = center.z
+    bool cullBackFaces = true;
+    double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
+};
+
+struct Displacement {
+    double scale = 0.05;   // s, UV units
+    double bias = -0.025;  // b, UV units
+};
+
+struct CameraSpec {
+    std::string type = "orthographic";
+    double theta = 60, phi = 0;  // orthographic view angle and azimuth, degrees
+    bool frameWholePlane = true; // orthographic: fit the plane (with its relief) in the view
+    Vec3d target{0};
+    double viewHeight = 0;       // orthographic, when not framing automatically
+    Vec3d eye{0, -2, 1.5}, up{0, 0, 1};
+    double fov = 45;
+    int width = 512, height = 512;
+};
+
+enum class TruthGeometry { Grid, Triangles };
+
+struct TruthSpec {
+    int rate = 4;                      // tessellation samples per texel per axis
+    TruthGeometry geometry = TruthGeometry::Grid;
+    bool uncertainty = true;           // also trace at 2 x rate and report the difference
+};
+
+struct Scene {
+    std::string file;     // the scene file's path (for messages and relative paths)
+    nlohmann::json json;  // as written by the user
+    Texture height;       // address mode set from the scene
+    std::string heightSource;  // file path or procedural name, for the summary
+    PlaneBase plane;
+    Displacement displacement;
+    CameraSpec camera;
+    std::vector<MethodConfig> methods;
+    TruthSpec truth;
+};
+
+// Reads and validates a scene file; throws InputError (file, field, value) on bad input,
+// with line and column for malformed JSON.
+Scene loadScene(const std::string& path);
+// Validates a scene given as JSON; `file` is used for messages and relative paths.
+Scene parseScene(const nlohmann::json& json, const std::string& file);
+
+// The camera a scene describes, with an orthographic camera framing the whole plane and
+// its relief slab (z in l*[b, s+b]) unless a view height is given.
+Camera makeCamera(const Scene& scene);
+
+nlohmann::json resolvedSceneJson(const Scene& scene);
+
+}  // namespace pgt

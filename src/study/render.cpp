@@ -1,0 +1,187 @@
+// The frame pipeline: truth -> raster -> methods -> comparison, with stage timings.
+#include "study/render.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "methods/registry.h"
+
+namespace pgt {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+FragmentList compactFragments(const Image2D<Fragment>& frags) {
+    FragmentList list;
+    for (int y = 0; y < frags.height; ++y)
+        for (int x = 0; x < frags.width; ++x) {
+            const Fragment& f = frags.at(x, y);
+            if (!f.covered) continue;
+            list.pixel.push_back(y * frags.width + x);
+            list.uv0.push_back(Vec2f(f.uv0));
+            list.view.push_back(Vec3f(f.viewTangent));
+            list.uv0d.push_back(f.uv0);
+            list.viewd.push_back(f.viewTangent);
+        }
+    return list;
+}
+
+MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
+                                  double tiling, bool needDerived) {
+    MethodTextures t;
+    t.height = &height;
+    t.scale = scale;
+    t.bias = bias;
+    t.tiling = tiling;
+    if (needDerived) t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
+    return t;
+}
+
+namespace {
+
+template <class Real>
+MethodContext<Real> makeContext(const MethodTextures& tex) {
+    MethodContext<Real> c;
+    c.height = tex.height;
+    if (tex.derived) {
+        c.normal = &tex.derived->normal;
+        c.parallax = &tex.derived->parallax;
+    }
+    // s and b are rounded to the method's precision once, as a shader uniform would be.
+    c.scale = Real(tex.scale);
+    c.bias = Real(tex.bias);
+    return c;
+}
+
+template <class Real>
+MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0,
+                   Vec3<Real> v) {
+    MethodContext<Real> c = makeContext<Real>(tex);
+    Vec2<Real> uv = runMethod<Real>(cfg, c, uv0, v);
+    MethodPixel p;
+    p.covered = true;
+    p.uv = Vec2d(uv);
+    p.fetches = uint32_t(c.fetches);
+    p.flags = c.flags;
+    // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
+    if (cfg.discardOutside) {
+        Real hi = Real(tex.tiling);
+        if (uv.x > hi || uv.y > hi || uv.x < Real(0) || uv.y < Real(0)) p.covered = false;
+    }
+    return p;
+}
+
+}  // namespace
+
+Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
+                                    const MethodTextures& tex, int width, int height) {
+    Image2D<MethodPixel> out(width, height);
+    const size_t n = frags.pixel.size();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            out.data[size_t(frags.pixel[k])] =
+                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0d[k], frags.viewd[k])
+                                    : runOne<float>(cfg, tex, frags.uv0[k], frags.view[k]);
+        }
+    });
+    return out;
+}
+
+double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
+                            const MethodTextures& tex, int repeats) {
+    const size_t n = frags.pixel.size();
+    if (n == 0 || repeats < 1) return 0.0;
+    std::vector<double> samples;
+    volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
+    for (int r = 0; r < repeats; ++r) {
+        double acc = 0;
+        auto t0 = Clock::now();
+        if (cfg.doublePrecision) {
+            for (size_t k = 0; k < n; ++k) {
+                MethodContext<double> c = makeContext<double>(tex);
+                Vec2d uv = runMethod<double>(cfg, c, frags.uv0d[k], frags.viewd[k]);
+                acc += uv.x + uv.y;
+            }
+        } else {
+            for (size_t k = 0; k < n; ++k) {
+                MethodContext<float> c = makeContext<float>(tex);
+                Vec2f uv = runMethod<float>(cfg, c, frags.uv0[k], frags.view[k]);
+                acc += double(uv.x + uv.y);
+            }
+        }
+        samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /
+                          double(n));
+        sink = sink + acc;
+    }
+    std::sort(samples.begin(), samples.end());
+    return samples[samples.size() / 2];
+}
+
+RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
+    RenderResult r;
+    r.camera = makeCamera(scene);
+    const int W = r.camera.width(), H = r.camera.height();
+
+    // Truth at the scene's rate, and at twice the rate for its own uncertainty.
+    {
+        TruthSurface surface(scene.height, scene.plane, scene.displacement, scene.truth.rate,
+                             scene.truth.geometry);
+        r.truthBuild = surface.stats();
+        auto t0 = Clock::now();
+        r.truth = surface.traceFrame(r.camera);
+        r.timingsMs["trace"] = msSince(t0);
+    }
+    r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
+    r.timingsMs["build"] = r.truthBuild.buildMs;
+    if (scene.truth.uncertainty) {
+        auto t0 = Clock::now();
+        TruthSurface fine(scene.height, scene.plane, scene.displacement, 2 * scene.truth.rate,
+                          scene.truth.geometry);
+        r.truthBuildFine = fine.stats();
+        Image2D<TruthSample> fineFrame = fine.traceFrame(r.camera);
+        r.uncertainty = compareTruthFrames(r.truth, fineFrame, scene.height, scene.height.address);
+        r.uncertainty.rate = scene.truth.rate;
+        r.uncertainty.rateFine = 2 * scene.truth.rate;
+        r.haveUncertainty = true;
+        r.timingsMs["uncertainty"] = msSince(t0);
+    }
+
+    auto t1 = Clock::now();
+    BaseMesh mesh = makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling);
+    r.fragments = rasterize(mesh, r.camera, {scene.plane.cullBackFaces}, &r.raster);
+    FragmentList frags = compactFragments(r.fragments);
+    r.timingsMs["raster"] = msSince(t1);
+
+    bool needDerived = std::any_of(scene.methods.begin(), scene.methods.end(),
+                                   [](const MethodConfig& m) { return needsDerivedMaps(m.kind); });
+    auto t2 = Clock::now();
+    MethodTextures tex = makeMethodTextures(scene.height, scene.displacement.scale,
+                                            scene.displacement.bias, scene.plane.tiling,
+                                            needDerived);
+    r.timingsMs["derived_maps"] = msSince(t2);
+
+    auto t3 = Clock::now();
+    double timingMs = 0;
+    for (const MethodConfig& cfg : scene.methods) {
+        MethodFrame mf;
+        mf.config = cfg;
+        mf.pixels = evaluateMethod(cfg, frags, tex, W, H);
+        mf.stats = compareWithTruth(r.truth, mf.pixels, scene.height.width, scene.height.height,
+                                    scene.height.address, &mf.errTexels);
+        auto tt = Clock::now();
+        mf.nsPerPixel = timeMethodNsPerPixel(cfg, frags, tex, options.timingRepeats);
+        timingMs += msSince(tt);
+        r.methods.push_back(std::move(mf));
+    }
+    r.timingsMs["methods"] = msSince(t3) - timingMs;
+    r.timingsMs["method_timing"] = timingMs;
+    return r;
+}
+
+}  // namespace pgt

@@ -1,0 +1,360 @@
+// Truth surface: OpenSubdiv Bfr tessellation of the base plane (bilinear scheme: a plane needs
+// no smoothing), displacement along the surface normal, Embree grid or triangle geometry.
+#include "truth/truth.h"
+
+#include <embree3/rtcore.h>
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+#include <pmmintrin.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "compare/statistics.h"
+#include "core/error.h"
+
+namespace pgt {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// One Embree device for the process. Errors land in the callback, which records the first
+// message; the build checks it (Embree tutorials: one error callback, not per-call checks).
+std::mutex gEmbreeErrorMutex;
+std::string gEmbreeError;
+
+void embreeError(void*, RTCError code, const char* message) {
+    std::lock_guard<std::mutex> lock(gEmbreeErrorMutex);
+    if (gEmbreeError.empty())
+        gEmbreeError = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+RTCDevice device() {
+    static RTCDevice d = [] {
+        RTCDevice dev = rtcNewDevice(nullptr);
+        if (!dev) throw std::runtime_error("cannot create an Embree device");
+        rtcSetDeviceErrorFunction(dev, embreeError, nullptr);
+        return dev;
+    }();
+    return d;
+}
+
+void throwIfEmbreeFailed() {
+    std::lock_guard<std::mutex> lock(gEmbreeErrorMutex);
+    if (!gEmbreeError.empty()) {
+        std::string e = gEmbreeError;
+        gEmbreeError.clear();
+        throw std::runtime_error(e);
+    }
+}
+
+// Embree warns without flush-to-zero and denormals-are-zero in every tracing thread.
+void setTracingFpMode() {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+// Grids are split into blocks of at most this many segments per side (Embree's limit is
+// 32767 vertices); blocks share their boundary vertices, so the sheet stays watertight.
+constexpr int kGridBlock = 1024;
+
+}  // namespace
+
+struct TruthSurface::Impl {
+    TruthGeometry geometry;
+    int nu = 0, nv = 0;        // segments
+    Vec3d origin{0};           // vertices are stored relative to this point (float precision)
+    Vec3d boundsLo{0}, boundsHi{0};  // of the displaced vertices, local frame
+    std::vector<Vec2d> uvs;    // per vertex, (nv+1) x (nu+1), row-major in v
+    std::vector<RTCGrid> grids;
+    RTCScene scene = nullptr;
+    TruthBuildStats stats;
+
+    size_t vertexIndex(int i, int j) const { return size_t(j) * (nu + 1) + i; }
+
+    // Vertex UVs interpolated over the triangle of cell (ci, cj) containing local (fx, fy):
+    // the cell is split along its (1,0)-(0,1) diagonal.
+    Vec2d cellUv(int ci, int cj, double fx, double fy) const {
+        ci = std::clamp(ci, 0, nu - 1);
+        cj = std::clamp(cj, 0, nv - 1);
+        const Vec2d& a = uvs[vertexIndex(ci, cj)];
+        const Vec2d& b = uvs[vertexIndex(ci + 1, cj)];
+        const Vec2d& c = uvs[vertexIndex(ci, cj + 1)];
+        const Vec2d& d = uvs[vertexIndex(ci + 1, cj + 1)];
+        if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
+        return d + (c - d) * (1 - fx) + (b - d) * (1 - fy);
+    }
+
+    TruthSample hitToSample(const RTCRayHit& rh) const {
+        TruthSample s;
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
+        s.hit = true;
+        if (geometry == TruthGeometry::Grid) {
+            // Grid hits report u, v over the whole grid primitive (BUILD-NOTES.md).
+            const RTCGrid& g = grids[rh.hit.primID];
+            int i0 = int(g.startVertexID % g.stride), j0 = int(g.startVertexID / g.stride);
+            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+            int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
+            s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
+        } else {
+            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); barycentrics on v1, v2.
+            int64_t cell = rh.hit.primID / 2;
+            int ci = int(cell % nu), cj = int(cell / nu);
+            double u = rh.hit.u, v = rh.hit.v;
+            if (rh.hit.primID % 2 == 0) s.uv = cellUv(ci, cj, u, v);
+            else s.uv = cellUv(ci, cj, 1 - v, 1 - u);
+        }
+        return s;
+    }
+};
+
+TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
+                           const Displacement& disp, int rate, TruthGeometry geometry)
+    : impl_(std::make_unique<Impl>()) {
+    using namespace OpenSubdiv;
+    Impl& m = *impl_;
+    m.geometry = geometry;
+    m.origin = plane.center;
+    auto t0 = Clock::now();
+
+    // The base plane as a one-quad bilinear control mesh with face-varying UVs.
+    const double half = plane.size / 2, tiling = plane.tiling;
+    const double ctrlPos[4][3] = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0},
+                                  {-half, half, 0}};
+    const double ctrlUv[4][2] = {{0, 0}, {tiling, 0}, {tiling, tiling}, {0, tiling}};
+    int vertsPerFace[1] = {4};
+    int faceVerts[4] = {0, 1, 2, 3};
+    Far::TopologyDescriptor desc;
+    desc.numVertices = 4;
+    desc.numFaces = 1;
+    desc.numVertsPerFace = vertsPerFace;
+    desc.vertIndicesPerFace = faceVerts;
+    Far::TopologyDescriptor::FVarChannel uvChannel;
+    uvChannel.numValues = 4;
+    uvChannel.valueIndices = faceVerts;
+    desc.numFVarChannels = 1;
+    desc.fvarChannels = &uvChannel;
+    Sdc::Options sdc;
+    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::unique_ptr<Far::TopologyRefiner> refiner(
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_BILINEAR, sdc)));
+    PGT_CHECK(refiner != nullptr);
+
+    Bfr::RefinerSurfaceFactory<> factory(*refiner,
+                                         Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
+    Bfr::Surface<double> posSurface, uvSurface;
+    PGT_CHECK(factory.InitVertexSurface(0, &posSurface));
+    PGT_CHECK(factory.InitFaceVaryingSurface(0, &uvSurface));
+
+    // `rate` samples per texel per axis over the texels the plane covers.
+    m.nu = std::max(1, int(std::ceil(rate * height.width * tiling - 1e-9)));
+    m.nv = std::max(1, int(std::ceil(rate * height.height * tiling - 1e-9)));
+    PGT_CHECK_LT(int64_t(m.nu + 1) * (m.nv + 1), int64_t(1) << 31);
+    int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
+    Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
+                           Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
+    PGT_CHECK(tess.IsValid());
+    std::vector<double> coords(size_t(tess.GetNumCoords()) * 2);
+    tess.GetCoords(coords.data());
+    PGT_CHECK_EQ(coords.size() / 2, size_t(m.nu + 1) * (m.nv + 1));
+
+    std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
+    std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
+    posSurface.PreparePatchPoints(&ctrlPos[0][0], 3, posPatch.data(), 3);
+    uvSurface.PreparePatchPoints(&ctrlUv[0][0], 2, uvPatch.data(), 2);
+
+    const size_t nVerts = coords.size() / 2;
+    m.uvs.assign(nVerts, Vec2d(0));
+    std::vector<float> positions(nVerts * 3);
+    const double l = plane.worldPerUv();
+    // Each Bfr coordinate lands in its grid slot, so the vertex buffer is row-major for
+    // Embree's grid primitive whatever order Bfr lists boundary and interior points in.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nVerts, 4096), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            const double st[2] = {coords[2 * k], coords[2 * k + 1]};
+            int i = int(std::lround(st[0] * m.nu)), j = int(std::lround(st[1] * m.nv));
+            double P[3], Du[3], Dv[3], UV[2];
+            posSurface.Evaluate(st, posPatch.data(), 3, P, Du, Dv);
+            uvSurface.Evaluate(st, uvPatch.data(), 2, UV);
+            Vec3d n = glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]),
+                                                Vec3d(Dv[0], Dv[1], Dv[2])));
+            Vec2d uv(UV[0], UV[1]);
+            // MODEL.md §3: P = S + N * l * (s*h + b), h from the shared bilinear sampler.
+            double h = sampleBilinear<double>(height, uv);
+            Vec3d p = Vec3d(P[0], P[1], P[2]) + n * (l * (disp.scale * h + disp.bias));
+            // (control points are relative to the plane centre: the local frame)
+            size_t idx = m.vertexIndex(i, j);
+            m.uvs[idx] = uv;
+            positions[3 * idx] = float(p.x);
+            positions[3 * idx + 1] = float(p.y);
+            positions[3 * idx + 2] = float(p.z);
+        }
+    });
+    m.boundsLo = Vec3d(1e300);
+    m.boundsHi = Vec3d(-1e300);
+    for (size_t k = 0; k < nVerts; ++k) {
+        Vec3d p(positions[3 * k], positions[3 * k + 1], positions[3 * k + 2]);
+        m.boundsLo = glm::min(m.boundsLo, p);
+        m.boundsHi = glm::max(m.boundsHi, p);
+    }
+    m.stats.tessellateMs = msSince(t0);
+    m.stats.segmentsU = m.nu;
+    m.stats.segmentsV = m.nv;
+    m.stats.vertices = int64_t(nVerts);
+
+    auto t1 = Clock::now();
+    RTCDevice dev = device();
+    m.scene = rtcNewScene(dev);
+    RTCGeometry geom = rtcNewGeometry(
+        dev, geometry == TruthGeometry::Grid ? RTC_GEOMETRY_TYPE_GRID : RTC_GEOMETRY_TYPE_TRIANGLE);
+    // rtcSetNewGeometryBuffer pads the buffer as Embree requires for its SIMD loads.
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nVerts));
+    std::copy(positions.begin(), positions.end(), vb);
+    m.stats.geometryBytes = int64_t(nVerts * 3 * sizeof(float));
+    if (geometry == TruthGeometry::Grid) {
+        for (int j0 = 0; j0 < m.nv; j0 += kGridBlock)
+            for (int i0 = 0; i0 < m.nu; i0 += kGridBlock) {
+                RTCGrid g;
+                g.startVertexID = unsigned(m.vertexIndex(i0, j0));
+                g.stride = unsigned(m.nu + 1);
+                g.width = static_cast<unsigned short>(std::min(kGridBlock, m.nu - i0) + 1);
+                g.height = static_cast<unsigned short>(std::min(kGridBlock, m.nv - j0) + 1);
+                m.grids.push_back(g);
+            }
+        auto* gb = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_GRID, 0, RTC_FORMAT_GRID, sizeof(RTCGrid), m.grids.size()));
+        std::copy(m.grids.begin(), m.grids.end(), gb);
+        m.stats.primitives = int64_t(m.grids.size());
+        m.stats.geometryBytes += int64_t(m.grids.size() * sizeof(RTCGrid));
+    } else {
+        size_t nTri = size_t(m.nu) * m.nv * 2;
+        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nTri));
+        tbb::parallel_for(0, m.nv, [&](int cj) {
+            for (int ci = 0; ci < m.nu; ++ci) {
+                unsigned a = unsigned(m.vertexIndex(ci, cj)), b = a + 1;
+                unsigned c = unsigned(m.vertexIndex(ci, cj + 1)), d = c + 1;
+                size_t k = (size_t(cj) * m.nu + ci) * 6;
+                ib[k + 0] = a, ib[k + 1] = b, ib[k + 2] = c;  // barycentrics: u on b, v on c
+                ib[k + 3] = d, ib[k + 4] = c, ib[k + 5] = b;  // u on c, v on b
+            }
+        });
+        m.stats.primitives = int64_t(nTri);
+        m.stats.geometryBytes += int64_t(nTri * 3 * sizeof(unsigned));
+    }
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcCommitGeometry(geom);  // geometries must be committed before they are attached
+    rtcAttachGeometry(m.scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(m.scene);
+    m.stats.buildMs = msSince(t1);
+    throwIfEmbreeFailed();
+}
+
+TruthSurface::~TruthSurface() {
+    if (impl_ && impl_->scene) rtcReleaseScene(impl_->scene);
+}
+
+const TruthBuildStats& TruthSurface::stats() const { return impl_->stats; }
+
+namespace {
+// Moves the ray origin (in double) to just before the surface's bounding box, so that the
+// float ray starts within a box-size of the hit: float error scales with |origin| + t.
+// Orthographic rays are lines (their origin may lie inside the relief slab).
+RTCRayHit makeRayHit(const Ray& ray, Vec3d origin, Vec3d lo, Vec3d hi) {
+    RTCRayHit rh;
+    Vec3d o = ray.origin - origin;  // into the surface's local frame, in double
+    double tEnter = ray.line ? -std::numeric_limits<double>::infinity() : 0.0;
+    double tExit = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+        if (ray.dir[a] == 0) continue;
+        double t0 = (lo[a] - o[a]) / ray.dir[a], t1 = (hi[a] - o[a]) / ray.dir[a];
+        tEnter = std::max(tEnter, std::min(t0, t1));
+        tExit = std::min(tExit, std::max(t0, t1));
+    }
+    // A margin of 1% of the box diagonal keeps the entry point strictly outside the box.
+    double margin = 0.01 * glm::length(hi - lo) + 1e-6;
+    if (std::isfinite(tEnter) && tEnter <= tExit)
+        o += ray.dir * (ray.line ? tEnter - margin : std::max(0.0, tEnter - margin));
+    else if (ray.line) o -= ray.dir * (glm::length(hi - lo) + glm::length(o) + 1.0);
+    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(ray.dir.x), rh.ray.dir_y = float(ray.dir.y), rh.ray.dir_z = float(ray.dir.z);
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+}  // namespace
+
+TruthSample TruthSurface::trace(const Ray& ray) const {
+    setTracingFpMode();
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh = makeRayHit(ray, impl_->origin, impl_->boundsLo, impl_->boundsHi);
+    rtcIntersect1(impl_->scene, &ctx, &rh);
+    return impl_->hitToSample(rh);
+}
+
+Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera) const {
+    Image2D<TruthSample> out(camera.width(), camera.height());
+    const Impl& m = *impl_;
+    tbb::parallel_for(tbb::blocked_range2d<int>(0, camera.height(), 16, 0, camera.width(), 16),
+                      [&](const tbb::blocked_range2d<int>& r) {
+                          setTracingFpMode();
+                          RTCIntersectContext ctx;
+                          rtcInitIntersectContext(&ctx);
+                          for (int y = r.rows().begin(); y < r.rows().end(); ++y)
+                              for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
+                                  RTCRayHit rh = makeRayHit(camera.pixelRay(x, y), m.origin,
+                                                             m.boundsLo, m.boundsHi);
+                                  rtcIntersect1(m.scene, &ctx, &rh);
+                                  out.at(x, y) = m.hitToSample(rh);
+                              }
+                      });
+    return out;
+}
+
+TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
+                                    const Image2D<TruthSample>& fine, const Texture& height,
+                                    Address address) {
+    TruthUncertainty u;
+    std::vector<double> diffs;
+    for (size_t k = 0; k < coarse.size(); ++k) {
+        const auto& a = coarse.data[k];
+        const auto& b = fine.data[k];
+        if (a.hit != b.hit) ++u.hitMismatch;
+        if (!(a.hit && b.hit)) continue;
+        diffs.push_back(uvErrorTexels(a.uv, b.uv, height.width, height.height, address));
+    }
+    u.pixelsCompared = int64_t(diffs.size());
+    if (!diffs.empty()) {
+        u.p50Texels = percentile(diffs, 0.50);
+        u.p99Texels = percentile(diffs, 0.99);
+        u.maxTexels = *std::max_element(diffs.begin(), diffs.end());
+    }
+    return u;
+}
+
+}  // namespace pgt

@@ -1,0 +1,58 @@
+// The ground truth (MODEL.md §5): the displaced surface P = S + N*l*(s*h + b), tessellated
+// with OpenSubdiv (Bfr) at `rate` samples per texel per axis and traced with Embree, one
+// primary ray per pixel. The only module that includes Embree or OpenSubdiv headers.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "core/image.h"
+#include "core/math.h"
+#include "core/samples.h"
+#include "heightfield/texture.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace pgt {
+
+struct TruthBuildStats {
+    int segmentsU = 0, segmentsV = 0;  // tessellation segments per axis
+    int64_t vertices = 0, primitives = 0;  // primitives: grids or triangles
+    int64_t geometryBytes = 0;             // Embree buffers (vertices + indices/grids)
+    double tessellateMs = 0, buildMs = 0;
+};
+
+class TruthSurface {
+public:
+    // Builds the displaced plane. `rate` >= 1 samples per texel per axis.
+    TruthSurface(const Texture& height, const PlaneBase& plane, const Displacement& disp,
+                 int rate, TruthGeometry geometry);
+    ~TruthSurface();
+    TruthSurface(const TruthSurface&) = delete;
+    TruthSurface& operator=(const TruthSurface&) = delete;
+
+    // First hit of one ray (world space) with the displaced sheet.
+    TruthSample trace(const Ray& ray) const;
+    // One primary ray per pixel centre, all cores.
+    Image2D<TruthSample> traceFrame(const Camera& camera) const;
+
+    const TruthBuildStats& stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// The truth's own uncertainty (MODEL.md §5): the same frame at two rates.
+struct TruthUncertainty {
+    int rate = 0, rateFine = 0;
+    int64_t pixelsCompared = 0;  // hit in both frames
+    int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
+    double p50Texels = 0, p99Texels = 0, maxTexels = 0;
+};
+
+TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
+                                    const Image2D<TruthSample>& fine, const Texture& height,
+                                    Address address);
+
+}  // namespace pgt
