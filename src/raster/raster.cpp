@@ -37,12 +37,21 @@ ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
             a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s};
 }
 
-// Top-left rule for edge (a -> b) in a y-down raster with counter-clockwise-on-screen
-// orientation normalised below: a top edge is exactly horizontal with the interior below,
-// a left edge goes downward... Implemented through the edge's direction sign test.
+// Top-left rule in a y-down raster, for edges oriented so that the interior is on the
+// positive side: a top edge runs exactly horizontally toward +x, a left edge runs upward.
 bool isTopLeft(Vec2d a, Vec2d b) {
     Vec2d e = b - a;
     return (e.y == 0 && e.x > 0) || e.y < 0;
+}
+
+// Edge function (b - a) x (p - a), evaluated from the lexicographically smaller endpoint so
+// that edge(a, b, p) == -edge(b, a, p) bit for bit: a pixel centre on an edge shared by two
+// triangles then gets opposite signs (or zero) from both, and the top-left rule decides.
+double edgeFunction(Vec2d a, Vec2d b, Vec2d p) {
+    bool swap = b.x < a.x || (b.x == a.x && b.y < a.y);
+    if (swap) std::swap(a, b);
+    double e = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+    return swap ? -e : e;
 }
 
 }  // namespace
@@ -125,10 +134,9 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                     std::array<double, 3> e;
                     bool inside = true;
                     for (int i = 0; i < 3; ++i) {
-                        Vec2d a = s[(i + 1) % 3], b = s[(i + 2) % 3];
-                        // Positive when p is on the interior side (clockwise in y-down
-                        // coordinates after the normalisation above).
-                        e[i] = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+                        // Positive when p is on the interior side (after the orientation
+                        // normalisation above).
+                        e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
                         if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) inside = false;
                     }
                     if (!inside) continue;

@@ -112,12 +112,13 @@ struct TruthSurface::Impl {
             int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
             s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
         } else {
-            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); barycentrics on v1, v2.
+            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
+            // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
             int64_t cell = rh.hit.primID / 2;
             int ci = int(cell % nu), cj = int(cell / nu);
             double u = rh.hit.u, v = rh.hit.v;
             if (rh.hit.primID % 2 == 0) s.uv = cellUv(ci, cj, u, v);
-            else s.uv = cellUv(ci, cj, 1 - v, 1 - u);
+            else s.uv = cellUv(ci, cj, 1 - u, 1 - v);
         }
         return s;
     }

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages pgt needs, only those that are missing (apt-get update once).
+set -euo pipefail
+packages=(
+  cmake g++ make
+  libembree-dev libopenimageio-dev openimageio-tools libosd-dev libglm-dev libopenexr-dev
+  libtbb-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
+  fonts-dejavu-core
+  python3-numpy python3-matplotlib python3-pandas python3-openimageio
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  echo "installing: ${missing[*]}"
+  $sudo apt-get update
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y --no-install-recommends "${missing[@]}"
+fi

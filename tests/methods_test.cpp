@@ -1,0 +1,160 @@
+// Methods on closed forms: constant height, head-on view, loop bounds, precision option.
+#include <gtest/gtest.h>
+
+#include "methods/layered.h"
+#include "methods/registry.h"
+#include "study/render.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+using test::makeTexture;
+using test::method;
+
+const char* kAllMethods[] = {
+    R"({"name":"none"})",           R"({"name":"parallax"})",
+    R"({"name":"offset_limited"})", R"({"name":"steep"})",
+    R"({"name":"pom"})",            R"({"name":"relief"})",
+    R"({"name":"iterative"})",      R"({"name":"tangent_plane"})"};
+
+struct MethodRun {
+    Vec2f uv;
+    MethodContext<float> ctx;
+};
+
+MethodRun runFloat(const MethodConfig& cfg, const MethodTextures& tex, Vec2f uv0, Vec3f v) {
+    MethodRun r;
+    r.ctx.height = tex.height;
+    if (tex.derived) r.ctx.normal = &tex.derived->normal, r.ctx.parallax = &tex.derived->parallax;
+    r.ctx.scale = float(tex.scale);
+    r.ctx.bias = float(tex.bias);
+    r.uv = runMethod<float>(cfg, r.ctx, uv0, v);
+    return r;
+}
+
+// Head-on (V = +z): every method returns uv0 (MODEL.md §6b: every offset is V.xy * x).
+// Exactly, except pom, whose prev * w + uv * (1 - w) with prev == uv rounds once or twice:
+// at most 2 ulps of a UV in [0, 1] (2 * 2^-24 < 1.2e-7).
+TEST(Methods, HeadOnViewReturnsBaseUv) {
+    Texture t = test::smoothTexture(32, 32);
+    MethodTextures tex = makeMethodTextures(t, 0.07, -0.035, 1.0, true);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    for (const char* m : kAllMethods) {
+        MethodConfig cfg = method(m);
+        for (int k = 0; k < 200; ++k) {
+            Vec2f uv0(uni(rng), uni(rng));
+            MethodRun r = runFloat(cfg, tex, uv0, Vec3f(0, 0, 1));
+            float tol = cfg.kind == MethodKind::Pom ? 1.2e-7f : 0.0f;
+            EXPECT_NEAR(r.uv.x, uv0.x, tol) << cfg.name << " uv0 " << uv0.x << "," << uv0.y;
+            EXPECT_NEAR(r.uv.y, uv0.y, tol) << cfg.name << " uv0 " << uv0.x << "," << uv0.y;
+        }
+    }
+}
+
+// Constant height c: the true offset is V.xy / V.z * (s*c + b) (MODEL.md §3). parallax and
+// pom are exact there (pom interpolates a straight line); offset limiting is off by the
+// closed form |s*c + b| * |V.xy| * (1/V.z - 1).
+TEST(Methods, ExactOnConstantHeight) {
+    const double c = 0.3, s = 0.06, b = -0.03;
+    Texture t = makeTexture(16, 16, [&](int, int) { return c; });
+    MethodTextures tex = makeMethodTextures(t, s, b, 1.0, true);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    for (int k = 0; k < 200; ++k) {
+        Vec2d uv0(uni(rng), uni(rng));
+        Vec3d v = viewFromAngles(75 * uni(rng), 360 * uni(rng));
+        Vec2d expected = uv0 + Vec2d(v.x, v.y) / v.z * (s * c + b);
+        Vec2d limited = uv0 + Vec2d(v.x, v.y) * (s * c + b);
+        // float inputs: uv0 and V are rounded once; 1e-6 UV covers that and the arithmetic.
+        Vec2f uvf(uv0), expectedF(expected);
+        Vec3f vf(v);
+        auto near = [&](const char* m, Vec2f want, float tol) {
+            MethodRun r = runFloat(method(m), tex, uvf, vf);
+            EXPECT_NEAR(r.uv.x, want.x, tol) << m << " theta case " << k;
+            EXPECT_NEAR(r.uv.y, want.y, tol) << m << " theta case " << k;
+        };
+        near(R"({"name":"parallax"})", expectedF, 2e-6f);
+        near(R"({"name":"pom"})", expectedF, 2e-5f);
+        near(R"({"name":"offset_limited"})", Vec2f(limited), 2e-6f);
+        // iterative on a flat map: m = +z, P = s*c + b, four quarter steps = offset limiting.
+        near(R"({"name":"iterative"})", Vec2f(limited), 2e-6f);
+        // tangent plane on a flat map: n = +z, dot(n, V) = V.z: the exact offset.
+        near(R"({"name":"tangent_plane"})", expectedF, 2e-6f);
+    }
+}
+
+// Steep on constant depth d stops at the first layer k/n >= d: uv = start - D * ceil(d*n).
+TEST(Methods, SteepStopsAtTheFirstLayerBelowTheSurface) {
+    const double c = 0.35, s = 0.05, b = -0.05;  // native LearnOpenGL (b = -s)
+    Texture t = makeTexture(8, 8, [&](int, int) { return c; });
+    MethodTextures tex = makeMethodTextures(t, s, b, 1.0, false);
+    MethodConfig cfg = method(R"({"name":"steep","layers":10})");
+    Vec3d v = viewFromAngles(50, 20);
+    MethodRun r = runFloat(cfg, tex, Vec2f(0.5f, 0.5f), Vec3f(v));
+    Vec2d delta = Vec2d(v.x, v.y) / v.z * s / 10.0;
+    // d = 0.65 lies between layers 0.6 and 0.7 (no float tie): 7 steps.
+    Vec2d want = Vec2d(0.5, 0.5) - delta * 7.0;
+    EXPECT_NEAR(r.uv.x, want.x, 1e-6);
+    EXPECT_NEAR(r.uv.y, want.y, 1e-6);
+    EXPECT_EQ(r.ctx.fetches, 1 + 7);
+}
+
+TEST(Methods, MaxStepsBoundsTheMarchAndIsFlagged) {
+    Texture t = makeTexture(8, 8, [&](int, int) { return 0.0; });  // depth 1 everywhere
+    MethodTextures tex = makeMethodTextures(t, 0.1, -0.1, 1.0, false);
+    MethodRun r = runFloat(method(R"({"name":"steep","layers":32,"max_steps":5})"), tex,
+                     Vec2f(0.5f), Vec3f(viewFromAngles(40, 0)));
+    EXPECT_EQ(r.ctx.fetches, 6);
+    EXPECT_TRUE(r.ctx.flags & kFlagStepLimit);
+}
+
+TEST(Methods, ReliefFetchesEveryStep) {
+    Texture t = test::smoothTexture(16, 16);
+    MethodTextures tex = makeMethodTextures(t, 0.05, -0.05, 1.0, false);
+    MethodRun r = runFloat(method(R"({"name":"relief","linear_steps":10,"binary_steps":5})"), tex,
+                     Vec2f(0.3f, 0.6f), Vec3f(viewFromAngles(60, 100)));
+    EXPECT_EQ(r.ctx.fetches, 9 + 5);
+}
+
+// Double precision runs the same algorithm: on a smooth map it agrees with float to float
+// rounding except where a step count flips.
+TEST(Methods, DoublePrecisionAgreesWithFloatUpToRounding) {
+    Texture t = test::smoothTexture(64, 64);
+    MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, true);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    for (const char* m : {R"({"name":"parallax"})", R"({"name":"iterative"})",
+                          R"({"name":"tangent_plane"})"}) {
+        MethodConfig cfg = method(m);
+        for (int k = 0; k < 100; ++k) {
+            Vec2d uv0(uni(rng), uni(rng));
+            Vec3d v = viewFromAngles(60 * uni(rng), 360 * uni(rng));
+            MethodContext<double> cd;
+            cd.height = tex.height;
+            cd.normal = &tex.derived->normal;
+            cd.parallax = &tex.derived->parallax;
+            cd.scale = tex.scale;
+            cd.bias = tex.bias;
+            Vec2d ud = runMethod<double>(cfg, cd, uv0, v);
+            MethodRun rf = runFloat(cfg, tex, Vec2f(uv0), Vec3f(v));
+            EXPECT_NEAR(ud.x, rf.uv.x, 1e-5) << m;
+            EXPECT_NEAR(ud.y, rf.uv.y, 1e-5) << m;
+        }
+    }
+}
+
+TEST(Methods, LabelsAreUniqueAndCarryParameters) {
+    auto list = parseMethods(nlohmann::json::parse(
+                                 R"(["pom", {"name":"pom","max_layers":64}, "steep", "steep"])"),
+                             "s", "methods");
+    ASSERT_EQ(list.size(), 4u);
+    EXPECT_EQ(list[0].label, "pom_8_32");
+    EXPECT_EQ(list[1].label, "pom_8_64");
+    EXPECT_EQ(list[2].label, "steep_8_32");
+    EXPECT_EQ(list[3].label, "steep_8_32_2");
+}
+
+}  // namespace
+}  // namespace pgt

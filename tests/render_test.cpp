@@ -1,0 +1,151 @@
+// The frame pipeline end to end: head-on symmetry, closed-form error, convergence with layers,
+// frame.exr and summary.json round trips.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "study/outputs.h"
+#include "study/render.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+std::vector<MethodConfig> allMethods() {
+    return parseMethods(nlohmann::json::parse(R"(["none","parallax","offset_limited","steep",
+        "pom","relief","iterative","tangent_plane"])"), "test", "methods");
+}
+
+// Head-on: truth = uv0 and every method returns uv0, so every error is ~0.
+TEST(Render, HeadOnEveryMethodMatchesTruth) {
+    Scene s = test::planeScene(test::smoothTexture(32, 32), 0.08, -0.04, 0, 0, 96, allMethods());
+    s.truth.uncertainty = false;
+    RenderResult r = renderFrame(s, {1});
+    for (const auto& m : r.methods) {
+        EXPECT_GT(m.stats.error.count, 8000) << m.config.label;
+        // float uv0 (6e-8 UV) and float Embree positions: well under 1e-3 texel at W = 32.
+        EXPECT_LT(m.stats.error.max, 1e-3) << m.config.label;
+        EXPECT_EQ(m.stats.nonfinite, 0) << m.config.label;
+    }
+}
+
+// Constant height: offset limiting's error is |s*c + b| * |V.xy| * (1/V.z - 1) * W texels
+// (square map) at every pixel, and parallax's is zero.
+TEST(Render, OffsetLimitedErrorIsTheClosedForm) {
+    const double c = 0.7, s = 0.06, b = -0.03, theta = 55;
+    Texture t = test::makeTexture(64, 64, [&](int, int) { return c; });
+    Scene sc = test::planeScene(std::move(t), s, b, theta, 70, 128,
+                                parseMethods(nlohmann::json::parse(R"(["parallax","offset_limited"])"),
+                                             "t", "methods"));
+    sc.truth.uncertainty = false;
+    RenderResult r = renderFrame(sc, {1});
+    Vec3d v = viewFromAngles(theta, 70);
+    double sinT = std::sqrt(v.x * v.x + v.y * v.y);
+    double want = std::fabs(s * c + b) * sinT * (1 / v.z - 1) * 64;
+    EXPECT_LT(r.methods[0].stats.error.max, 1e-3);
+    EXPECT_NEAR(r.methods[1].stats.error.p50, want, 1e-3);
+    EXPECT_NEAR(r.methods[1].stats.error.max, want, 1e-3);
+    EXPECT_NEAR(r.methods[1].stats.error.p50, r.methods[1].stats.error.mean, 1e-3);
+}
+
+// More layers -> closer to the truth, on a smooth map where the march has no ties to flip.
+TEST(Render, LayeredErrorShrinksAsLayersGrow) {
+    auto run = [](const std::string& methodsJson) {
+        Scene s = test::planeScene(test::smoothTexture(64, 64), 0.06, -0.06, 60, 20, 128,
+                                   parseMethods(nlohmann::json::parse(methodsJson), "t", "m"));
+        s.truth.uncertainty = false;
+        RenderResult r = renderFrame(s, {1});
+        std::vector<double> mean;
+        for (const auto& m : r.methods) mean.push_back(m.stats.error.mean);
+        return mean;
+    };
+    for (const char* name : {"steep", "pom"}) {
+        std::string json = "[";
+        for (int n : {4, 8, 16, 32, 64})
+            json += std::string(n == 4 ? "" : ",") + R"({"name":")" + name + R"(","layers":)" +
+                    std::to_string(n) + "}";
+        auto mean = run(json + "]");
+        for (size_t i = 1; i < mean.size(); ++i)
+            EXPECT_LT(mean[i], mean[i - 1]) << name << " layers step " << i;
+    }
+    auto relief = run(R"([{"name":"relief","linear_steps":8,"binary_steps":0},
+                          {"name":"relief","linear_steps":8,"binary_steps":2},
+                          {"name":"relief","linear_steps":8,"binary_steps":4},
+                          {"name":"relief","linear_steps":8,"binary_steps":6}])");
+    for (size_t i = 1; i < relief.size(); ++i)
+        EXPECT_LT(relief[i], relief[i - 1]) << "relief binary step " << i;
+}
+
+TEST(Render, OutputsRoundTrip) {
+    Scene s = test::planeScene(test::smoothTexture(16, 16), 0.05, -0.025, 45, 10, 48,
+                               parseMethods(nlohmann::json::parse(R"(["parallax",
+                                   {"name":"pom","max_layers":16},{"name":"pom","max_layers":32}])"),
+                                            "t", "m"));
+    RenderResult r = renderFrame(s, {1});
+    auto dir = test::tempDir("outputs");
+    writeRenderOutputs(s, r, dir.string());
+
+    auto in = OIIO::ImageInput::open((dir / "frame.exr").string());
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec& spec = in->spec();
+    std::vector<std::string> want = {"truth.u", "truth.v", "truth.hit", "base.u", "base.v",
+                                     "base.hit", "parallax.u", "parallax.v", "parallax.err",
+                                     "pom_8_16.u", "pom_8_16.v", "pom_8_16.err", "pom_8_32.u",
+                                     "pom_8_32.v", "pom_8_32.err"};
+    ASSERT_EQ(spec.nchannels, int(want.size()));
+    std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
+    ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
+    // Channels are looked up by name: OpenEXR stores them alphabetically.
+    auto channel = [&](const std::string& name) {
+        auto it = std::find(spec.channelnames.begin(), spec.channelnames.end(), name);
+        EXPECT_NE(it, spec.channelnames.end()) << name;
+        return int(it - spec.channelnames.begin());
+    };
+    for (const auto& name : want) channel(name);
+    int checked = 0;
+    for (int y = 0; y < spec.height; ++y)
+        for (int x = 0; x < spec.width; ++x) {
+            size_t k = size_t(y) * spec.width + x;
+            const float* p = &px[k * spec.nchannels];
+            EXPECT_EQ(p[channel("truth.hit")], r.truth.data[k].hit ? 1.f : 0.f);
+            if (!r.truth.data[k].hit) {
+                EXPECT_TRUE(std::isnan(p[channel("truth.u")]));
+                continue;
+            }
+            EXPECT_EQ(p[channel("truth.u")], float(r.truth.data[k].uv.x));
+            EXPECT_EQ(p[channel("truth.v")], float(r.truth.data[k].uv.y));
+            float e = r.methods[2].errTexels.data[k];
+            float got = p[channel("pom_8_32.err")];
+            EXPECT_TRUE((std::isnan(e) && std::isnan(got)) || e == got);
+            ++checked;
+        }
+    EXPECT_GT(checked, 500);
+
+    std::ifstream js(dir / "summary.json");
+    auto summary = nlohmann::json::parse(js);
+    ASSERT_EQ(summary["methods"].size(), 3u);
+    EXPECT_EQ(summary["methods"][1]["label"], "pom_8_16");
+    EXPECT_TRUE(summary["truth"]["uncertainty"]["p99_texels"].is_number());
+    EXPECT_TRUE(summary["methods"][0]["ns_per_px"].is_number());
+    for (const char* stage : {"tessellate", "build", "trace", "raster"})
+        EXPECT_TRUE(summary["timings_ms"].contains(stage)) << stage;
+    EXPECT_TRUE(std::filesystem::exists(dir / "pom_8_16_error.png"));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Render, UnwritableOutputIsAnOutputError) {
+    Scene s = test::planeScene(test::smoothTexture(8, 8), 0.05, -0.025, 30, 0, 16,
+                               parseMethods(nlohmann::json::parse(R"(["parallax"])"), "t", "m"));
+    s.truth.uncertainty = false;
+    RenderResult r = renderFrame(s, {1});
+    auto dir = test::tempDir("unwritable");
+    std::ofstream(dir / "file") << "x";
+    EXPECT_THROW(writeRenderOutputs(s, r, (dir / "file" / "sub").string()), OutputError);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt

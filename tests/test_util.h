@@ -1,0 +1,72 @@
+// Helpers shared by the tests: textures from functions, programmatic scenes, temp dirs.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "heightfield/texture.h"
+#include "methods/registry.h"
+#include "scene/scene.h"
+
+namespace pgt::test {
+
+// A W x H texture whose texel (i, j) (j from the bottom) is fn(i, j).
+inline Texture makeTexture(int w, int h, const std::function<double(int, int)>& fn,
+                           Address address = Address::Repeat) {
+    Texture t;
+    t.width = w;
+    t.height = h;
+    t.address = address;
+    t.texels.resize(size_t(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) t.texel(i, j) = float(fn(i, j));
+    return t;
+}
+
+// A smooth tileable map: 0.5 + 0.35 sin(2 pi u) sin(2 pi 2v) sampled at texel centres.
+inline Texture smoothTexture(int w, int h, Address address = Address::Repeat) {
+    return makeTexture(
+        w, h,
+        [&](int i, int j) {
+            double u = (i + 0.5) / w, v = (j + 0.5) / h;
+            return 0.5 + 0.35 * std::sin(2 * kPi * u) * std::sin(2 * kPi * 2 * v);
+        },
+        address);
+}
+
+inline MethodConfig method(const std::string& json) {
+    return parseMethod(nlohmann::json::parse(json), "test", "method");
+}
+
+// A plane scene with an orthographic camera at (theta, phi).
+inline Scene planeScene(Texture height, double scale, double bias, double theta, double phi,
+                        int resolution, std::vector<MethodConfig> methods, int rate = 4) {
+    Scene s;
+    s.file = "test-scene";
+    s.height = std::move(height);
+    s.heightSource = "test";
+    s.displacement = {scale, bias};
+    s.camera.type = "orthographic";
+    s.camera.theta = theta;
+    s.camera.phi = phi;
+    s.camera.width = s.camera.height = resolution;
+    s.methods = std::move(methods);
+    for (size_t i = 0; i < s.methods.size(); ++i)
+        if (s.methods[i].label.empty()) s.methods[i].label = s.methods[i].name + std::to_string(i);
+    s.truth.rate = rate;
+    return s;
+}
+
+inline std::filesystem::path tempDir(const std::string& name) {
+    auto p = std::filesystem::temp_directory_path() /
+             ("pgt_test_" + name + "_" + std::to_string(std::random_device{}()));
+    std::filesystem::create_directories(p);
+    return p;
+}
+
+inline std::string sharedDir() { return PGT_SHARED_DIR; }
+inline std::string sourceDir() { return PGT_SOURCE_DIR; }
+
+}  // namespace pgt::test
