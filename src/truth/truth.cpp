@@ -260,7 +260,7 @@ TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
         m.stats.primitives = int64_t(nTri);
         m.stats.geometryBytes += int64_t(nTri * 3 * sizeof(unsigned));
     }
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_MEDIUM);
     rtcCommitGeometry(geom);  // geometries must be committed before they are attached
     rtcAttachGeometry(m.scene, geom);
     rtcReleaseGeometry(geom);
