@@ -51,6 +51,27 @@ TEST(Render, OffsetLimitedErrorIsTheClosedForm) {
     EXPECT_NEAR(r.methods[1].stats.error.p50, r.methods[1].stats.error.mean, 1e-3);
 }
 
+// Pinhole: V varies per pixel (from the fragment toward the eye). On a constant height field
+// parallax is exact for every V, so its error is zero wherever both cover the pixel; pom too.
+TEST(Render, PinholeParallaxIsExactOnConstantHeight) {
+    const double c = 0.6, s = 0.05, b = -0.04;
+    Texture t = test::makeTexture(64, 64, [&](int, int) { return c; });
+    Scene sc = test::planeScene(std::move(t), s, b, 0, 0, 128,
+                                parseMethods(nlohmann::json::parse(R"(["parallax","pom","none"])"),
+                                             "t", "methods"));
+    sc.camera.type = "pinhole";
+    sc.camera.eye = Vec3d(0.3, -1.1, 0.7);
+    sc.camera.target = Vec3d(0, 0.1, 0);
+    sc.camera.up = Vec3d(0, 0, 1);
+    sc.camera.fov = 60;
+    sc.truth.uncertainty = false;
+    RenderResult r = renderFrame(sc, {1});
+    EXPECT_GT(r.methods[0].stats.error.count, 3000);
+    EXPECT_LT(r.methods[0].stats.error.max, 1e-3);
+    EXPECT_LT(r.methods[1].stats.error.max, 2e-3);
+    EXPECT_GT(r.methods[2].stats.error.mean, 0.5);  // and the baseline is visibly off
+}
+
 // More layers -> closer to the truth, on a smooth map where the march has no ties to flip.
 TEST(Render, LayeredErrorShrinksAsLayersGrow) {
     auto run = [](const std::string& methodsJson) {
