@@ -10,36 +10,33 @@ Vec3d viewFromAngles(double thetaDegrees, double phiDegrees) {
     return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-Camera Camera::pinhole(Vec3d eye, Vec3d target, Vec3d up, double fovDegrees, int width,
-                       int height) {
+Camera Camera::make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight,
+                    int width, int height) {
     Camera c;
-    c.ortho_ = false;
+    c.ortho_ = ortho;
     c.width_ = width;
     c.height_ = height;
-    c.eye_ = eye;
     c.target_ = target;
-    c.forward_ = glm::normalize(target - eye);
+    c.forward_ = glm::normalize(forward);
     c.right_ = glm::normalize(glm::cross(c.forward_, up));
     c.up_ = glm::cross(c.right_, c.forward_);
+    c.halfHeight_ = halfHeight;
+    c.halfWidth_ = halfHeight * width / height;
+    return c;
+}
+
+Camera Camera::pinhole(Vec3d eye, Vec3d target, Vec3d up, double fovDegrees, int width,
+                       int height) {
+    Camera c = make(false, target - eye, target, up, std::tan(radians(fovDegrees) / 2), width,
+                    height);
+    c.eye_ = eye;
     c.fovDegrees_ = fovDegrees;
-    c.halfHeight_ = std::tan(radians(fovDegrees) / 2);
-    c.halfWidth_ = c.halfHeight_ * width / height;
     return c;
 }
 
 Camera Camera::orthographic(Vec3d dir, Vec3d target, Vec3d up, double viewHeight, int width,
                             int height) {
-    Camera c;
-    c.ortho_ = true;
-    c.width_ = width;
-    c.height_ = height;
-    c.target_ = target;
-    c.forward_ = glm::normalize(dir);
-    c.right_ = glm::normalize(glm::cross(c.forward_, up));
-    c.up_ = glm::cross(c.right_, c.forward_);
-    c.halfHeight_ = viewHeight / 2;
-    c.halfWidth_ = c.halfHeight_ * width / height;
-    return c;
+    return make(true, dir, target, up, viewHeight / 2, width, height);
 }
 
 Ray Camera::ray(double sx, double sy) const {

@@ -50,6 +50,8 @@ public:
     Vec3d target() const { return target_; }
 
 private:
+    static Camera make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight,
+                       int width, int height);
     bool ortho_ = false;
     int width_ = 0, height_ = 0;
     Vec3d eye_{0}, target_{0}, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
