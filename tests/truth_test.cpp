@@ -128,5 +128,31 @@ TEST(Truth, PlaneFarFromTheOrigin) {
     EXPECT_LT(uvErrorTexels(got.uv, want, 64, 64, Address::Repeat), 1e-4);
 }
 
+// An infinite plane (the tile repeated): at grazing angles the ray meets the sheet tiles
+// away from its base point, and the truth UV is unwrapped by the tiles it crossed.
+TEST(Truth, PeriodicPlaneHitsBeyondTheTile) {
+    const double c = 0.9, s = 0.1, b = 0.0;
+    Texture t = test::makeTexture(32, 32, [&](int, int) { return c; });
+    PlaneBase plane;
+    plane.tiling = 2;  // the tile holds two texture repeats
+    plane.size = 1.5;
+    auto base = tessellatePlane(t, plane, 2);
+    TruthSurface surface(base, Displacement{s, b}, TruthGeometry::Grid, true);
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    for (int k = 0; k < 200; ++k) {
+        Vec3d v = viewFromAngles(70 + 19.5 * uni(rng), 360 * uni(rng));
+        Vec2d uv0(2 * uni(rng), 2 * uni(rng));
+        Vec2d want = uv0 + Vec2d(v.x, v.y) / v.z * (s * c + b);  // may be many tiles away
+        Vec3d p(uv0.x * 0.75 - 0.75, uv0.y * 0.75 - 0.75, 0.0);  // l = 0.75
+        TruthSample got = surface.trace({p, -v, true});
+        ASSERT_TRUE(got.hit) << "theta " << degrees(std::acos(v.z));
+        // Unwrapped: compare without the repeat wrap. Far hits lose float precision in the
+        // long ray (|t| up to ~0.09 * tan(89.5) / 0.75 ~ 14 UV): 2e-3 texel.
+        EXPECT_LT(uvErrorTexels(got.uv, want, 32, 32, Address::Clamp), 2e-3)
+            << "theta " << degrees(std::acos(v.z)) << " want " << want.x << "," << want.y;
+    }
+}
+
 }  // namespace
 }  // namespace pgt

@@ -75,65 +75,19 @@ constexpr int kGridBlock = 1024;
 
 }  // namespace
 
-struct TruthSurface::Impl {
-    TruthGeometry geometry;
-    int nu = 0, nv = 0;        // segments
-    Vec3d origin{0};           // vertices are stored relative to this point (float precision)
-    Vec3d boundsLo{0}, boundsHi{0};  // of the displaced vertices, local frame
-    std::vector<Vec2d> uvs;    // per vertex, (nv+1) x (nu+1), row-major in v
-    std::vector<RTCGrid> grids;
-    RTCScene scene = nullptr;
-    TruthBuildStats stats;
-
-    size_t vertexIndex(int i, int j) const { return size_t(j) * (nu + 1) + i; }
-
-    // Vertex UVs interpolated over the triangle of cell (ci, cj) containing local (fx, fy):
-    // the cell is split along its (1,0)-(0,1) diagonal.
-    Vec2d cellUv(int ci, int cj, double fx, double fy) const {
-        ci = std::clamp(ci, 0, nu - 1);
-        cj = std::clamp(cj, 0, nv - 1);
-        const Vec2d& a = uvs[vertexIndex(ci, cj)];
-        const Vec2d& b = uvs[vertexIndex(ci + 1, cj)];
-        const Vec2d& c = uvs[vertexIndex(ci, cj + 1)];
-        const Vec2d& d = uvs[vertexIndex(ci + 1, cj + 1)];
-        if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
-        return d + (c - d) * (1 - fx) + (b - d) * (1 - fy);
-    }
-
-    TruthSample hitToSample(const RTCRayHit& rh) const {
-        TruthSample s;
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
-        s.hit = true;
-        if (geometry == TruthGeometry::Grid) {
-            // Grid hits report u, v over the whole grid primitive (BUILD-NOTES.md).
-            const RTCGrid& g = grids[rh.hit.primID];
-            int i0 = int(g.startVertexID % g.stride), j0 = int(g.startVertexID / g.stride);
-            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
-            int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
-            s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
-        } else {
-            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
-            // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
-            int64_t cell = rh.hit.primID / 2;
-            int ci = int(cell % nu), cj = int(cell / nu);
-            double u = rh.hit.u, v = rh.hit.v;
-            if (rh.hit.primID % 2 == 0) s.uv = cellUv(ci, cj, u, v);
-            else s.uv = cellUv(ci, cj, 1 - u, 1 - v);
-        }
-        return s;
-    }
-};
-
-TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
-                           const Displacement& disp, int rate, TruthGeometry geometry)
-    : impl_(std::make_unique<Impl>()) {
+std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
+                                                        const PlaneBase& plane, int rate) {
     using namespace OpenSubdiv;
-    Impl& m = *impl_;
-    m.geometry = geometry;
-    m.origin = plane.center;
     auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.origin = plane.center;
+    m.worldPerUv = plane.worldPerUv();
+    m.periodWorld = plane.size;
+    m.periodUv = plane.tiling;
 
-    // The base plane as a one-quad bilinear control mesh with face-varying UVs.
+    // The base plane as a one-quad bilinear control mesh with face-varying UVs; control
+    // points relative to the plane centre (the local frame of the float vertices).
     const double half = plane.size / 2, tiling = plane.tiling;
     const double ctrlPos[4][3] = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0},
                                   {-half, half, 0}};
@@ -173,50 +127,174 @@ TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
     PGT_CHECK(tess.IsValid());
     std::vector<double> coords(size_t(tess.GetNumCoords()) * 2);
     tess.GetCoords(coords.data());
-    PGT_CHECK_EQ(coords.size() / 2, size_t(m.nu + 1) * (m.nv + 1));
+    const size_t nVerts = coords.size() / 2;
+    PGT_CHECK_EQ(nVerts, size_t(m.nu + 1) * (m.nv + 1));
 
     std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
     std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
     posSurface.PreparePatchPoints(&ctrlPos[0][0], 3, posPatch.data(), 3);
     uvSurface.PreparePatchPoints(&ctrlUv[0][0], 2, uvPatch.data(), 2);
 
-    const size_t nVerts = coords.size() / 2;
-    m.uvs.assign(nVerts, Vec2d(0));
-    std::vector<float> positions(nVerts * 3);
-    const double l = plane.worldPerUv();
-    // Each Bfr coordinate lands in its grid slot, so the vertex buffer is row-major for
+    m.position.resize(nVerts);
+    m.normal.resize(nVerts);
+    m.uv.resize(nVerts);
+    m.height.resize(nVerts);
+    // Each Bfr coordinate lands in its grid slot, so the vertex arrays are row-major for
     // Embree's grid primitive whatever order Bfr lists boundary and interior points in.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nVerts, 4096), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             const double st[2] = {coords[2 * k], coords[2 * k + 1]};
-            int i = int(std::lround(st[0] * m.nu)), j = int(std::lround(st[1] * m.nv));
+            size_t idx = size_t(std::lround(st[1] * m.nv)) * (m.nu + 1) +
+                         size_t(std::lround(st[0] * m.nu));
             double P[3], Du[3], Dv[3], UV[2];
             posSurface.Evaluate(st, posPatch.data(), 3, P, Du, Dv);
             uvSurface.Evaluate(st, uvPatch.data(), 2, UV);
             Vec3d n = glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]),
                                                 Vec3d(Dv[0], Dv[1], Dv[2])));
-            Vec2d uv(UV[0], UV[1]);
-            // MODEL.md §3: P = S + N * l * (s*h + b), h from the shared bilinear sampler.
-            double h = sampleBilinear<double>(height, uv);
-            Vec3d p = Vec3d(P[0], P[1], P[2]) + n * (l * (disp.scale * h + disp.bias));
-            // (control points are relative to the plane centre: the local frame)
-            size_t idx = m.vertexIndex(i, j);
-            m.uvs[idx] = uv;
-            positions[3 * idx] = float(p.x);
-            positions[3 * idx + 1] = float(p.y);
-            positions[3 * idx + 2] = float(p.z);
+            m.position[idx] = Vec3f(float(P[0]), float(P[1]), float(P[2]));
+            m.normal[idx] = Vec3f(n);
+            m.uv[idx] = Vec2d(UV[0], UV[1]);
+            m.height[idx] = sampleBilinear<double>(height, m.uv[idx]);
         }
     });
-    m.boundsLo = Vec3d(1e300);
-    m.boundsHi = Vec3d(-1e300);
-    for (size_t k = 0; k < nVerts; ++k) {
-        Vec3d p(positions[3 * k], positions[3 * k + 1], positions[3 * k + 2]);
-        m.boundsLo = glm::min(m.boundsLo, p);
-        m.boundsHi = glm::max(m.boundsHi, p);
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
+struct TruthSurface::Impl {
+    std::shared_ptr<const BaseTessellation> base;
+    TruthGeometry geometry;
+    bool periodic = false;
+    int nu = 0, nv = 0;
+    Vec3d boundsLo{0}, boundsHi{0};  // of the displaced vertices, local frame
+    std::vector<RTCGrid> grids;
+    RTCScene scene = nullptr;
+    TruthBuildStats stats;
+
+    size_t vertexIndex(int i, int j) const { return size_t(j) * (nu + 1) + i; }
+
+    // Vertex UVs interpolated over the triangle of cell (ci, cj) containing local (fx, fy):
+    // the cell is split along its (1,0)-(0,1) diagonal.
+    Vec2d cellUv(int ci, int cj, double fx, double fy) const {
+        ci = std::clamp(ci, 0, nu - 1);
+        cj = std::clamp(cj, 0, nv - 1);
+        const auto& uvs = base->uv;
+        const Vec2d& a = uvs[vertexIndex(ci, cj)];
+        const Vec2d& b = uvs[vertexIndex(ci + 1, cj)];
+        const Vec2d& c = uvs[vertexIndex(ci, cj + 1)];
+        const Vec2d& d = uvs[vertexIndex(ci + 1, cj + 1)];
+        if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
+        return d + (c - d) * (1 - fx) + (b - d) * (1 - fy);
     }
-    m.stats.tessellateMs = msSince(t0);
+
+    TruthSample hitToSample(const RTCRayHit& rh) const {
+        TruthSample s;
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
+        s.hit = true;
+        if (geometry == TruthGeometry::Grid) {
+            // Grid hits report u, v over the whole grid primitive (BUILD-NOTES.md).
+            const RTCGrid& g = grids[rh.hit.primID];
+            int i0 = int(g.startVertexID % g.stride), j0 = int(g.startVertexID / g.stride);
+            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+            int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
+            s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
+        } else {
+            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
+            // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
+            int64_t cell = rh.hit.primID / 2;
+            int ci = int(cell % nu), cj = int(cell / nu);
+            double u = rh.hit.u, v = rh.hit.v;
+            if (rh.hit.primID % 2 == 0) s.uv = cellUv(ci, cj, u, v);
+            else s.uv = cellUv(ci, cj, 1 - u, 1 - v);
+        }
+        return s;
+    }
+
+    TruthSample intersect(Vec3d org, Vec3d dir, double tfar, RTCIntersectContext* ctx) const {
+        RTCRayHit rh;
+        rh.ray.org_x = float(org.x), rh.ray.org_y = float(org.y), rh.ray.org_z = float(org.z);
+        rh.ray.dir_x = float(dir.x), rh.ray.dir_y = float(dir.y), rh.ray.dir_z = float(dir.z);
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = std::isfinite(tfar) ? float(tfar) : std::numeric_limits<float>::infinity();
+        rh.ray.time = 0.0f;
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, ctx, &rh);
+        return hitToSample(rh);
+    }
+
+    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx) const {
+        Vec3d o = ray.origin - base->origin;  // into the local frame, in double
+        const double inf = std::numeric_limits<double>::infinity();
+        // Parametric interval of the ray inside the bounds (x, y unbounded when periodic).
+        double tEnter = ray.line ? -inf : 0.0, tExit = inf;
+        for (int a = 0; a < (periodic ? 1 : 3); ++a) {
+            int axis = periodic ? 2 : a;
+            if (ray.dir[axis] == 0) {
+                if (o[axis] < boundsLo[axis] || o[axis] > boundsHi[axis]) return {};
+                continue;
+            }
+            double t0 = (boundsLo[axis] - o[axis]) / ray.dir[axis];
+            double t1 = (boundsHi[axis] - o[axis]) / ray.dir[axis];
+            tEnter = std::max(tEnter, std::min(t0, t1));
+            tExit = std::min(tExit, std::max(t0, t1));
+        }
+        if (!(tEnter <= tExit) || !std::isfinite(tEnter)) return {};
+        // Start a little before the bounds so the float ray begins within a box-size of the
+        // hit: float error scales with |origin| + t. 1% of the box keeps it strictly outside.
+        double margin = 0.01 * glm::length(boundsHi - boundsLo) + 1e-6;
+        double t = ray.line ? tEnter - margin : std::max(0.0, tEnter - margin);
+        if (!periodic) return intersect(o + ray.dir * t, ray.dir, inf, ctx);
+
+        // Infinite plane: walk the tiles the ray crosses inside the relief slab, tracing the
+        // one tile shifted under each stretch and adding the tile's UV offset to the hit.
+        const double L = base->periodWorld, T = base->periodUv;
+        const double step = 1e-9 * L;  // past a tile border without skipping geometry
+        for (int guard = 0; guard < 100000 && t <= tExit + margin; ++guard) {
+            Vec3d p = o + ray.dir * t;
+            double kx = std::floor((p.x + L / 2) / L), ky = std::floor((p.y + L / 2) / L);
+            Vec3d local(p.x - kx * L, p.y - ky * L, p.z);
+            double leave = inf;  // distance to the tile's side walls
+            for (int a = 0; a < 2; ++a) {
+                if (ray.dir[a] > 0) leave = std::min(leave, (L / 2 - local[a]) / ray.dir[a]);
+                if (ray.dir[a] < 0) leave = std::min(leave, (-L / 2 - local[a]) / ray.dir[a]);
+            }
+            leave = std::max(leave, 0.0);
+            TruthSample s = intersect(local, ray.dir, std::min(leave, tExit + margin - t) + step, ctx);
+            if (s.hit) {
+                s.uv += Vec2d(kx * T, ky * T);
+                return s;
+            }
+            t += leave + step;
+        }
+        return {};
+    }
+};
+
+TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
+                           const Displacement& disp, int rate, TruthGeometry geometry)
+    : TruthSurface(tessellatePlane(height, plane, rate), disp, geometry, false) {}
+
+TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
+                           const Displacement& disp, TruthGeometry geometry, bool periodic)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.base = std::move(base);
+    m.geometry = geometry;
+    m.periodic = periodic;
+    m.nu = m.base->nu;
+    m.nv = m.base->nv;
+    if (periodic) {
+        double T = m.base->periodUv;
+        PGT_CHECK_LT(std::fabs(T - std::round(T)), 1e-9);  // scene validation guarantees it
+    }
+    m.stats.tessellateMs = m.base->tessellateMs;
     m.stats.segmentsU = m.nu;
     m.stats.segmentsV = m.nv;
+    const size_t nVerts = m.base->position.size();
     m.stats.vertices = int64_t(nVerts);
 
     auto t1 = Clock::now();
@@ -225,10 +303,23 @@ TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
     RTCGeometry geom = rtcNewGeometry(
         dev, geometry == TruthGeometry::Grid ? RTC_GEOMETRY_TYPE_GRID : RTC_GEOMETRY_TYPE_TRIANGLE);
     // rtcSetNewGeometryBuffer pads the buffer as Embree requires for its SIMD loads.
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nVerts));
-    std::copy(positions.begin(), positions.end(), vb);
-    m.stats.geometryBytes = int64_t(nVerts * 3 * sizeof(float));
+    auto* vb = static_cast<Vec3f*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), nVerts));
+    // MODEL.md §3: P = S + N * l * (s*h + b), in double, rounded once to float.
+    const double l = m.base->worldPerUv;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, nVerts, 16384), [&](const auto& r) {
+        const BaseTessellation& b = *m.base;
+        for (size_t k = r.begin(); k < r.end(); ++k)
+            vb[k] = Vec3f(Vec3d(b.position[k]) +
+                          Vec3d(b.normal[k]) * (l * (disp.scale * b.height[k] + disp.bias)));
+    });
+    m.boundsLo = Vec3d(1e300);
+    m.boundsHi = Vec3d(-1e300);
+    for (size_t k = 0; k < nVerts; ++k) {
+        m.boundsLo = glm::min(m.boundsLo, Vec3d(vb[k]));
+        m.boundsHi = glm::max(m.boundsHi, Vec3d(vb[k]));
+    }
+    m.stats.geometryBytes = int64_t(nVerts * sizeof(Vec3f));
     if (geometry == TruthGeometry::Grid) {
         for (int j0 = 0; j0 < m.nv; j0 += kGridBlock)
             for (int i0 = 0; i0 < m.nu; i0 += kGridBlock) {
@@ -275,47 +366,11 @@ TruthSurface::~TruthSurface() {
 
 const TruthBuildStats& TruthSurface::stats() const { return impl_->stats; }
 
-namespace {
-// Moves the ray origin (in double) to just before the surface's bounding box, so that the
-// float ray starts within a box-size of the hit: float error scales with |origin| + t.
-// Orthographic rays are lines (their origin may lie inside the relief slab).
-RTCRayHit makeRayHit(const Ray& ray, Vec3d origin, Vec3d lo, Vec3d hi) {
-    RTCRayHit rh;
-    Vec3d o = ray.origin - origin;  // into the surface's local frame, in double
-    double tEnter = ray.line ? -std::numeric_limits<double>::infinity() : 0.0;
-    double tExit = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-        if (ray.dir[a] == 0) continue;
-        double t0 = (lo[a] - o[a]) / ray.dir[a], t1 = (hi[a] - o[a]) / ray.dir[a];
-        tEnter = std::max(tEnter, std::min(t0, t1));
-        tExit = std::min(tExit, std::max(t0, t1));
-    }
-    // A margin of 1% of the box diagonal keeps the entry point strictly outside the box.
-    double margin = 0.01 * glm::length(hi - lo) + 1e-6;
-    if (std::isfinite(tEnter) && tEnter <= tExit)
-        o += ray.dir * (ray.line ? tEnter - margin : std::max(0.0, tEnter - margin));
-    else if (ray.line) o -= ray.dir * (glm::length(hi - lo) + glm::length(o) + 1.0);
-    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(ray.dir.x), rh.ray.dir_y = float(ray.dir.y), rh.ray.dir_z = float(ray.dir.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = std::numeric_limits<float>::infinity();
-    rh.ray.time = 0.0f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = 0;
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    return rh;
-}
-}  // namespace
-
 TruthSample TruthSurface::trace(const Ray& ray) const {
     setTracingFpMode();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRayHit rh = makeRayHit(ray, impl_->origin, impl_->boundsLo, impl_->boundsHi);
-    rtcIntersect1(impl_->scene, &ctx, &rh);
-    return impl_->hitToSample(rh);
+    return impl_->trace(ray, &ctx);
 }
 
 Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera) const {
@@ -327,12 +382,8 @@ Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera) const {
                           RTCIntersectContext ctx;
                           rtcInitIntersectContext(&ctx);
                           for (int y = r.rows().begin(); y < r.rows().end(); ++y)
-                              for (int x = r.cols().begin(); x < r.cols().end(); ++x) {
-                                  RTCRayHit rh = makeRayHit(camera.pixelRay(x, y), m.origin,
-                                                             m.boundsLo, m.boundsHi);
-                                  rtcIntersect1(m.scene, &ctx, &rh);
-                                  out.at(x, y) = m.hitToSample(rh);
-                              }
+                              for (int x = r.cols().begin(); x < r.cols().end(); ++x)
+                                  out.at(x, y) = m.trace(camera.pixelRay(x, y), &ctx);
                       });
     return out;
 }

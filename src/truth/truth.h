@@ -22,9 +22,32 @@ struct TruthBuildStats {
     double tessellateMs = 0, buildMs = 0;
 };
 
+// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis, with the
+// height sampled at every vertex: everything the truth needs that does not depend on the
+// displacement (s, b), so a study builds it once per rate and reuses it.
+struct BaseTessellation {
+    int nu = 0, nv = 0;           // segments; vertices are (nu + 1) x (nv + 1), row-major in v
+    Vec3d origin{0};              // positions are relative to this point (float precision)
+    double worldPerUv = 1;        // l (MODEL.md §2)
+    double periodWorld = 1;       // plane side L: the tile period of an infinite plane
+    double periodUv = 1;          // tiling T: the UV period of the tile
+    std::vector<Vec3f> position;  // S(u, v) - origin
+    std::vector<Vec3f> normal;    // unit N(u, v)
+    std::vector<Vec2d> uv;
+    std::vector<double> height;   // h(u, v) from the shared bilinear sampler
+    double tessellateMs = 0;
+};
+
+std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
+                                                        const PlaneBase& plane, int rate);
+
 class TruthSurface {
 public:
-    // Builds the displaced plane. `rate` >= 1 samples per texel per axis.
+    // Displaces `base` by (s, b) (MODEL.md §3) and builds the Embree scene. `periodic`
+    // repeats the tile forever in x and y (an infinite plane; needs an integer tiling).
+    TruthSurface(std::shared_ptr<const BaseTessellation> base, const Displacement& disp,
+                 TruthGeometry geometry, bool periodic);
+    // Tessellates and builds in one step.
     TruthSurface(const Texture& height, const PlaneBase& plane, const Displacement& disp,
                  int rate, TruthGeometry geometry);
     ~TruthSurface();
