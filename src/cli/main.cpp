@@ -2,12 +2,15 @@
 // status: 0 ok, 1 internal error, 2 bad input (file, field, value), 3 output not writable.
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "core/error.h"
 #include "scene/scene.h"
+#include "study/fit.h"
 #include "study/outputs.h"
 #include "study/render.h"
+#include "study/sweep.h"
 
 namespace {
 
@@ -30,6 +33,7 @@ void printSummary(const pgt::RenderResult& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    using pgt::SweepOptions;
     CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
     app.require_subcommand(1);
     std::string scenePath, outDir;
@@ -39,6 +43,21 @@ int main(int argc, char** argv) {
     render->add_option("--out", outDir, "Output directory")->required();
     render->add_option("--timing-repeats", repeats, "Timing passes per method (median)")
         ->check(CLI::Range(1, 100));
+
+    SweepOptions sweepOpt;
+    bool noReport = false;
+    auto* sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
+    sweep->add_option("scene", scenePath, "Scene file (JSON) with a \"sweep\" block")->required();
+    sweep->add_option("--out", sweepOpt.outDir, "Output directory (resumed if it exists)")
+        ->required();
+    sweep->add_flag("--images", sweepOpt.images, "Also write every case's images");
+    sweep->add_flag("--fresh", sweepOpt.fresh, "Discard earlier results instead of resuming");
+    sweep->add_flag("--no-report", noReport, "Do not run analysis/report.py at the end");
+    sweep->add_option("--max-cases", sweepOpt.maxCases, "Stop after this many new cases");
+
+    auto* fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
+    fit->add_option("scene", scenePath, "Scene file (JSON), optional \"fit\" block")->required();
+    fit->add_option("--out", outDir, "Output directory for fit.json")->required();
     CLI11_PARSE(app, argc, argv);
 
     try {
@@ -49,6 +68,34 @@ int main(int argc, char** argv) {
             printSummary(result);
             std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n",
                         outDir.c_str(), outDir.c_str(), result.methods.size());
+        } else if (*sweep) {
+            pgt::Scene scene = pgt::loadScene(scenePath);
+            pgt::Study study = pgt::parseStudy(scene);
+            std::printf("study: %zu cases x %zu method configurations at %dx%d\n",
+                        study.cases.size(), study.configs.size(), study.width, study.height);
+            pgt::SweepSummary sum = pgt::runSweep(scene, study, sweepOpt);
+            std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n",
+                        sum.done, sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
+                        sweepOpt.outDir.c_str());
+            if (!sum.finished) {
+                std::printf("stopped early; run the same command again to resume\n");
+            } else if (!noReport) {
+                std::string why;
+                std::string report = pgt::writeStudyReport(sweepOpt.outDir, &why);
+                if (report.empty()) std::printf("report not written: %s\n", why.c_str());
+                else std::printf("report: %s\n", report.c_str());
+            }
+        } else if (*fit) {
+            pgt::Scene scene = pgt::loadScene(scenePath);
+            pgt::FitReport rep = pgt::runFit(scene, true);
+            std::filesystem::create_directories(outDir);
+            pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
+            std::printf("%-18s %11s %11s %11s  %s\n", "method", rep.objective.c_str(),
+                        "mean", "as listed", "best parameters");
+            for (const auto& m : rep.methods)
+                std::printf("%-18s %11.4f %11.4f %11.4f  %s\n", m.method.c_str(),
+                            m.bestObjective, m.bestMean, m.nativeObjective, m.best.dump().c_str());
+            std::printf("wrote %s/fit.json\n", outDir.c_str());
         }
     } catch (const pgt::InputError& e) {
         std::cerr << "pgt: error: " << e.what() << "\n";

@@ -4,6 +4,7 @@
 // MethodContext, which counts fetches (MODEL.md §8) and never throw: stiff cases are flagged.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ struct MethodConfig {
     int iterations = 4;                     // iterative (003 Listing 7.9)
     bool discardOutside = false;  // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
+    // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
+    // NaN = use the scene's displacement (MODEL.md §3).
+    double scale = NAN, bias = NAN;
 };
 
 // Stiff-case flags a method raises (counted per frame, never thrown).

@@ -1,7 +1,9 @@
 // Method registry: names, scene parsing, labels, dispatch.
 #include "methods/registry.h"
 
+#include <cmath>
 #include <map>
+#include <sstream>
 
 #include "core/json_fields.h"
 #include "methods/layered.h"
@@ -72,6 +74,8 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
             break;
     }
     cfg.discardOutside = f.boolean("discard_outside", false);
+    cfg.scale = f.number("scale", NAN, -1e3, 1e3);
+    cfg.bias = f.number("bias", NAN, -1e3, 1e3);
     cfg.doublePrecision = f.choice("precision", {"float", "double"}, "float") == "double";
     cfg.label = f.string("label", "");
     if (f.has("label") && (cfg.label.empty() || cfg.label.find_first_of(" ./\\") !=
@@ -103,6 +107,13 @@ std::string parameterSuffix(const MethodConfig& c) {
     }
     if (c.doublePrecision) s += s.empty() ? "f64" : "_f64";
     if (c.discardOutside) s += s.empty() ? "discard" : "_discard";
+    auto num = [](double x) {
+        std::ostringstream os;
+        os << x;
+        return os.str();
+    };
+    if (std::isfinite(c.scale)) s += (s.empty() ? "s" : "_s") + num(c.scale);
+    if (std::isfinite(c.bias)) s += (s.empty() ? "b" : "_b") + num(c.bias);
     return s;
 }
 }  // namespace
@@ -154,6 +165,8 @@ Json toJson(const MethodConfig& c) {
             break;
     }
     j["discard_outside"] = c.discardOutside;
+    if (std::isfinite(c.scale)) j["scale"] = c.scale;
+    if (std::isfinite(c.bias)) j["bias"] = c.bias;
     j["precision"] = c.doublePrecision ? "double" : "float";
     return j;
 }

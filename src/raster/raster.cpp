@@ -9,16 +9,33 @@
 
 namespace pgt {
 
-BaseMesh makePlaneMesh(Vec3d center, double size, double tiling) {
+BaseMesh makePlaneMesh(Vec3d center, double size, double tiling, int tilesAround) {
     BaseMesh m;
-    const double h = size / 2;
+    const double k = tilesAround;
+    const double h = size / 2 + k * size;
     const Vec3d t(1, 0, 0), b(0, 1, 0), n(0, 0, 1);
     const Vec2d corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     for (const auto& c : corners)
         m.vertices.push_back({center + Vec3d((c.x * 2 - 1) * h, (c.y * 2 - 1) * h, 0.0),
-                              c * tiling, t, b, n});
+                              (c * (2 * k + 1) - k) * tiling, t, b, n});
     m.indices = {0, 1, 2, 0, 2, 3};
     return m;
+}
+
+int tilesToCover(const Camera& camera, Vec3d center, double size, int cap) {
+    double reach = 0;
+    const int w = camera.width(), hgt = camera.height();
+    const double xs[3] = {0.0, w / 2.0, double(w)}, ys[3] = {0.0, hgt / 2.0, double(hgt)};
+    for (double sx : xs)
+        for (double sy : ys) {
+            Ray r = camera.ray(sx, sy);
+            if (r.dir.z == 0) return cap;
+            double t = (center.z - r.origin.z) / r.dir.z;
+            if (t < 0 && !r.line) return cap;  // this corner looks above the horizon
+            Vec3d p = r.origin + r.dir * t - center;
+            reach = std::max({reach, std::fabs(p.x), std::fabs(p.y)});
+        }
+    return std::min(cap, int(std::ceil(reach / size - 0.5)) + 1);
 }
 
 namespace {

@@ -24,8 +24,13 @@ struct BaseMesh {
     std::vector<uint32_t> indices;  // triangles, counter-clockwise seen from the front (+N)
 };
 
-// The plane of MODEL.md §2 as two triangles.
-BaseMesh makePlaneMesh(Vec3d center, double size, double tiling);
+// The plane of MODEL.md §2 as two triangles; `tilesAround` > 0 extends it by that many
+// whole tiles on every side (an infinite plane's visible part), UVs continuing outward.
+BaseMesh makePlaneMesh(Vec3d center, double size, double tiling, int tilesAround = 0);
+
+// How many tiles around the central one an infinite plane needs so that every pixel ray
+// of `camera` that meets the plane z = center.z meets it inside (at most `cap`).
+int tilesToCover(const Camera& camera, Vec3d center, double size, int cap = 64);
 
 struct Fragment {
     bool covered = false;

@@ -89,6 +89,13 @@ Scene parseScene(const Json& json, const std::string& file) {
         s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
         if (f.has("center")) s.plane.center = vec3(f, "center");
         s.plane.cullBackFaces = f.boolean("cull_back_faces", true);
+        s.plane.infinite = f.boolean("infinite", false);
+        if (s.plane.infinite) {
+            if (s.height.address != Address::Repeat)
+                f.fail("infinite", "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
+            if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
+                f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
+        }
         f.finish();
     }
     if (root.has("displacement")) {
@@ -109,8 +116,14 @@ Scene parseScene(const Json& json, const std::string& file) {
         if (c.type == "orthographic") {
             c.theta = f.number("theta", 0.0, 90.0);
             c.phi = f.number("phi", 0.0, -360.0, 360.0);
-            c.frameWholePlane = !f.has("view_height");
-            c.viewHeight = f.number("view_height", 0.0, 1e-9, 1e9);
+            c.frame = f.choice("frame", {"plane", "fill"}, "plane");
+            c.fillSize = f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2,
+                                  1e-9, 1e9);
+            if (f.has("view_height")) {
+                if (f.has("frame")) f.fail("view_height", "give either \"frame\" or \"view_height\"");
+                c.frame = "view";
+                c.viewHeight = f.number("view_height", 1e-9, 1e9);
+            }
             c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
         } else {
             c.eye = vec3(f, "eye");
@@ -134,6 +147,8 @@ Scene parseScene(const Json& json, const std::string& file) {
         s.truth.uncertainty = f.boolean("uncertainty", true);
         f.finish();
     }
+    if (root.has("sweep")) s.sweep = root.raw("sweep");
+    if (root.has("fit")) s.fit = root.raw("fit");
     root.finish();
     return s;
 }
@@ -147,8 +162,14 @@ Camera makeCamera(const Scene& s) {
     Vec3d v = viewFromAngles(c.theta, c.phi);
     double t = radians(c.theta), p = radians(c.phi);
     Vec3d up(-std::cos(t) * std::cos(p), -std::cos(t) * std::sin(p), std::sin(t));
-    if (!c.frameWholePlane)
+    if (c.frame == "view")
         return Camera::orthographic(-v, c.target, up, c.viewHeight, c.width, c.height);
+    if (c.frame == "fill") {
+        // The image's vertical extent on the plane is foreshortened by cos(theta); 1e-4
+        // keeps the view non-degenerate at exactly 90 degrees.
+        double height = c.fillSize * c.height / c.width * std::max(std::cos(t), 1e-4);
+        return Camera::orthographic(-v, c.target, up, height, c.width, c.height);
+    }
     // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.
     Camera probe = Camera::orthographic(-v, s.plane.center, up, 1.0, c.width, c.height);
     double l = s.plane.worldPerUv(), sc = s.displacement.scale, b = s.displacement.bias;
@@ -180,7 +201,10 @@ Json resolvedSceneJson(const Scene& s) {
                   {"up", {s.camera.up.x, s.camera.up.y, s.camera.up.z}},
                   {"fov", s.camera.fov}};
     } else {
-        camera = {{"type", "orthographic"}, {"theta", s.camera.theta}, {"phi", s.camera.phi}};
+        camera = {{"type", "orthographic"}, {"theta", s.camera.theta}, {"phi", s.camera.phi},
+                  {"frame", s.camera.frame}};
+        if (s.camera.frame == "fill") camera["fill_size"] = s.camera.fillSize;
+        if (s.camera.frame == "view") camera["view_height"] = s.camera.viewHeight;
     }
     camera["resolution"] = {s.camera.width, s.camera.height};
     return {
@@ -191,7 +215,8 @@ Json resolvedSceneJson(const Scene& s) {
           {"size", s.plane.size},
           {"tiling", s.plane.tiling},
           {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
-          {"cull_back_faces", s.plane.cullBackFaces}}},
+          {"cull_back_faces", s.plane.cullBackFaces},
+          {"infinite", s.plane.infinite}}},
         {"displacement", {{"scale", s.displacement.scale}, {"bias", s.displacement.bias}}},
         {"camera", camera},
         {"methods", methods},

@@ -17,6 +17,7 @@ struct PlaneBase {
     double tiling = 1.0;      // UV range [0, tiling]^2
     Vec3d center{0, 0, 0};    // plane centre; the plane lies in z = center.z
     bool cullBackFaces = true;
+    bool infinite = false;    // the tile repeats forever in x and y (repeat, integer tiling)
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
 };
 
@@ -28,9 +29,13 @@ struct Displacement {
 struct CameraSpec {
     std::string type = "orthographic";
     double theta = 60, phi = 0;  // orthographic view angle and azimuth, degrees
-    bool frameWholePlane = true; // orthographic: fit the plane (with its relief) in the view
+    // Orthographic framing: "plane" fits the whole plane and its relief; "fill" covers the
+    // image with a plane region `fillSize` world units wide (every pixel sees the surface);
+    // "view" uses viewHeight as given.
+    std::string frame = "plane";
+    double fillSize = 0;         // "fill": default half the plane (the whole tile if infinite)
     Vec3d target{0};
-    double viewHeight = 0;       // orthographic, when not framing automatically
+    double viewHeight = 0;
     Vec3d eye{0, -2, 1.5}, up{0, 0, 1};
     double fov = 45;
     int width = 512, height = 512;
@@ -54,6 +59,8 @@ struct Scene {
     CameraSpec camera;
     std::vector<MethodConfig> methods;
     TruthSpec truth;
+    nlohmann::json sweep;  // the "sweep" block as written (validated by study/sweep.h)
+    nlohmann::json fit;    // the "fit" block as written (validated by study/fit.h)
 };
 
 // Reads and validates a scene file; throws InputError (file, field, value) on bad input,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <random>
 
 #include "methods/registry.h"
 
@@ -32,6 +33,25 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
     return list;
 }
 
+FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) {
+    if (count <= 0 || size_t(count) >= all.size()) return all;
+    std::vector<size_t> idx(all.size());
+    for (size_t k = 0; k < idx.size(); ++k) idx[k] = k;
+    std::mt19937 rng(seed);
+    std::shuffle(idx.begin(), idx.end(), rng);
+    idx.resize(size_t(count));
+    std::sort(idx.begin(), idx.end());  // keep the scan order's memory locality
+    FragmentList out;
+    for (size_t k : idx) {
+        out.pixel.push_back(all.pixel[k]);
+        out.uv0.push_back(all.uv0[k]);
+        out.view.push_back(all.view[k]);
+        out.uv0d.push_back(all.uv0d[k]);
+        out.viewd.push_back(all.viewd[k]);
+    }
+    return out;
+}
+
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
                                   double tiling, bool needDerived) {
     MethodTextures t;
@@ -41,6 +61,34 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
     t.tiling = tiling;
     if (needDerived) t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
     return t;
+}
+
+const MethodTextures& MethodTextureCache::get(double scale, double bias, bool needDerived) {
+    auto key = std::make_pair(scale, bias);
+    auto it = cache_.find(key);
+    if (it != cache_.end() && (!needDerived || it->second.derived)) return it->second;
+    cache_[key] = makeMethodTextures(height_, scale, bias, tiling_, needDerived);
+    return cache_[key];
+}
+
+TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
+    const int rate = scene_.truth.rate;
+    if (!base_) base_ = tessellatePlane(scene_.height, scene_.plane, rate);
+    TruthPair p;
+    p.truth = std::make_unique<TruthSurface>(base_, disp, scene_.truth.geometry,
+                                             scene_.plane.infinite);
+    if (withUncertainty) {
+        if (!fine_) fine_ = tessellatePlane(scene_.height, scene_.plane, 2 * rate);
+        p.fine = std::make_unique<TruthSurface>(fine_, disp, scene_.truth.geometry,
+                                                scene_.plane.infinite);
+    }
+    return p;
+}
+
+BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
+    int tiles = scene.plane.infinite ? tilesToCover(camera, scene.plane.center, scene.plane.size)
+                                     : 0;
+    return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
 }
 
 namespace {
@@ -123,64 +171,70 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
     return samples[samples.size() / 2];
 }
 
-RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
+RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPair& truths,
+                        const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                        const TimingSpec& timing, bool keepImages) {
     RenderResult r;
-    r.camera = makeCamera(scene);
-    const int W = r.camera.width(), H = r.camera.height();
-
-    // Truth at the scene's rate, and at twice the rate for its own uncertainty.
-    {
-        TruthSurface surface(scene.height, scene.plane, scene.displacement, scene.truth.rate,
-                             scene.truth.geometry);
-        r.truthBuild = surface.stats();
-        auto t0 = Clock::now();
-        r.truth = surface.traceFrame(r.camera);
-        r.timingsMs["trace"] = msSince(t0);
-    }
-    r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
-    r.timingsMs["build"] = r.truthBuild.buildMs;
-    if (scene.truth.uncertainty) {
-        auto t0 = Clock::now();
-        TruthSurface fine(scene.height, scene.plane, scene.displacement, 2 * scene.truth.rate,
-                          scene.truth.geometry);
-        r.truthBuildFine = fine.stats();
-        Image2D<TruthSample> fineFrame = fine.traceFrame(r.camera);
+    r.camera = camera;
+    const int W = camera.width(), H = camera.height();
+    r.truthBuild = truths.truth->stats();
+    auto t0 = Clock::now();
+    r.truth = truths.truth->traceFrame(camera);
+    r.timingsMs["trace"] = msSince(t0);
+    if (truths.fine) {
+        auto t1 = Clock::now();
+        r.truthBuildFine = truths.fine->stats();
+        Image2D<TruthSample> fineFrame = truths.fine->traceFrame(camera);
         r.uncertainty = compareTruthFrames(r.truth, fineFrame, scene.height, scene.height.address);
         r.uncertainty.rate = scene.truth.rate;
         r.uncertainty.rateFine = 2 * scene.truth.rate;
         r.haveUncertainty = true;
-        r.timingsMs["uncertainty"] = msSince(t0);
+        r.timingsMs["trace_fine"] = msSince(t1);
     }
 
-    auto t1 = Clock::now();
-    BaseMesh mesh = makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling);
-    r.fragments = rasterize(mesh, r.camera, {scene.plane.cullBackFaces}, &r.raster);
-    FragmentList frags = compactFragments(r.fragments);
-    r.timingsMs["raster"] = msSince(t1);
-
-    bool needDerived = std::any_of(scene.methods.begin(), scene.methods.end(),
-                                   [](const MethodConfig& m) { return needsDerivedMaps(m.kind); });
     auto t2 = Clock::now();
-    MethodTextures tex = makeMethodTextures(scene.height, scene.displacement.scale,
-                                            scene.displacement.bias, scene.plane.tiling,
-                                            needDerived);
-    r.timingsMs["derived_maps"] = msSince(t2);
+    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.plane.cullBackFaces},
+                            &r.raster);
+    FragmentList frags = compactFragments(r.fragments);
+    FragmentList timed = sampleFragments(frags, timing.maxFragments, timing.seed);
+    r.timingsMs["raster"] = msSince(t2);
 
     auto t3 = Clock::now();
     double timingMs = 0;
-    for (const MethodConfig& cfg : scene.methods) {
+    for (const MethodConfig& cfg : configs) {
+        double s = std::isfinite(cfg.scale) ? cfg.scale : scene.displacement.scale;
+        double b = std::isfinite(cfg.bias) ? cfg.bias : scene.displacement.bias;
+        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg.kind));
         MethodFrame mf;
         mf.config = cfg;
         mf.pixels = evaluateMethod(cfg, frags, tex, W, H);
         mf.stats = compareWithTruth(r.truth, mf.pixels, scene.height.width, scene.height.height,
-                                    scene.height.address, &mf.errTexels);
-        auto tt = Clock::now();
-        mf.nsPerPixel = timeMethodNsPerPixel(cfg, frags, tex, options.timingRepeats);
-        timingMs += msSince(tt);
+                                    scene.height.address, keepImages ? &mf.errTexels : nullptr);
+        if (timing.repeats > 0) {
+            auto tt = Clock::now();
+            mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);
+            timingMs += msSince(tt);
+        }
+        if (!keepImages) mf.pixels = {};
         r.methods.push_back(std::move(mf));
     }
     r.timingsMs["methods"] = msSince(t3) - timingMs;
     r.timingsMs["method_timing"] = timingMs;
+    if (!keepImages) r.fragments = {};
+    return r;
+}
+
+RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
+    TruthBuilder builder(scene);
+    auto t0 = Clock::now();
+    TruthPair truths = builder.build(scene.displacement, scene.truth.uncertainty);
+    double buildMs = msSince(t0);
+    MethodTextureCache textures(scene.height, scene.plane.tiling);
+    RenderResult r = renderView(scene, makeCamera(scene), truths, scene.methods, textures,
+                                {options.timingRepeats, 0, 1});
+    r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
+    r.timingsMs["build"] = r.truthBuild.buildMs;
+    r.timingsMs["truth_total"] = buildMs;
     return r;
 }
 

@@ -1,5 +1,6 @@
-// One frame end to end: truth (two rates for its uncertainty), rasterisation, every method,
-// comparison. What `pgt render` runs; sweeps (later) reuse the stages one by one.
+// One view end to end: truth (two rates for its uncertainty), rasterisation, every method,
+// comparison. `pgt render` runs one; studies (study/sweep.h) run many, reusing the truth per
+// (s, b) and the method textures, which is why the pieces are separate.
 #pragma once
 
 #include <map>
@@ -20,14 +21,16 @@ namespace pgt {
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2f> uv0;
-    std::vector<Vec3f> view;     // unit tangent-space V
+    std::vector<Vec3f> view;     // unit tangent-space V, rounded to float
     std::vector<Vec2d> uv0d;     // double copies for `precision: double`
     std::vector<Vec3d> viewd;
+    size_t size() const { return pixel.size(); }
 };
 FragmentList compactFragments(const Image2D<Fragment>& frags);
+// A seeded random subset of at most `count` fragments (all when count <= 0 or larger).
+FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed);
 
-// Inputs every method needs for one (scale, bias): the height map and, when asked for,
-// 003's derived maps.
+// Inputs every method needs for one (s, b): the height map and, when asked for, 003's maps.
 struct MethodTextures {
     const Texture* height = nullptr;
     std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
@@ -35,6 +38,18 @@ struct MethodTextures {
 };
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
                                   double tiling, bool needDerived);
+
+// Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
+class MethodTextureCache {
+public:
+    MethodTextureCache(const Texture& height, double tiling) : height_(height), tiling_(tiling) {}
+    const MethodTextures& get(double scale, double bias, bool needDerived);
+
+private:
+    const Texture& height_;
+    double tiling_;
+    std::map<std::pair<double, double>, MethodTextures> cache_;
+};
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
@@ -45,16 +60,34 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
 double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
                             const MethodTextures& tex, int repeats);
 
+struct TimingSpec {
+    int repeats = 3;        // median of this many single-threaded passes
+    int maxFragments = 0;   // time a seeded subset of this many fragments (0 = all)
+    uint32_t seed = 1;
+};
+
+// The truth surfaces of one (s, b): at the scene's rate and, for the uncertainty, at 2 x rate.
+struct TruthPair {
+    std::unique_ptr<TruthSurface> truth, fine;
+};
+
+// Base tessellations (independent of s, b) built once, displaced per (s, b) on request.
+class TruthBuilder {
+public:
+    explicit TruthBuilder(const Scene& scene) : scene_(scene) {}
+    TruthPair build(const Displacement& disp, bool withUncertainty);
+
+private:
+    const Scene& scene_;
+    std::shared_ptr<const BaseTessellation> base_, fine_;
+};
+
 struct MethodFrame {
     MethodConfig config;
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
     FrameStats stats;
     double nsPerPixel = 0;
-};
-
-struct RenderOptions {
-    int timingRepeats = 3;
 };
 
 struct RenderResult {
@@ -69,6 +102,21 @@ struct RenderResult {
     std::map<std::string, double> timingsMs;  // stage -> wall ms
 };
 
+// One view with given truth surfaces; methods use the scene's (s, b) unless they have their
+// own. `keepImages` = false drops per-pixel images once the statistics are taken.
+RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPair& truths,
+                        const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                        const TimingSpec& timing, bool keepImages = true);
+
+struct RenderOptions {
+    int timingRepeats = 3;
+};
+
+// The whole `pgt render`: builds the truth for the scene's (s, b) and renders its view.
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options = {});
+
+// The base mesh the rasteriser draws for a scene and camera (an infinite plane is extended
+// by whole tiles to cover the view).
+BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera);
 
 }  // namespace pgt

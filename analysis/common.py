@@ -1,0 +1,76 @@
+"""Shared helpers for the analysis scripts: reading pgt's CSV and study.json, method
+families, and the matplotlib setup. Runs on Debian's /usr/bin/python3."""
+import json
+import math
+import os
+import sys
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # noqa: F401  (re-exported)
+    import numpy as np  # noqa: F401
+    import pandas as pd
+except ImportError as e:  # pragma: no cover - depends on the machine
+    sys.exit(f"{os.path.basename(sys.argv[0])}: {e.name} is missing; install python3-matplotlib "
+             "python3-pandas python3-numpy and run with /usr/bin/python3")
+
+# Where the documents put the bias, as a ratio b/s (MODEL.md section 3): Welsh's ARB code
+# b = -s/2; LearnOpenGL's depth map b = -s; Lengyel's signed height 2h - 1 is b = -s/2.
+DOCUMENT_BIAS_RATIO = {
+    "parallax": (-0.5, "Welsh 2004: b = -s/2"),
+    "offset_limited": (-0.5, "Welsh 2004: b = -s/2"),
+    "steep": (-1.0, "LearnOpenGL: b = -s"),
+    "pom": (-1.0, "LearnOpenGL: b = -s"),
+    "relief": (-1.0, "depth map as LearnOpenGL: b = -s"),
+    "iterative": (-0.5, "Lengyel 2h - 1: b = -s/2"),
+    "tangent_plane": (-0.5, "Lengyel 2h - 1: b = -s/2"),
+}
+
+KEYS = ["theta", "phi", "scale", "bias"]
+
+
+def read_results(path):
+    df = pd.read_csv(path)
+    if df.empty:
+        sys.exit(f"{path}: no rows")
+    return df
+
+
+def read_study(directory):
+    path = os.path.join(directory, "study.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
+def representative_labels(df, study):
+    """One configuration per method name: the one the scene lists (before the sweep's
+    parameter lists expanded it); the first label of that name otherwise."""
+    reps = {}
+    listed = []
+    if study:
+        for m in study["scene"]["methods"]:
+            params = {k: v for k, v in m.items() if k not in ("name", "label")}
+            listed.append((m["name"], params))
+    for name in df["method"].drop_duplicates():
+        rows = df[df["method"] == name][["label", "params"]].drop_duplicates("label")
+        choice = rows["label"].iloc[0]
+        for lname, params in listed:
+            if lname != name:
+                continue
+            for label, p in zip(rows["label"], rows["params"]):
+                if json.loads(p) == params:
+                    choice = label
+                    break
+            break
+        reps[name] = choice
+    return reps
+
+
+def nice(x, digits=4):
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "n/a"
+    return f"{x:.{digits}g}"

@@ -1,0 +1,240 @@
+#!/usr/bin/python3
+"""Report of a `pgt sweep` study directory: figures and DIR/report.md.
+
+Figures: error against view angle per method (one per scale), error against run time and
+against fetches with the Pareto front, bias-ratio x scale heat maps with the minimum marked,
+and a table of recommended scale/bias defaults beside the source documents' advice.
+Usage: /usr/bin/python3 analysis/report.py DIR"""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
+from common import representative_labels  # noqa: E402
+
+
+def pareto_front(points):
+    """Indices of points not dominated in (x, y), both to be minimised."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best = [], math.inf
+    for i in order:
+        if points[i][1] < best:
+            front.append(i)
+            best = points[i][1]
+    return front
+
+
+def fig_error_vs_theta(df, reps, figdir):
+    out = []
+    ratios = sorted(df["bias_ratio"].dropna().unique())
+    for scale in sorted(df["scale"].unique()):
+        sub = df[df["scale"] == scale]
+        # The bias ratio closest to Welsh's -1/2, so every method is seen on one surface.
+        ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
+        if ratios:
+            sub = sub[np.isclose(sub["bias_ratio"], ratio)]
+        fig, ax = plt.subplots(figsize=(8, 5))
+        for name, label in reps.items():
+            rows = sub[sub["label"] == label].groupby("theta")[["mean", "p50", "p90"]].mean()
+            if rows.empty:
+                continue
+            line, = ax.plot(rows.index, rows["mean"], marker="o", ms=3, label=label)
+            ax.fill_between(rows.index, rows["p50"].clip(lower=1e-5), rows["p90"].clip(lower=1e-5),
+                            color=line.get_color(), alpha=0.15)
+        ax.set_yscale("log")
+        ax.set_xlabel("view angle theta [degrees]")
+        ax.set_ylabel("UV error [texels] (line: mean; band: p50..p90)")
+        ax.axhline(1.0, color="k", lw=0.8, ls="--")
+        ax.set_title(f"error against view angle, s = {scale:g}, b/s = {ratio:g}")
+        ax.legend(fontsize=7, ncol=2)
+        fig.tight_layout()
+        name = f"error_vs_theta_s{scale:g}.png"
+        fig.savefig(os.path.join(figdir, name), dpi=110)
+        plt.close(fig)
+        out.append((scale, ratio, name))
+    return out
+
+
+def fig_pareto(df, figdir):
+    agg = df.groupby(["label", "method"]).agg(
+        mean=("mean", "mean"), p90=("p90", "mean"), ns=("ns_per_px", "mean"),
+        fetches=("fetches_mean", "mean")).reset_index()
+    files = {}
+    fronts = {}
+    for xkey, xlabel in [("ns", "method time [ns per pixel, single thread]"),
+                         ("fetches", "height-map fetches per pixel")]:
+        pts = [(x, y) for x, y in zip(agg[xkey], agg["mean"])]
+        front = pareto_front(pts)
+        fig, ax = plt.subplots(figsize=(8, 5.5))
+        for method, grp in agg.groupby("method"):
+            ax.scatter(grp[xkey].clip(lower=1e-2), grp["mean"], label=method, s=22)
+        fx = [pts[i][0] for i in front]
+        fy = [pts[i][1] for i in front]
+        ax.step([max(x, 1e-2) for x in fx], fy, where="post", color="k", lw=1, label="Pareto front")
+        for i in front:
+            ax.annotate(agg["label"].iloc[i], (max(pts[i][0], 1e-2), pts[i][1]), fontsize=7,
+                        textcoords="offset points", xytext=(4, 4))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("mean UV error over all cases [texels]")
+        ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches"))
+        ax.legend(fontsize=7)
+        fig.tight_layout()
+        name = f"pareto_{xkey}.png"
+        fig.savefig(os.path.join(figdir, name), dpi=110)
+        plt.close(fig)
+        files[xkey] = name
+        fronts[xkey] = [agg["label"].iloc[i] for i in front]
+    return agg, files, fronts
+
+
+def defaults_table(df, reps):
+    rows = []
+    for name, label in reps.items():
+        sub = df[df["label"] == label]
+        if sub["bias_ratio"].isna().all():
+            continue
+        for scale in sorted(sub["scale"].unique()):
+            s = sub[sub["scale"] == scale].groupby("bias_ratio")[["mean", "p90"]].mean()
+            if s.empty:
+                continue
+            best_mean, best_p90 = s["mean"].idxmin(), s["p90"].idxmin()
+            doc = DOCUMENT_BIAS_RATIO.get(name)
+            doc_err = float("nan")
+            if doc is not None:
+                near = s.index[np.argmin(np.abs(s.index - doc[0]))]
+                doc_err = s.loc[near, "mean"] if abs(near - doc[0]) < 1e-9 else float("nan")
+            rows.append({"method": name, "label": label, "scale": scale,
+                         "ratio_mean": best_mean, "mean_at_best": s.loc[best_mean, "mean"],
+                         "ratio_p90": best_p90, "p90_at_best": s.loc[best_p90, "p90"],
+                         "doc_ratio": doc[0] if doc else float("nan"),
+                         "doc_source": doc[1] if doc else "", "mean_at_doc": doc_err})
+    return pd.DataFrame(rows)
+
+
+def fig_heatmaps(df, reps, figdir):
+    files = []
+    for name, label in reps.items():
+        sub = df[df["label"] == label]
+        if sub["bias_ratio"].isna().all() or sub["scale"].nunique() * sub["bias_ratio"].nunique() < 2:
+            continue
+        grid = sub.groupby(["scale", "bias_ratio"])["mean"].mean().unstack("bias_ratio")
+        fig, ax = plt.subplots(figsize=(6.5, 3.8))
+        data = np.log10(grid.values.clip(min=1e-5))
+        im = ax.imshow(data, aspect="auto", origin="lower", cmap="viridis")
+        ax.set_xticks(range(grid.shape[1]), [f"{c:g}" for c in grid.columns])
+        ax.set_yticks(range(grid.shape[0]), [f"{r:g}" for r in grid.index])
+        ax.set_xlabel("bias ratio b/s")
+        ax.set_ylabel("scale s")
+        for r in range(grid.shape[0]):
+            c = int(np.nanargmin(grid.values[r]))
+            ax.plot(c, r, marker="*", color="red", ms=14)
+            for k in range(grid.shape[1]):
+                ax.text(k, r, nice(grid.values[r, k], 2), ha="center", va="center", fontsize=7,
+                        color="w")
+        fig.colorbar(im, ax=ax, label="log10 mean error [texels]")
+        ax.set_title(f"{label}: mean error over view angles (star: minimum per scale)", fontsize=9)
+        fig.tight_layout()
+        fname = f"heatmap_{label}.png"
+        fig.savefig(os.path.join(figdir, fname), dpi=110)
+        plt.close(fig)
+        files.append(fname)
+    return files
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("dir", help="study directory (results.csv, study.json)")
+    args = ap.parse_args()
+    df = read_results(os.path.join(args.dir, "results.csv"))
+    study = read_study(args.dir)
+    reps = representative_labels(df, study)
+    figdir = os.path.join(args.dir, "figures")
+    os.makedirs(figdir, exist_ok=True)
+
+    theta_figs = fig_error_vs_theta(df, reps, figdir)
+    agg, pareto_files, fronts = fig_pareto(df, figdir)
+    table = defaults_table(df, reps)
+    table.to_csv(os.path.join(args.dir, "defaults.csv"), index=False)
+    # Grazing views (the last few degrees) dominate means over all angles; the same table
+    # over theta <= 80 shows the defaults for the views most frames contain.
+    typical = df[df["theta"] <= 80]
+    table80 = defaults_table(typical, reps) if len(typical) and typical["theta"].nunique() < df["theta"].nunique() else None
+    heat = fig_heatmaps(df, reps, figdir)
+
+    cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
+    lines = ["# pgt study report", ""]
+    if study:
+        lines.append(f"Scene: `{study['scene']['heightmap']['source']}` height map "
+                     f"{study['scene']['heightmap']['size'][0]}x{study['scene']['heightmap']['size'][1]}, "
+                     f"address `{study['scene']['address']}`, resolution "
+                     f"{study['resolution'][0]}x{study['resolution'][1]}.")
+    lines += [
+        f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
+        f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "
+        f"scale {', '.join(f'{s:g}' for s in sorted(df['scale'].unique()))}; "
+        f"bias ratio {', '.join(f'{r:g}' for r in sorted(df['bias_ratio'].dropna().unique()))}) "
+        f"x {df['label'].nunique()} method configurations = {len(df)} rows.",
+        "",
+        f"Truth uncertainty (rate vs 2 x rate), p99 over pixels: median over cases "
+        f"{nice(df['truth_uncertainty_p99'].median())} texels, largest "
+        f"{nice(df['truth_uncertainty_p99'].max())} texels. Errors below it are below the "
+        "truth's own tessellation error.",
+        "",
+        "Errors are UV distances in texels (MODEL.md section 7); run time is the method alone, "
+        "single-threaded, on this machine's CPU.",
+        "",
+        "## Error against view angle", ""]
+    for scale, ratio, fname in theta_figs:
+        lines.append(f"![error vs theta, s = {scale:g}](figures/{fname})")
+        lines.append("")
+    lines += ["## Error against run time", "",
+              f"![error vs ns/px](figures/{pareto_files['ns']})", "",
+              f"![error vs fetches](figures/{pareto_files['fetches']})", "",
+              "Pareto front (mean error over all cases against ns/px): "
+              + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", "",
+              "| configuration | mean error | p90 | ns/px | fetches/px |",
+              "|---|---|---|---|---|"]
+    for _, r in agg.sort_values("mean").iterrows():
+        lines.append(f"| {r['label']} | {nice(r['mean'])} | {nice(r['p90'])} | "
+                     f"{nice(r['ns'], 3)} | {nice(r['fetches'], 3)} |")
+    lines += ["", "## Scale and bias defaults", "",
+              "For each method (its configuration as the scene lists it) and scale: the bias "
+              "ratio b/s with the lowest error averaged over the study's view angles, by mean "
+              "and by p90, beside the ratio the source documents use.", "",
+              "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
+              "documents' b/s | mean there |",
+              "|---|---|---|---|---|---|---|---|"]
+    for _, r in table.iterrows():
+        lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
+                     f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} | "
+                     f"{nice(r['doc_ratio'])} ({r['doc_source']}) | {nice(r['mean_at_doc'])} |")
+    if table80 is not None and not table80.empty:
+        lines += ["", "The same over view angles up to 80 degrees only:", "",
+                  "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there |",
+                  "|---|---|---|---|---|---|"]
+        for _, r in table80.iterrows():
+            lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
+                         f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} |")
+    lines += [""]
+    for fname in heat:
+        lines += [f"![{fname}](figures/{fname})", ""]
+    bad = df.groupby("label")[["nonfinite", "zero_divide", "step_limit"]].sum()
+    bad = bad[(bad > 0).any(axis=1)]
+    if not bad.empty:
+        lines += ["## Stiff cases counted", "", "| configuration | non-finite px | 0/0 or dot <= 0 | "
+                  "step limit |", "|---|---|---|---|"]
+        for label, r in bad.iterrows():
+            lines.append(f"| {label} | {int(r['nonfinite'])} | {int(r['zero_divide'])} | "
+                         f"{int(r['step_limit'])} |")
+        lines.append("")
+    with open(os.path.join(args.dir, "report.md"), "w") as f:
+        f.write("\n".join(lines))
+    print(f"wrote {os.path.join(args.dir, 'report.md')}")
+
+
+if __name__ == "__main__":
+    main()

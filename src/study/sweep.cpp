@@ -1,0 +1,447 @@
+// `pgt sweep`: study expansion, resumable CSV, progress, report hand-off.
+#include "study/sweep.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "core/json_fields.h"
+#include "methods/registry.h"
+#include "study/outputs.h"
+
+#ifndef PGT_ANALYSIS_DIR
+#define PGT_ANALYSIS_DIR "analysis"
+#endif
+
+namespace pgt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string num(double x) {
+    if (!std::isfinite(x)) return "nan";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.9g", x);
+    return buf;
+}
+
+// A list of values: [a, b, ...], a single number, or {"from": a, "to": b, "step": c}.
+std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, double hi) {
+    const Json& v = f.raw(key);
+    std::vector<double> out;
+    auto check = [&](const Json& e) {
+        if (!e.is_number()) f.failValue(key, v, "expected numbers");
+        double x = e.get<double>();
+        if (!std::isfinite(x) || x < lo || x > hi)
+            f.failValue(key, v, "values must lie in [" + num(lo) + ", " + num(hi) + "]");
+        return x;
+    };
+    if (v.is_number()) {
+        out.push_back(check(v));
+    } else if (v.is_array()) {
+        for (const auto& e : v) out.push_back(check(e));
+    } else if (v.is_object()) {
+        JsonFields r(v, f.file(), f.fieldPath(key));
+        double from = r.number("from", lo, hi), to = r.number("to", lo, hi);
+        double step = r.number("step", 1e-9, 1e9);
+        r.finish();
+        if (to < from) f.failValue(key, v, "\"to\" is below \"from\"");
+        if ((to - from) / step > 10000) f.failValue(key, v, "more than 10000 values");
+        for (int k = 0; from + k * step <= to + 1e-9 * step; ++k) out.push_back(from + k * step);
+    } else {
+        f.failValue(key, v, "expected a number, an array or {from, to, step}");
+    }
+    if (out.empty()) f.failValue(key, v, "no values");
+    return out;
+}
+
+Json methodParams(const MethodConfig& cfg) {
+    Json j = toJson(cfg);
+    j.erase("name");
+    j.erase("label");
+    return j;
+}
+
+}  // namespace
+
+std::string StudyCase::key() const {
+    return num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
+}
+
+const std::vector<std::string>& resultColumns() {
+    static const std::vector<std::string> cols = {
+        "case",         "theta",        "phi",           "scale",         "bias",
+        "bias_ratio",   "method",       "label",         "params",        "pixels",
+        "mean",         "rms",          "p50",           "p90",           "p99",
+        "max",          "frac_gt_1texel", "truth_only",  "raster_only",   "nonfinite",
+        "zero_divide",  "step_limit",   "fetches_mean",  "fetches_max",   "ns_per_px",
+        "truth_uncertainty_p99", "truth_uncertainty_max"};
+    return cols;
+}
+
+Study parseStudy(const Scene& scene) {
+    const std::string& file = scene.file;
+    if (scene.sweep.is_null())
+        throw InputError(file, "sweep", "(missing)", "the scene has no \"sweep\" block");
+    if (scene.camera.type != "orthographic")
+        throw InputError(file, "camera.type", scene.camera.type,
+                         "studies sweep the view angle: they need an orthographic camera");
+    JsonFields f(scene.sweep, file, "sweep");
+    Study st;
+    std::vector<double> thetas = f.has("theta") ? valueList(f, "theta", 0, 90)
+                                                : std::vector<double>{scene.camera.theta};
+    std::vector<double> phis = f.has("phi") ? valueList(f, "phi", -360, 360)
+                                            : std::vector<double>{scene.camera.phi};
+    std::vector<double> scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
+                                                : std::vector<double>{scene.displacement.scale};
+    if (f.has("bias") && f.has("bias_ratio"))
+        f.fail("bias_ratio", "give either \"bias\" or \"bias_ratio\", not both");
+    bool ratios = f.has("bias_ratio");
+    std::vector<double> biases = ratios ? valueList(f, "bias_ratio", -1e3, 1e3)
+                                 : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
+                                                 : std::vector<double>{scene.displacement.bias};
+    if (f.has("resolution")) {
+        auto res = f.integers("resolution", 2, 1, 16384);
+        st.width = res[0], st.height = res[1];
+    } else {
+        st.width = scene.camera.width, st.height = scene.camera.height;
+    }
+    st.timing.repeats = 3;
+    st.timing.maxFragments = 4096;
+    if (f.has("timing")) {
+        JsonFields t(f.raw("timing"), file, "sweep.timing");
+        st.timing.repeats = t.integer("repeats", 3, 0, 100);
+        st.timing.maxFragments = t.integer("fragments", 4096, 0, 1 << 26);
+        t.finish();
+    }
+
+    // Per-method parameter lists: "NAME.PARAM": [values] for every method whose name or
+    // label is NAME; the configurations are the product of a method's lists.
+    std::vector<std::string> dotted;
+    std::map<std::string, std::vector<std::pair<std::string, Json>>> lists;  // prefix -> lists
+    for (auto it = scene.sweep.begin(); it != scene.sweep.end(); ++it) {
+        auto dot = it.key().find('.');
+        if (dot == std::string::npos) continue;
+        dotted.push_back(it.key());
+        std::string prefix = it.key().substr(0, dot), param = it.key().substr(dot + 1);
+        Json values = it.value().is_array() ? it.value() : Json::array({it.value()});
+        if (values.empty()) f.failValue(it.key(), it.value(), "no values");
+        bool known = false;
+        for (const auto& m : scene.methods) known = known || m.name == prefix || m.label == prefix;
+        if (!known)
+            f.fail(it.key(), "no method named or labelled \"" + prefix + "\" in \"methods\"");
+        lists[prefix].push_back({param, values});
+    }
+    f.finish(dotted);
+
+    Json expanded = Json::array();
+    for (const auto& m : scene.methods) {
+        std::vector<Json> entries = {toJson(m)};
+        bool varied = false;
+        for (const std::string& prefix : {m.name, m.label}) {
+            if (!lists.count(prefix) || (prefix == m.label && m.label == m.name && varied))
+                continue;
+            for (const auto& [param, values] : lists.at(prefix)) {
+                std::vector<Json> next;
+                for (const auto& e : entries)
+                    for (const auto& v : values) {
+                        Json j = e;
+                        j[param] = v;
+                        // Validate now, naming the sweep key: unknown parameters, ranges.
+                        parseMethod(j, file, "sweep." + prefix + "." + param);
+                        next.push_back(j);
+                    }
+                entries = next;
+                varied = true;
+            }
+        }
+        for (auto& e : entries) {
+            if (varied) e.erase("label");  // labels then carry the parameters
+            expanded.push_back(e);
+        }
+    }
+    st.configs = parseMethods(expanded, file, "methods");
+
+    int index = 0;
+    for (double s : scales)
+        for (double bv : biases)
+            for (double th : thetas)
+                for (double ph : phis) {
+                    StudyCase c;
+                    c.index = index++;
+                    c.theta = th, c.phi = ph, c.scale = s;
+                    c.bias = ratios ? bv * s : bv;
+                    c.biasRatio = ratios ? bv : (s != 0 ? c.bias / s : NAN);
+                    st.cases.push_back(c);
+                }
+
+    Json cfgs = Json::array();
+    for (const auto& c : st.configs) cfgs.push_back(toJson(c));
+    st.resolved = {{"scene", resolvedSceneJson(scene)},
+                   {"sweep", scene.sweep},
+                   {"configurations", cfgs},
+                   {"cases", st.cases.size()},
+                   {"resolution", {st.width, st.height}}};
+    return st;
+}
+
+namespace {
+
+std::string csvQuote(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string csvRows(const StudyCase& c, const RenderResult& r) {
+    std::ostringstream os;
+    for (const MethodFrame& m : r.methods) {
+        const FrameStats& s = m.stats;
+        os << c.index << ',' << num(c.theta) << ',' << num(c.phi) << ',' << num(c.scale) << ','
+           << num(c.bias) << ',' << num(c.biasRatio) << ',' << m.config.name << ','
+           << m.config.label << ',' << csvQuote(methodParams(m.config).dump()) << ','
+           << s.error.count << ',' << num(s.error.mean) << ',' << num(s.error.rms) << ','
+           << num(s.error.p50) << ',' << num(s.error.p90) << ',' << num(s.error.p99) << ','
+           << num(s.error.max) << ',' << num(s.fracAbove1Texel) << ',' << s.coverage.truthOnly
+           << ',' << s.coverage.rasterOnly << ',' << s.nonfinite << ',' << s.zeroDivide << ','
+           << s.stepLimit << ',' << num(s.fetchesMean) << ',' << s.fetchesMax << ','
+           << num(m.nsPerPixel) << ','
+           << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
+           << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << '\n';
+    }
+    return os.str();
+}
+
+std::string header() {
+    std::string h;
+    for (const auto& c : resultColumns()) h += (h.empty() ? "" : ",") + c;
+    return h + "\n";
+}
+
+// Splits one CSV line (our own output: quoted fields only where we quote).
+std::vector<std::string> splitCsv(const std::string& line) {
+    std::vector<std::string> out;
+    std::string cur;
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        char ch = line[i];
+        if (quoted) {
+            if (ch == '"' && i + 1 < line.size() && line[i + 1] == '"') cur += '"', ++i;
+            else if (ch == '"') quoted = false;
+            else cur += ch;
+        } else if (ch == '"') {
+            quoted = true;
+        } else if (ch == ',') {
+            out.push_back(cur), cur.clear();
+        } else {
+            cur += ch;
+        }
+    }
+    out.push_back(cur);
+    return out;
+}
+
+// Reads results.csv, keeps only the rows of complete cases (every configuration present),
+// rewrites the file when anything was dropped (a torn last line, a half-written case), and
+// returns the keys of the complete cases.
+std::set<std::string> loadFinished(const std::string& path, const Study& study) {
+    std::set<std::string> finished;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return finished;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.empty()) return finished;
+    if (text.compare(0, header().size(), header()) != 0)
+        throw InputError(path, "header", text.substr(0, text.find('\n')),
+                         "results.csv has other columns (an older pgt?): use --fresh or another --out");
+    std::map<std::string, std::vector<std::string>> rowsByKey;
+    std::map<std::string, std::set<std::string>> labelsByKey;
+    std::vector<std::string> order;
+    size_t pos = header().size();
+    bool dropped = false;
+    while (pos < text.size()) {
+        size_t nl = text.find('\n', pos);
+        if (nl == std::string::npos) {  // torn last line
+            dropped = true;
+            break;
+        }
+        std::string line = text.substr(pos, nl - pos);
+        pos = nl + 1;
+        auto f = splitCsv(line);
+        if (f.size() != resultColumns().size()) {
+            dropped = true;
+            continue;
+        }
+        StudyCase c;
+        try {
+            c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
+            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]);
+        } catch (const std::exception&) {
+            dropped = true;
+            continue;
+        }
+        std::string key = c.key();
+        if (!rowsByKey.count(key)) order.push_back(key);
+        rowsByKey[key].push_back(line);
+        labelsByKey[key].insert(f[7]);
+    }
+    std::set<std::string> wantLabels;
+    for (const auto& cfg : study.configs) wantLabels.insert(cfg.label);
+    std::string kept = header();
+    for (const auto& key : order) {
+        if (labelsByKey[key] == wantLabels && rowsByKey[key].size() == wantLabels.size()) {
+            finished.insert(key);
+            for (const auto& l : rowsByKey[key]) kept += l + "\n";
+        } else {
+            dropped = true;
+        }
+    }
+    if (dropped) writeTextFile(path, kept);
+    return finished;
+}
+
+void appendAll(int fd, const std::string& text, const std::string& path) {
+    size_t off = 0;
+    while (off < text.size()) {
+        ssize_t n = ::write(fd, text.data() + off, text.size() - off);
+        if (n < 0) throw OutputError("cannot append to " + path);
+        off += size_t(n);
+    }
+}
+
+std::string hms(double seconds) {
+    int s = int(std::lround(seconds));
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%d:%02d:%02d", s / 3600, (s / 60) % 60, s % 60);
+    return buf;
+}
+
+}  // namespace
+
+SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
+    using Clock = std::chrono::steady_clock;
+    auto start = Clock::now();
+    std::error_code ec;
+    fs::create_directories(opt.outDir, ec);
+    if (ec || !fs::is_directory(opt.outDir))
+        throw OutputError("cannot create output directory " + opt.outDir);
+    const std::string csvPath = (fs::path(opt.outDir) / "results.csv").string();
+    const std::string studyPath = (fs::path(opt.outDir) / "study.json").string();
+    if (opt.fresh) {
+        fs::remove(csvPath, ec);
+        fs::remove(studyPath, ec);
+    }
+    // A directory holds one study: resuming a different one would mix incomparable rows.
+    if (fs::exists(studyPath)) {
+        std::ifstream in(studyPath);
+        Json old;
+        try {
+            old = Json::parse(in);
+        } catch (const std::exception&) {
+            old = nullptr;
+        }
+        if (old != study.resolved)
+            throw InputError(studyPath, "", "",
+                             "this directory holds a different study; use --fresh or another --out");
+    } else {
+        writeTextFile(studyPath, study.resolved.dump(2) + "\n");
+    }
+    std::set<std::string> finished = loadFinished(csvPath, study);
+    if (!fs::exists(csvPath)) writeTextFile(csvPath, header());
+    int fd = ::open(csvPath.c_str(), O_WRONLY | O_APPEND);
+    if (fd < 0) throw OutputError("cannot open " + csvPath + " for appending");
+
+    SweepSummary sum;
+    sum.total = int(study.cases.size());
+    std::vector<const StudyCase*> todo;
+    for (const auto& c : study.cases) {
+        if (finished.count(c.key())) ++sum.resumed;
+        else todo.push_back(&c);
+    }
+    const bool tty = ::isatty(2);
+    auto progress = [&](bool last) {
+        if (!opt.progress) return;
+        int done = sum.resumed + sum.done;
+        double el = std::chrono::duration<double>(Clock::now() - start).count();
+        double rate = el > 0 ? sum.done / el : 0;
+        double eta = rate > 0 ? (sum.total - done) / rate : 0;
+        int every = std::max(1, int(todo.size()) / 20);
+        if (!tty && !last && sum.done % every != 0) return;
+        std::fprintf(stderr, "%ssweep: %d/%d cases (%d resumed), %.2f cases/s, ETA %s%s",
+                     tty ? "\r" : "", done, sum.total, sum.resumed, rate, hms(eta).c_str(),
+                     tty && !last ? "" : "\n");
+        std::fflush(stderr);
+    };
+    progress(todo.empty());
+
+    TruthBuilder builder(scene);
+    MethodTextureCache textures(scene.height, scene.plane.tiling);
+    std::unique_ptr<TruthPair> truths;
+    std::pair<double, double> built(NAN, NAN);
+    try {
+        for (const StudyCase* c : todo) {
+            if (opt.maxCases >= 0 && sum.done >= opt.maxCases) break;
+            if (!(built.first == c->scale && built.second == c->bias)) {
+                // One truth per (s, b), reused for every view of that surface.
+                truths = std::make_unique<TruthPair>(
+                    builder.build({c->scale, c->bias}, scene.truth.uncertainty));
+                built = {c->scale, c->bias};
+            }
+            Scene view = scene;
+            view.camera.theta = c->theta;
+            view.camera.phi = c->phi;
+            view.camera.width = study.width;
+            view.camera.height = study.height;
+            view.displacement = {c->scale, c->bias};
+            RenderResult r = renderView(view, makeCamera(view), *truths, study.configs, textures,
+                                        study.timing, opt.images);
+            if (opt.images) {
+                char dir[32];
+                std::snprintf(dir, sizeof dir, "case_%05d", c->index);
+                writeRenderOutputs(view, r, (fs::path(opt.outDir) / "images" / dir).string());
+            }
+            appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
+            ++sum.done;
+            progress(false);
+        }
+    } catch (...) {
+        ::close(fd);
+        throw;
+    }
+    ::close(fd);
+    sum.finished = sum.resumed + sum.done == sum.total;
+    if (!todo.empty()) progress(true);
+    sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return sum;
+}
+
+std::string writeStudyReport(const std::string& outDir, std::string* why) {
+    const char* env = std::getenv("PGT_ANALYSIS_DIR");
+    std::string analysis = env ? env : PGT_ANALYSIS_DIR;
+    std::string script = (fs::path(analysis) / "report.py").string();
+    if (!fs::exists(script)) {
+        *why = "report script " + script + " not found (set PGT_ANALYSIS_DIR)";
+        return "";
+    }
+    if (std::system("/usr/bin/python3 -c 'import matplotlib, pandas, numpy' >/dev/null 2>&1") != 0) {
+        *why = "/usr/bin/python3 with matplotlib, pandas and numpy is needed for the report "
+               "(apt-get install python3-matplotlib python3-pandas python3-numpy)";
+        return "";
+    }
+    std::string cmd = "/usr/bin/python3 '" + script + "' '" + outDir + "'";
+    if (std::system(cmd.c_str()) != 0) {
+        *why = "the report script failed: " + cmd;
+        return "";
+    }
+    return (fs::path(outDir) / "report.md").string();
+}
+
+}  // namespace pgt

@@ -1,0 +1,56 @@
+// Studies (`pgt sweep`): the product of view angles, scales, biases and per-method parameter
+// lists from a scene's "sweep" block, one CSV row per (case, method configuration), resumable:
+// each finished case is appended and flushed, and a re-run skips the cases already there.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+#include "study/render.h"
+
+namespace pgt {
+
+struct StudyCase {
+    int index = 0;
+    double theta = 0, phi = 0, scale = 0, bias = 0;
+    double biasRatio = NAN;  // b / s when the study gave ratios
+    std::string key() const;  // identity of the case in results.csv
+};
+
+struct Study {
+    std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
+    std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
+    int width = 0, height = 0;
+    TimingSpec timing;
+    nlohmann::json resolved;            // what identifies the study (scene + sweep)
+};
+
+// Reads the scene's "sweep" block (README "Studies"); throws InputError on bad input.
+Study parseStudy(const Scene& scene);
+
+struct SweepOptions {
+    std::string outDir;
+    bool images = false;  // write each case's frame.exr, summary.json and error maps
+    bool fresh = false;   // discard earlier results in outDir instead of resuming
+    int maxCases = -1;    // stop after this many new cases (tests; -1 = all)
+    bool progress = true; // progress on stderr
+};
+
+struct SweepSummary {
+    int total = 0, resumed = 0, done = 0;
+    bool finished = false;  // every case has its rows
+    double wallSeconds = 0;
+};
+
+SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);
+
+// results.csv columns, in order (README "Studies").
+const std::vector<std::string>& resultColumns();
+
+// Runs analysis/report.py on a study directory when /usr/bin/python3 has matplotlib, pandas
+// and numpy; returns the report's path, or "" with `why` set when it could not run.
+std::string writeStudyReport(const std::string& outDir, std::string* why);
+
+}  // namespace pgt

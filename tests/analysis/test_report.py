@@ -1,0 +1,64 @@
+#!/usr/bin/python3
+"""ctest: a small real sweep through pgt, then analysis/report.py and plot_summary.py must
+produce non-empty figures and a report that embeds them. Arguments: PGT_BINARY SOURCE_DIR.
+Exits 77 (skipped) only where matplotlib is missing."""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+try:
+    import matplotlib  # noqa: F401
+    import pandas  # noqa: F401
+except ImportError as e:
+    print(f"skipped: {e.name} missing (apt-get install python3-matplotlib python3-pandas)")
+    sys.exit(77)
+
+pgt, source = sys.argv[1], sys.argv[2]
+scene = {
+    "heightmap": {"procedural": "bricks", "size": [32, 32]},
+    "base": {"type": "plane", "infinite": True},
+    "camera": {"type": "orthographic", "theta": 40, "frame": "fill", "resolution": [32, 32]},
+    "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 16}, "relief"],
+    "truth": {"rate": 2},
+    "sweep": {"theta": [0, 40, 70], "scale": [0.03, 0.06], "bias_ratio": [-1, -0.5, 0],
+              "pom.max_layers": [8, 16], "timing": {"repeats": 1, "fragments": 128}},
+}
+failures = []
+with tempfile.TemporaryDirectory() as d:
+    path = os.path.join(d, "scene.json")
+    json.dump(scene, open(path, "w"))
+    out = os.path.join(d, "study")
+    r = subprocess.run([pgt, "sweep", path, "--out", out], capture_output=True, text=True,
+                       env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
+    if r.returncode != 0 or "report:" not in r.stdout:
+        failures.append(f"pgt sweep: exit {r.returncode}\n{r.stdout}\n{r.stderr}")
+    report = os.path.join(out, "report.md")
+    text = open(report).read() if os.path.exists(report) else ""
+    figures = [l.split("(")[1].rstrip(")") for l in text.splitlines() if l.startswith("![")]
+    want = {"figures/error_vs_theta_s0.03.png", "figures/error_vs_theta_s0.06.png",
+            "figures/pareto_ns.png", "figures/pareto_fetches.png"}
+    if not want <= set(figures):
+        failures.append(f"report.md lacks figures: {sorted(want - set(figures))}")
+    for f in figures:
+        p = os.path.join(out, f)
+        if not os.path.exists(p) or os.path.getsize(p) < 5000:
+            failures.append(f"figure missing or empty: {f}")
+    if not any(f.startswith("figures/heatmap_pom") for f in figures):
+        failures.append("no heat map for pom")
+    if "| pom_4_16 |" not in text or "Welsh 2004" not in text:
+        failures.append("defaults table missing rows or the documents' advice")
+    # plot_summary.py on one render of the same scene
+    r = subprocess.run([pgt, "render", path, "--out", os.path.join(d, "frame")],
+                       capture_output=True, text=True)
+    png = os.path.join(d, "summary.png")
+    r2 = subprocess.run(["/usr/bin/python3", os.path.join(source, "analysis", "plot_summary.py"),
+                         os.path.join(d, "frame", "summary.json"), "--out", png],
+                        capture_output=True, text=True)
+    if r.returncode or r2.returncode or not os.path.exists(png) or os.path.getsize(png) < 5000:
+        failures.append(f"plot_summary.py failed: {r.stderr} {r2.stderr}")
+if failures:
+    print("\n".join(failures))
+    sys.exit(1)
+print("2 passed, 0 failed")

@@ -1,0 +1,56 @@
+// Fitting: on known surfaces the search finds the parameters that are right by construction.
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "study/fit.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+Scene fitScene(const std::string& heightmap, const std::string& fit) {
+    std::string json = R"({"heightmap": )" + heightmap + R"(,
+      "base": {"type": "plane", "infinite": true},
+      "displacement": {"scale": 0.06, "bias": -0.03},
+      "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [8, 8]},
+      "methods": ["parallax"], "truth": {"rate": 2}, "fit": )" + fit + "}";
+    return parseScene(nlohmann::json::parse(json), "fit.json");
+}
+
+// Constant height c: parallax is exact whenever its own s'*c + b' equals s*c + b, so the best
+// objective is ~0 (the listed (s, b) is one such point).
+TEST(Fit, ParallaxOnConstantHeightReachesZero) {
+    Scene s = fitScene(R"({"procedural": "constant", "value": 0.4, "size": [16, 16]})",
+                       R"({"theta": [20, 50, 70], "resolution": [32, 32],
+                           "scale_factors": [0.5, 1.5], "bias_ratios": [-1, 0]})");
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 1u);
+    EXPECT_LT(r.methods[0].nativeObjective, 1e-3);
+    // Neither grid point lies on the line s'c + b' = sc + b; refinement must approach it.
+    EXPECT_LT(r.methods[0].bestObjective, 0.05);
+    double sb = r.methods[0].best["scale"].get<double>() * 0.4 + r.methods[0].best["bias"].get<double>();
+    EXPECT_NEAR(sb, 0.06 * 0.4 - 0.03, 2e-3);
+}
+
+// A smooth field and a dense march: the best own (s, b) is the truth's own (s, b).
+TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
+    Scene s = fitScene(R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})",
+                       R"({"theta": [30, 50, 65], "resolution": [48, 48], "steps": [64],
+                           "methods": [{"name": "pom", "layers": 64}]})");
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 1u);
+    const auto& best = r.methods[0].best;
+    EXPECT_NEAR(best["scale"].get<double>(), 0.06, 0.06 * 0.05) << best.dump();
+    EXPECT_NEAR(best["bias"].get<double>(), -0.03, 0.06 * 0.1) << best.dump();
+    EXPECT_LE(r.methods[0].bestObjective, r.methods[0].nativeObjective + 1e-9);
+}
+
+TEST(Fit, BadFitBlockNamesTheField) {
+    EXPECT_THROW(runFit(fitScene(R"({"procedural": "constant"})", R"({"objectiv": "mean"})"), false),
+                 InputError);
+    EXPECT_THROW(runFit(fitScene(R"({"procedural": "constant"})", R"({"theta": [100]})"), false),
+                 InputError);
+}
+
+}  // namespace
+}  // namespace pgt

@@ -1,0 +1,161 @@
+// Studies: CSV columns and rows, resume after an interruption, study identity, parsing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "core/error.h"
+#include "study/sweep.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+const char* kStudyScene = R"({
+  "heightmap": {"procedural": "sine", "size": [16, 16], "frequency": [2, 1]},
+  "base": {"type": "plane", "infinite": true},
+  "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [24, 24]},
+  "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8}],
+  "truth": {"rate": 2},
+  "sweep": {"theta": {"from": 20, "to": 60, "step": 40}, "scale": [0.03, 0.06],
+            "bias_ratio": [-0.5, -1], "pom.max_layers": [8, 16],
+            "timing": {"repeats": 1, "fragments": 64}}
+})";
+
+Scene studyScene(const char* json = kStudyScene) {
+    return parseScene(nlohmann::json::parse(json), test::sourceDir() + "/tests/study.json");
+}
+
+std::vector<std::string> readLines(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::vector<std::string> lines;
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+    return lines;
+}
+
+// Everything but the timing column, which is measured and differs run to run.
+std::multiset<std::string> rowsWithoutTiming(const std::filesystem::path& p) {
+    auto lines = readLines(p);
+    const auto& cols = resultColumns();
+    size_t ns = std::find(cols.begin(), cols.end(), "ns_per_px") - cols.begin();
+    std::multiset<std::string> out;
+    for (size_t i = 1; i < lines.size(); ++i) {
+        // params is the only quoted field and holds commas: split around it.
+        std::string l = lines[i];
+        auto q0 = l.find('"'), q1 = l.rfind('"');
+        std::string quoted = l.substr(q0, q1 - q0 + 1);
+        l.replace(q0, q1 - q0 + 1, "PARAMS");
+        std::vector<std::string> f;
+        std::stringstream ss(l);
+        for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+        EXPECT_EQ(f.size(), cols.size()) << lines[i];
+        f[ns] = "-";
+        std::string joined;
+        for (auto& x : f) joined += (x == "PARAMS" ? quoted : x) + ",";
+        out.insert(joined);
+    }
+    return out;
+}
+
+// The documented columns (README "Studies"), in order.
+TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
+    const std::vector<std::string> documented = {
+        "case", "theta", "phi", "scale", "bias", "bias_ratio", "method", "label", "params",
+        "pixels", "mean", "rms", "p50", "p90", "p99", "max", "frac_gt_1texel", "truth_only",
+        "raster_only", "nonfinite", "zero_divide", "step_limit", "fetches_mean", "fetches_max",
+        "ns_per_px", "truth_uncertainty_p99", "truth_uncertainty_max"};
+    EXPECT_EQ(resultColumns(), documented);
+    Scene scene = studyScene();
+    Study study = parseStudy(scene);
+    ASSERT_EQ(study.cases.size(), 2u * 2u * 2u);  // theta x scale x bias ratio
+    ASSERT_EQ(study.configs.size(), 3u);          // parallax, pom_4_8, pom_4_16
+    EXPECT_EQ(study.configs[1].label, "pom_4_8");
+    EXPECT_EQ(study.configs[2].label, "pom_4_16");
+    EXPECT_DOUBLE_EQ(study.cases[0].bias, -0.5 * 0.03);
+    auto dir = test::tempDir("sweep_rows");
+    SweepOptions opt;
+    opt.outDir = dir.string();
+    opt.progress = false;
+    SweepSummary sum = runSweep(scene, study, opt);
+    EXPECT_TRUE(sum.finished);
+    auto lines = readLines(dir / "results.csv");
+    ASSERT_EQ(lines.size(), 1 + 8 * 3u);
+    std::string header;
+    for (const auto& c : documented) header += (header.empty() ? "" : ",") + c;
+    EXPECT_EQ(lines[0], header);
+    // Every (case, label) exactly once.
+    auto rows = rowsWithoutTiming(dir / "results.csv");
+    EXPECT_EQ(rows.size(), 24u);
+    std::filesystem::remove_all(dir);
+}
+
+// Nothing lost: stop after k cases (and tear the last line as a kill mid-write would), run
+// again on the same directory: the same rows as one uninterrupted run, in any order.
+TEST(Sweep, ResumeAfterAnInterruptionGivesTheSameResults) {
+    Scene scene = studyScene();
+    Study study = parseStudy(scene);
+    auto whole = test::tempDir("sweep_whole"), parts = test::tempDir("sweep_parts");
+    SweepOptions opt;
+    opt.progress = false;
+    opt.outDir = whole.string();
+    runSweep(scene, study, opt);
+
+    opt.outDir = parts.string();
+    opt.maxCases = 3;
+    SweepSummary first = runSweep(scene, study, opt);
+    EXPECT_EQ(first.done, 3);
+    EXPECT_FALSE(first.finished);
+    EXPECT_EQ(readLines(parts / "results.csv").size(), 1 + 3 * 3u);
+    std::ofstream(parts / "results.csv", std::ios::app) << "5,40,0,0.06,-0.03,-0.5,pom,po";
+    opt.maxCases = -1;
+    SweepSummary second = runSweep(scene, study, opt);
+    EXPECT_EQ(second.resumed, 3);
+    EXPECT_EQ(second.done, 5);
+    EXPECT_TRUE(second.finished);
+    EXPECT_EQ(rowsWithoutTiming(whole / "results.csv"), rowsWithoutTiming(parts / "results.csv"));
+    // A third run has nothing left to do.
+    SweepSummary third = runSweep(scene, study, opt);
+    EXPECT_EQ(third.done, 0);
+    EXPECT_EQ(third.resumed, 8);
+    std::filesystem::remove_all(whole);
+    std::filesystem::remove_all(parts);
+}
+
+TEST(Sweep, ADirectoryHoldsOneStudy) {
+    Scene scene = studyScene();
+    auto dir = test::tempDir("sweep_other");
+    SweepOptions opt;
+    opt.outDir = dir.string();
+    opt.progress = false;
+    opt.maxCases = 1;
+    runSweep(scene, parseStudy(scene), opt);
+    auto j = nlohmann::json::parse(kStudyScene);
+    j["sweep"]["scale"] = {0.05};
+    Scene other = parseScene(j, "other.json");
+    EXPECT_THROW(runSweep(other, parseStudy(other), opt), InputError);
+    opt.fresh = true;  // ... unless asked to start over
+    EXPECT_NO_THROW(runSweep(other, parseStudy(other), opt));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Sweep, BadSweepEntriesNameTheKey) {
+    auto bad = [](const std::string& key, nlohmann::json value) {
+        auto j = nlohmann::json::parse(kStudyScene);
+        j["sweep"][key] = value;
+        try {
+            parseStudy(parseScene(j, "s.json"));
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(bad("pom.linear_steps", {4}).find("sweep.pom.linear_steps"), std::string::npos);
+    EXPECT_NE(bad("relief.binary_steps", {4}).find("no method named"), std::string::npos);
+    EXPECT_NE(bad("theta", {10, 95}).find("sweep.theta"), std::string::npos);
+    EXPECT_NE(bad("thetas", {10}).find("did you mean \"theta\""), std::string::npos);
+    EXPECT_NE(bad("bias", {0.0}).find("either"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pgt
