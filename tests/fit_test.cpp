@@ -36,6 +36,8 @@ TEST(Fit, ParallaxOnConstantHeightReachesZero) {
 TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
     Scene s = fitScene(R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})",
                        R"({"theta": [30, 50, 65], "resolution": [48, 48], "steps": [64],
+                           "scale_factors": [0.5, 0.75, 1.25, 1.5], "bias_ratios": [-0.75, -0.25],
+                           "refine": 4,
                            "methods": [{"name": "pom", "layers": 64}]})");
     FitReport r = runFit(s, false);
     ASSERT_EQ(r.methods.size(), 1u);

@@ -90,11 +90,17 @@ int main(int argc, char** argv) {
             pgt::FitReport rep = pgt::runFit(scene, true);
             std::filesystem::create_directories(outDir);
             pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
-            std::printf("%-18s %11s %11s %11s  %s\n", "method", rep.objective.c_str(),
-                        "mean", "as listed", "best parameters");
-            for (const auto& m : rep.methods)
-                std::printf("%-18s %11.4f %11.4f %11.4f  %s\n", m.method.c_str(),
-                            m.bestObjective, m.bestMean, m.nativeObjective, m.best.dump().c_str());
+            std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale",
+                        "bias", rep.objective.c_str(), "p90", "as listed");
+            for (const auto& m : rep.methods) {
+                double sc = m.best.value("scale", scene.displacement.scale);
+                double bi = m.best.value("bias", scene.displacement.bias);
+                std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(),
+                            m.steps, sc, bi, m.bestObjective, m.bestP90, m.nativeObjective);
+            }
+            std::printf("objective: %s UV error in texels averaged over %zu view angles; "
+                        "'as listed' = the scene's own (s, b)\n",
+                        rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
             std::printf("wrote %s/fit.json\n", outDir.c_str());
         }
     } catch (const pgt::InputError& e) {

@@ -63,6 +63,7 @@ nlohmann::json FitReport::toJson() const {
     Json ms = Json::array();
     for (const auto& m : methods)
         ms.push_back({{"method", m.method},
+                      {"steps", m.steps},
                       {"best", m.best},
                       {"objective_texels", m.bestObjective},
                       {"mean_texels", m.bestMean},
@@ -82,10 +83,10 @@ FitReport runFit(const Scene& scene, bool progress) {
     rep.objective = f.choice("objective", {"mean", "p90"}, "mean");
     rep.thetas = listOr(f, "theta", range(0, 80, 10), 0, 90);
     rep.phis = listOr(f, "phi", {scene.camera.phi}, -360, 360);
-    std::vector<double> factors = listOr(f, "scale_factors", range(0.25, 2.0, 0.125), -10, 10);
-    std::vector<double> ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.125), -10, 10);
+    std::vector<double> factors = listOr(f, "scale_factors", range(0.25, 2.0, 0.25), -10, 10);
+    std::vector<double> ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.25), -10, 10);
     std::vector<double> steps = listOr(f, "steps", {8, 16, 32, 64}, 1, 4096);
-    int refine = f.integer("refine", 2, 0, 8);
+    int refine = f.integer("refine", 4, 0, 12);
     std::vector<int> res = f.has("resolution") ? f.integers("resolution", 2, 1, 4096)
                                                : std::vector<int>{128, 128};
     std::vector<MethodConfig> methods =
@@ -134,60 +135,62 @@ FitReport runFit(const Scene& scene, bool progress) {
     };
 
     for (const MethodConfig& base : methods) {
-        FitResult fr;
-        fr.method = base.label;
-        fr.nativeObjective = score(base).objective;
         const char* stepKey = stepParameter(base.kind);
         std::vector<double> stepList = stepKey ? steps : std::vector<double>{0};
         bool usesHeight = base.kind != MethodKind::None;
-        auto make = [&](double factor, double ratio, double stepCount) {
-            Json j = toJson(base);
-            if (usesHeight) {
-                j["scale"] = s0 * factor;
-                j["bias"] = s0 * factor * ratio;
-            }
-            if (stepKey) j[stepKey] = int(stepCount);
-            return j;
-        };
-        Json bestJ;
-        Score best;
-        auto consider = [&](double factor, double ratio, double stepCount) {
-            Json j = make(factor, ratio, stepCount);
-            MethodConfig cfg = parseMethod(j, scene.file, "fit");
-            Score sc = score(cfg);
-            ++fr.candidates;
-            if (sc.ok && sc.objective < best.objective) best = sc, bestJ = j;
-        };
         std::vector<double> fs = usesHeight ? factors : std::vector<double>{1};
         std::vector<double> rs = usesHeight ? ratios : std::vector<double>{0};
-        for (double st : stepList)
+        for (double stepCount : stepList) {
+            FitResult fr;
+            fr.method = base.label;
+            fr.steps = int(stepCount);
+            Json listed = toJson(base);
+            if (stepKey) listed[stepKey] = fr.steps;
+            fr.nativeObjective = score(parseMethod(listed, scene.file, "fit")).objective;
+            Json bestJ;
+            Score best;
+            auto consider = [&](double factor, double ratio) {
+                Json j = listed;
+                if (usesHeight) {
+                    j["scale"] = s0 * factor;
+                    j["bias"] = s0 * factor * ratio;
+                }
+                Score sc = score(parseMethod(j, scene.file, "fit"));
+                ++fr.candidates;
+                if (sc.ok && sc.objective < best.objective) best = sc, bestJ = j;
+            };
             for (double fa : fs)
-                for (double ra : rs) consider(fa, ra, st);
-        // Local refinement: a 3 x 3 neighbourhood around the best, halving the spacing.
-        double df = fs.size() > 1 ? (fs[1] - fs[0]) : 0, dr = rs.size() > 1 ? (rs[1] - rs[0]) : 0;
-        for (int round = 0; round < refine && !bestJ.is_null() && usesHeight; ++round) {
-            df /= 2, dr /= 2;
-            double f0 = bestJ["scale"].get<double>() / s0;
-            double r0 = bestJ["bias"].get<double>() / bestJ["scale"].get<double>();
-            double st0 = stepKey ? bestJ[stepKey].get<double>() : 0;
-            for (int i = -1; i <= 1; ++i)
-                for (int k = -1; k <= 1; ++k)
-                    if (i || k) consider(f0 + i * df, r0 + k * dr, st0);
+                for (double ra : rs) consider(fa, ra);
+            // Compass search from the best grid point: move to a better 3 x 3 neighbour while
+            // there is one (at most 32 moves per level), then halve the spacing; `refine`
+            // levels in all, starting at half the grid's spacing.
+            double df = fs.size() > 1 ? fs[1] - fs[0] : 0, dr = rs.size() > 1 ? rs[1] - rs[0] : 0;
+            for (int level = 0; level < refine && !bestJ.is_null() && usesHeight; ++level) {
+                df /= 2, dr /= 2;
+                for (int move = 0; move < 32; ++move) {
+                    double before = best.objective;
+                    double f0 = bestJ["scale"].get<double>() / s0;
+                    double r0 = bestJ["bias"].get<double>() / bestJ["scale"].get<double>();
+                    for (int i = -1; i <= 1; ++i)
+                        for (int k = -1; k <= 1; ++k)
+                            if (i || k) consider(f0 + i * df, r0 + k * dr);
+                    if (!(best.objective < before)) break;
+                }
+            }
+            if (!bestJ.is_null()) {
+                Json out = toJson(parseMethod(bestJ, scene.file, "fit"));
+                out.erase("label");
+                fr.best = out;
+                fr.bestObjective = best.objective;
+                fr.bestMean = best.mean;
+                fr.bestP90 = best.p90;
+            }
+            if (progress)
+                std::fprintf(stderr, "fit: %s steps %d: %d candidates, best %s %.4f (as listed %.4f)\n",
+                             fr.method.c_str(), fr.steps, fr.candidates, rep.objective.c_str(),
+                             fr.bestObjective, fr.nativeObjective);
+            rep.methods.push_back(fr);
         }
-        if (!bestJ.is_null()) {
-            MethodConfig bestCfg = parseMethod(bestJ, scene.file, "fit");
-            Json out = toJson(bestCfg);
-            out.erase("label");
-            fr.best = out;
-            fr.bestObjective = best.objective;
-            fr.bestMean = best.mean;
-            fr.bestP90 = best.p90;
-        }
-        if (progress)
-            std::fprintf(stderr, "fit: %s: %d candidates, best %s %.4f texels (as listed %.4f)\n",
-                         fr.method.c_str(), fr.candidates, rep.objective.c_str(),
-                         fr.bestObjective, fr.nativeObjective);
-        rep.methods.push_back(fr);
     }
     return rep;
 }

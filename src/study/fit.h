@@ -1,5 +1,6 @@
-// `pgt fit`: for a fixed true surface (the scene's s, b), search each method's own scale,
-// bias and step counts that minimise its error over a range of view angles.
+// `pgt fit`: for a fixed true surface (the scene's s, b), search each method's own scale and
+// bias that minimise its error over a range of view angles, at each listed step count (more
+// steps always help, so each count gets its own best (s, b) and the cost stays visible).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -10,8 +11,10 @@
 
 namespace pgt {
 
+// The best own (scale, bias) of one method at one step count (or the only one).
 struct FitResult {
     std::string method;           // method label in the scene
+    int steps = 0;                // the step parameter's value (0: the method has none)
     nlohmann::json best;          // the best configuration (with its own scale and bias)
     double bestObjective = NAN;   // mean over views of the per-view objective (texels)
     double bestMean = NAN, bestP90 = NAN;
