@@ -32,6 +32,30 @@ TEST(Render, HeadOnEveryMethodMatchesTruth) {
     }
 }
 
+// Jittered sample positions are shared by the truth's rays and the rasteriser: head-on,
+// every method still matches the truth, and constant height keeps parallax exact.
+TEST(Render, JitteredSamplesStayConsistent) {
+    Scene s = test::planeScene(test::smoothTexture(32, 32), 0.08, -0.04, 0, 0, 64, allMethods());
+    s.camera.jitter = true;
+    s.camera.jitterSeed = 9;
+    s.truth.uncertainty = false;
+    RenderResult r = renderFrame(s, {1});
+    for (const auto& m : r.methods) EXPECT_LT(m.stats.error.max, 1e-3) << m.config.label;
+    Camera cam = makeCamera(s);
+    int moved = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            Vec2d p = cam.samplePosition(x, y);
+            ASSERT_TRUE(p.x > x && p.x < x + 1 && p.y > y && p.y < y + 1);
+            EXPECT_EQ(p, cam.samplePosition(x, y));  // deterministic
+            moved += std::fabs(p.x - (x + 0.5)) > 1e-3;
+            // uv0 is the jittered point's UV (head-on: a linear map of the position).
+            if (r.fragments.at(x, y).covered)
+                EXPECT_NEAR(r.fragments.at(x, y).uv0.x, cam.ray(p.x, p.y).origin.x + 0.5, 1e-9);
+        }
+    EXPECT_GT(moved, 3500);
+}
+
 // Constant height: offset limiting's error is |s*c + b| * |V.xy| * (1/V.z - 1) * W texels
 // (square map) at every pixel, and parallax's is zero.
 TEST(Render, OffsetLimitedErrorIsTheClosedForm) {

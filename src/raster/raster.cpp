@@ -140,14 +140,16 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
             }
             double x0 = std::min({s[0].x, s[1].x, s[2].x}), x1 = std::max({s[0].x, s[1].x, s[2].x});
             double y0 = std::min({s[0].y, s[1].y, s[2].y}), y1 = std::max({s[0].y, s[1].y, s[2].y});
-            int px0 = std::max(0, int(std::floor(x0 - 0.5))), px1 = std::min(W - 1, int(std::ceil(x1)));
-            int py0 = std::max(0, int(std::floor(y0 - 0.5))), py1 = std::min(H - 1, int(std::ceil(y1)));
+            // Every pixel whose sample position (centre or jittered, inside the pixel) can
+            // fall in the bounding box.
+            int px0 = std::max(0, int(std::floor(x0)) - 1), px1 = std::min(W - 1, int(std::ceil(x1)));
+            int py0 = std::max(0, int(std::floor(y0)) - 1), py1 = std::min(H - 1, int(std::ceil(y1)));
             // Edge i is opposite vertex i: from s[(i+1)%3] to s[(i+2)%3].
             std::array<bool, 3> topLeft;
             for (int i = 0; i < 3; ++i) topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
             for (int py = py0; py <= py1; ++py) {
                 for (int px = px0; px <= px1; ++px) {
-                    Vec2d p(px + 0.5, py + 0.5);
+                    Vec2d p = camera.samplePosition(px, py);
                     std::array<double, 3> e;
                     bool inside = true;
                     for (int i = 0; i < 3; ++i) {

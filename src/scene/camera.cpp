@@ -46,6 +46,22 @@ Ray Camera::ray(double sx, double sy) const {
     return {eye_, glm::normalize(forward_ + right_ * x + up_ * y), false};
 }
 
+Vec2d Camera::samplePosition(int px, int py) const {
+    if (!jitter_) return {px + 0.5, py + 0.5};
+    // A 64-bit mix (splitmix64 finaliser) of pixel and seed -> two uniforms in (0, 1).
+    uint64_t z = (uint64_t(uint32_t(px)) << 32 | uint32_t(py)) ^ (uint64_t(jitterSeed_) * 0x9E3779B97F4A7C15ull);
+    auto next = [&z]() {
+        z += 0x9E3779B97F4A7C15ull;
+        uint64_t x = z;
+        x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+        x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+        x ^= x >> 31;
+        return (double(x >> 11) + 0.5) / 9007199254740992.0;  // 2^53
+    };
+    double jx = next(), jy = next();
+    return {px + jx, py + jy};
+}
+
 Vec3d Camera::toCamera(Vec3d world) const {
     Vec3d d = world - (ortho_ ? target_ : eye_);
     return {glm::dot(d, right_), glm::dot(d, up_), glm::dot(d, forward_)};

@@ -3,6 +3,8 @@
 // The rasteriser uses project() and the truth uses ray(): both come from the same basis.
 #pragma once
 
+#include <cstdint>
+
 #include "core/math.h"
 
 namespace pgt {
@@ -30,7 +32,18 @@ public:
     // The primary ray through pixel centre (px + 0.5, py + 0.5) given as continuous
     // coordinates sx = px + 0.5, sy = py + 0.5.
     Ray ray(double sx, double sy) const;
-    Ray pixelRay(int px, int py) const { return ray(px + 0.5, py + 0.5); }
+    // The ray of pixel (px, py): through its centre (MODEL.md §4), or through its jittered
+    // sample position when jitter is on.
+    Ray pixelRay(int px, int py) const {
+        Vec2d s = samplePosition(px, py);
+        return ray(s.x, s.y);
+    }
+    // Where pixel (px, py) is sampled, in continuous pixel coordinates: (px + 0.5, py + 0.5),
+    // or with jitter a seeded position inside the pixel that the truth and the rasteriser
+    // share (studies: breaks the aliasing between the pixel grid and periodic relief).
+    Vec2d samplePosition(int px, int py) const;
+    void setJitter(bool on, uint32_t seed) { jitter_ = on, jitterSeed_ = seed; }
+    bool jittered() const { return jitter_; }
 
     // Camera-space coordinates of a world point: (right, up, forward distance).
     Vec3d toCamera(Vec3d world) const;
@@ -57,6 +70,8 @@ private:
     Vec3d eye_{0}, target_{0}, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
     double fovDegrees_ = 0;
     double halfHeight_ = 1, halfWidth_ = 1;  // ortho: world units; pinhole: tan(fov/2)
+    bool jitter_ = false;
+    uint32_t jitterSeed_ = 0;
 };
 
 // MODEL.md §4 view direction in tangent space from view angle theta and azimuth phi

@@ -113,6 +113,8 @@ Scene parseScene(const Json& json, const std::string& file) {
         c.height = res[1];
         if (double(c.width) * c.height > double(1 << 26))
             f.fail("resolution", "more than 2^26 pixels");
+        c.jitter = f.choice("samples", {"centre", "jittered"}, "centre") == "jittered";
+        c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
         if (c.type == "orthographic") {
             c.theta = f.number("theta", 0.0, 90.0);
             c.phi = f.number("phi", 0.0, -360.0, 360.0);
@@ -153,7 +155,18 @@ Scene parseScene(const Json& json, const std::string& file) {
     return s;
 }
 
+namespace {
+Camera makeCameraUnjittered(const Scene& s);
+}
+
 Camera makeCamera(const Scene& s) {
+    Camera cam = makeCameraUnjittered(s);
+    cam.setJitter(s.camera.jitter, s.camera.jitterSeed);
+    return cam;
+}
+
+namespace {
+Camera makeCameraUnjittered(const Scene& s) {
     const CameraSpec& c = s.camera;
     if (c.type == "pinhole")
         return Camera::pinhole(c.eye, c.target, c.up, c.fov, c.width, c.height);
@@ -189,6 +202,7 @@ Camera makeCamera(const Scene& s) {
     double height = std::max(hi.y - lo.y, (hi.x - lo.x) / aspect) * 1.02;
     return Camera::orthographic(-v, target, up, height, c.width, c.height);
 }
+}  // namespace
 
 Json resolvedSceneJson(const Scene& s) {
     Json methods = Json::array();
@@ -207,6 +221,8 @@ Json resolvedSceneJson(const Scene& s) {
         if (s.camera.frame == "view") camera["view_height"] = s.camera.viewHeight;
     }
     camera["resolution"] = {s.camera.width, s.camera.height};
+    camera["samples"] = s.camera.jitter ? "jittered" : "centre";
+    if (s.camera.jitter) camera["seed"] = s.camera.jitterSeed;
     return {
         {"heightmap", {{"source", s.heightSource}, {"size", {s.height.width, s.height.height}}}},
         {"address", toString(s.height.address)},

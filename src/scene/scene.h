@@ -39,6 +39,8 @@ struct CameraSpec {
     Vec3d eye{0, -2, 1.5}, up{0, 0, 1};
     double fov = 45;
     int width = 512, height = 512;
+    bool jitter = false;         // sample each pixel at a seeded random position (studies)
+    uint32_t jitterSeed = 1;
 };
 
 enum class TruthGeometry { Grid, Triangles };

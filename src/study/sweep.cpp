@@ -115,6 +115,8 @@ Study parseStudy(const Scene& scene) {
     } else {
         st.width = scene.camera.width, st.height = scene.camera.height;
     }
+    st.jitter = f.choice("samples", {"centre", "jittered"},
+                         scene.camera.jitter ? "jittered" : "centre") == "jittered";
     st.timing.repeats = 3;
     st.timing.maxFragments = 4096;
     if (f.has("timing")) {
@@ -190,7 +192,8 @@ Study parseStudy(const Scene& scene) {
                    {"sweep", scene.sweep},
                    {"configurations", cfgs},
                    {"cases", st.cases.size()},
-                   {"resolution", {st.width, st.height}}};
+                   {"resolution", {st.width, st.height}},
+                   {"samples", st.jitter ? "jittered" : "centre"}};
     return st;
 }
 
@@ -400,6 +403,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
             view.camera.phi = c->phi;
             view.camera.width = study.width;
             view.camera.height = study.height;
+            view.camera.jitter = study.jitter;
             view.displacement = {c->scale, c->bias};
             RenderResult r = renderView(view, makeCamera(view), *truths, study.configs, textures,
                                         study.timing, opt.images);

@@ -23,6 +23,7 @@ struct Study {
     std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
     std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
     int width = 0, height = 0;
+    bool jitter = false;                // pixel sample positions (README "Studies")
     TimingSpec timing;
     nlohmann::json resolved;            // what identifies the study (scene + sweep)
 };
