@@ -87,10 +87,10 @@ int main(int argc, char** argv) {
             }
         } else if (*fit) {
             pgt::Scene scene = pgt::loadScene(scenePath);
-            pgt::FitReport rep = pgt::runFit(scene, true);
-            std::error_code ec;
+            std::error_code ec;  // before the search, so a bad --out fails at once
             std::filesystem::create_directories(outDir, ec);
             if (ec) throw pgt::OutputError("cannot create output directory " + outDir);
+            pgt::FitReport rep = pgt::runFit(scene, true);
             pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
             std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale",
                         "bias", rep.objective.c_str(), "p90", "as listed");
