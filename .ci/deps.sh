@@ -4,7 +4,7 @@ set -euo pipefail
 packages=(
   cmake g++ make
   libembree-dev libopenimageio-dev openimageio-tools libosd-dev libglm-dev libopenexr-dev
-  libtbb-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
+  libtbb-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
   fonts-dejavu-core
   python3-numpy python3-matplotlib python3-pandas python3-openimageio
 )

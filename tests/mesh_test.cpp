@@ -1,0 +1,151 @@
+// Curved bases: cages, OBJ loading, OpenSubdiv refinement and 003 Listing 7.4 frames.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "mesh/control_mesh.h"
+#include "mesh/refine.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+double angleBetween(Vec3d a, Vec3d b) {  // atan2 form: accurate near 0 (acos is not)
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// On a cylinder the analytic frame is T = d/du = around (-sin a, cos a, 0), B = +z, N radial.
+// The Catmull-Clark limit of a 32-gon tube is a cubic B-spline around, not a circle: its
+// normal leaves the radial direction by up to 1.3e-4 rad (measured; 4.9e-4 with 16
+// segments). Listing 7.4 averages the per-triangle dS/du (chord directions); at the seam
+// each side sees only its own chords, half a segment angle off, but the chord error lies in
+// the plane of n and the true tangent, so Gram-Schmidt against the exact limit normal
+// (Eq. 7.38) removes it. Stated tolerance: 2e-4 rad everywhere, seam included.
+TEST(Mesh, CylinderFramesMatchTheAnalyticFrame) {
+    const int segments = 32, levels = 2;
+    ControlMesh cage = makeCylinderCage(1.0, 2.0, segments, 1.0, 1.0);
+    RefinedMesh r = refineToTriangles(cage, Scheme::Catmark, levels);
+    EXPECT_EQ(r.frames.degenerateUvTriangles, 0);
+    EXPECT_EQ(r.frames.fallbackTangents, 0);
+    EXPECT_EQ(r.frames.mirroredVertices, 0);
+    double inside = 0, seam = 0, normal = 0;
+    int seamVertices = 0;
+    for (const auto& v : r.mesh.vertices) {
+        double a = std::atan2(v.position.y, v.position.x);
+        Vec3d t(-std::sin(a), std::cos(a), 0), n(std::cos(a), std::sin(a), 0);
+        double e = std::max(angleBetween(v.tangent, t), angleBetween(v.bitangent, Vec3d(0, 0, 1)));
+        bool atSeam = v.uv.x < 1e-9 || v.uv.x > 1 - 1e-9;
+        seamVertices += atSeam;
+        (atSeam ? seam : inside) = std::max(atSeam ? seam : inside, e);
+        normal = std::max(normal, angleBetween(v.normal, n));
+    }
+    EXPECT_LT(normal, 2e-4);
+    EXPECT_LT(inside, 2e-4);
+    EXPECT_LT(seam, 2e-4);
+    EXPECT_EQ(seamVertices, 2 * 5);  // both sides of the seam, 5 rings after 2 levels
+    RecordProperty("normal_error_rad", std::to_string(normal));
+    RecordProperty("inside_frame_error_rad", std::to_string(inside));
+    RecordProperty("seam_frame_error_rad", std::to_string(seam));
+}
+
+BaseMesh quad(bool mirrored) {
+    BaseMesh m;
+    const Vec2d uv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const Vec3d p[4] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    for (int k = 0; k < 4; ++k) {
+        BaseVertex v;
+        v.position = p[k];
+        v.uv = mirrored ? Vec2d(1 - uv[k].x, uv[k].y) : uv[k];
+        v.normal = Vec3d(0, 0, 1);
+        m.vertices.push_back(v);
+    }
+    m.indices = {0, 1, 2, 0, 2, 3};
+    return m;
+}
+
+// A texture mirrored in u (u decreasing along +x) flips the frame's handedness: w = -1, and
+// the bitangent still follows +v.
+TEST(Mesh, MirroredUvsGetNegativeHandedness) {
+    BaseMesh plain = quad(false), mirrored = quad(true);
+    auto w0 = computeTangentFrames(plain, nullptr);
+    TangentFrameStats st;
+    auto w1 = computeTangentFrames(mirrored, &st);
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(w0[i], 1.0f);
+        EXPECT_EQ(w1[i], -1.0f);
+        EXPECT_LT(angleBetween(mirrored.vertices[i].tangent, Vec3d(-1, 0, 0)), 1e-12);
+        EXPECT_LT(angleBetween(mirrored.vertices[i].bitangent, Vec3d(0, 1, 0)), 1e-12);
+    }
+    EXPECT_EQ(st.mirroredVertices, 4);
+}
+
+// A triangle whose UVs collapse to a point would divide by zero in Listing 7.4: it is
+// skipped and counted; a vertex that only it touches gets a fallback tangent, still finite.
+TEST(Mesh, DegenerateUvTriangleIsCountedNotNaN) {
+    BaseMesh m = quad(false);
+    BaseVertex extra;
+    extra.position = Vec3d(0.5, 1.5, 0);
+    extra.uv = Vec2d(1, 1);
+    extra.normal = Vec3d(0, 0, 1);
+    m.vertices.push_back(extra);
+    m.vertices[3].uv = Vec2d(1, 1);  // vertices 2, 3, 4 now share one UV
+    m.indices = {0, 1, 2, 2, 4, 3};
+    TangentFrameStats st;
+    computeTangentFrames(m, &st);
+    EXPECT_EQ(st.degenerateUvTriangles, 1);
+    EXPECT_EQ(st.fallbackTangents, 2);  // vertices 3 and 4 touch only that triangle
+    for (const auto& v : m.vertices) {
+        EXPECT_TRUE(allFinite(v.tangent) && allFinite(v.bitangent)) << v.position.x;
+        EXPECT_NEAR(glm::length(v.tangent), 1.0, 1e-12);
+        EXPECT_NEAR(glm::dot(v.tangent, v.normal), 0.0, 1e-12);
+    }
+}
+
+TEST(Mesh, CubeCageHasFlatFacesAndItsOwnUvSquarePerFace) {
+    RefinedMesh r = refineToTriangles(makeCubeCage(2.0, 1.0), Scheme::Bilinear, 1);
+    EXPECT_EQ(r.mesh.indices.size(), 6u * 4u * 2u * 3u);  // 4 quads per face after 1 level
+    EXPECT_EQ(r.mesh.vertices.size(), 6u * 9u);           // per face 3 x 3, split at seams
+    // Bilinear: smooth within a UV chart, so every vertex has its face's own normal.
+    for (size_t k = 0; k < r.mesh.indices.size(); k += 3) {
+        const auto& a = r.mesh.vertices[r.mesh.indices[k]];
+        const auto& b = r.mesh.vertices[r.mesh.indices[k + 1]];
+        const auto& c = r.mesh.vertices[r.mesh.indices[k + 2]];
+        Vec3d n = glm::normalize(glm::cross(b.position - a.position, c.position - a.position));
+        for (const auto* v : {&a, &b, &c}) {
+            EXPECT_LT(angleBetween(v->normal, n), 1e-12);
+            EXPECT_NEAR(glm::dot(glm::cross(v->tangent, v->bitangent), v->normal), 1.0, 1e-12);
+        }
+    }
+    EXPECT_EQ(r.frames.mirroredVertices, 0);
+    EXPECT_DOUBLE_EQ(worldPerUvFromAreas(makeCubeCage(2.0, 1.0)), 2.0);
+}
+
+TEST(Mesh, LoopNeedsTriangles) {
+    EXPECT_THROW(refineToTriangles(makeCubeCage(1, 1), Scheme::Loop, 1), std::invalid_argument);
+}
+
+TEST(Mesh, ObjFilesLoadAndBadOnesNameTheFile) {
+    auto dir = test::tempDir("obj");
+    auto good = dir / "quad.obj", bad = dir / "novt.obj";
+    std::ofstream(good) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                           "f 1/1 2/2 3/3 4/4\n";
+    std::ofstream(bad) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n";
+    ControlMesh m = loadObjMesh(good.string(), "scene.json", "base.file");
+    EXPECT_EQ(m.numFaces(), 1);
+    EXPECT_EQ(m.faceSizes[0], 4);
+    EXPECT_DOUBLE_EQ(worldPerUvFromAreas(m), 1.0);
+    try {
+        loadObjMesh(bad.string(), "scene.json", "base.file");
+        FAIL();
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("novt.obj"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("texture coordinates"), std::string::npos);
+    }
+    EXPECT_THROW(loadObjMesh((dir / "missing.obj").string(), "s", "base.file"), InputError);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt
