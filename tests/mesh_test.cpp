@@ -7,6 +7,8 @@
 #include "core/error.h"
 #include "mesh/control_mesh.h"
 #include "mesh/refine.h"
+#include "scene/scene.h"
+#include "study/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -145,6 +147,82 @@ TEST(Mesh, ObjFilesLoadAndBadOnesNameTheFile) {
     }
     EXPECT_THROW(loadObjMesh((dir / "missing.obj").string(), "s", "base.file"), InputError);
     std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// A flat Catmull-Clark grid is the plane itself (the limit of a regular affine grid, with
+// edge-only boundary rules, is the grid): rendering it as a mesh must reproduce the plane's
+// results. The two truths are tessellated differently (grid at rate 4 vs the drawn triangles
+// split at rate 4), so their difference is bounded by the truth's own uncertainty.
+TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
+    auto dir = test::tempDir("flatgrid");
+    {
+        std::ofstream obj(dir / "grid.obj");
+        const int n = 4;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) obj << "vt " << double(i) / n << " " << double(j) / n << "\n";
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c
+                    << " " << d << "/" << d << "\n";
+            }
+    }
+    std::string common = R"("heightmap": {"procedural": "sine", "size": [32, 32]},
+        "displacement": {"scale": 0.05, "bias": -0.025},
+        "camera": {"type": "orthographic", "theta": 50, "phi": 30, "resolution": [96, 96],
+                   "frame": "plane"},
+        "methods": ["parallax", "pom", "relief"], "truth": {"rate": 4, "uncertainty": false})";
+    Scene plane = parseScene(nlohmann::json::parse("{" + common +
+                                 R"(, "base": {"type": "plane"}})"), (dir / "p.json").string());
+    Scene mesh = parseScene(nlohmann::json::parse("{" + common +
+                                R"(, "base": {"type": "mesh", "file": "grid.obj", "scheme": "catmark",
+                                   "refine": 2, "world_per_uv": 1.0}})"),
+                            (dir / "m.json").string());
+    // Same framing: the mesh's box is grown by the relief on every side, the plane's only in
+    // z; give both the same explicit view.
+    for (Scene* s : {&plane, &mesh}) {
+        s->camera.frame = "view";
+        s->camera.viewHeight = 1.2;
+        s->camera.target = Vec3d(0);
+    }
+    RenderResult a = renderFrame(plane, {1}), b = renderFrame(mesh, {1});
+    ASSERT_EQ(a.methods.size(), b.methods.size());
+    EXPECT_EQ(a.raster.covered, b.raster.covered);
+    for (size_t k = 0; k < a.methods.size(); ++k) {
+        const auto& ea = a.methods[k].stats.error;
+        const auto& eb = b.methods[k].stats.error;
+        // 5e-3 texel: the two tessellations differ by the truth's own uncertainty (p99 about
+        // 3e-3 texel at rate 4 on smooth maps, README "How to read").
+        EXPECT_NEAR(ea.mean, eb.mean, 5e-3 + 0.01 * ea.mean) << a.methods[k].config.label;
+        EXPECT_NEAR(ea.p90, eb.p90, 5e-3 + 0.01 * ea.p90) << a.methods[k].config.label;
+        // On a flat mesh the Listing 7.4 frame is exact.
+        EXPECT_NEAR(b.methods[k].statsExactFrame.error.mean, eb.mean, 1e-6);
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(MeshRender, BundledMeshScenesRender) {
+    for (const char* name : {"cube", "cylinder", "torus", "saddle_obj"}) {
+        Scene s = loadScene(test::sourceDir() + "/scenes/" + name + ".json");
+        s.camera.width = s.camera.height = 48;
+        s.truth.rate = 1;
+        RenderResult r = renderFrame(s, {1});
+        EXPECT_GT(r.raster.covered, 200) << name;
+        for (const auto& m : r.methods) {
+            EXPECT_GT(m.stats.error.count, 100) << name << " " << m.config.label;
+            EXPECT_EQ(m.stats.nonfinite, 0) << name << " " << m.config.label;
+            EXPECT_TRUE(m.haveExactFrame);
+        }
+    }
 }
 
 }  // namespace

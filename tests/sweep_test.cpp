@@ -64,7 +64,8 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
         "case", "theta", "phi", "scale", "bias", "bias_ratio", "method", "label", "params",
         "pixels", "mean", "rms", "p50", "p90", "p99", "max", "frac_gt_1texel", "truth_only",
         "raster_only", "nonfinite", "zero_divide", "step_limit", "fetches_mean", "fetches_max",
-        "ns_per_px", "truth_uncertainty_p99", "truth_uncertainty_max"};
+        "ns_per_px", "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame",
+        "p90_exact_frame"};
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);

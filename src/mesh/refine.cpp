@@ -59,6 +59,7 @@ std::vector<float> computeTangentFrames(BaseMesh& mesh, TangentFrameStats* stats
         v.normal = nrm;
         v.tangent = t;
         v.bitangent = glm::cross(nrm, t) * double(w[i]);  // Eq. 7.40
+        v.handedness = w[i];
     }
     if (stats) *stats = st;
     return w;

@@ -46,12 +46,14 @@ struct ClipVertex {
     Vec3d world;
     Vec2d uv;
     Vec3d t, b, n;
+    double w;
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
     return {a.cam + (c.cam - a.cam) * s, a.world + (c.world - a.world) * s,
             a.uv + (c.uv - a.uv) * s,    a.t + (c.t - a.t) * s,
-            a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s};
+            a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s,
+            a.w + (c.w - a.w) * s};
 }
 
 // Top-left rule in a y-down raster, for edges oriented so that the interior is on the
@@ -105,10 +107,24 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
         }
         ++st.trianglesDrawn;
 
+        // The drawn triangle's exact dS/du and dS/dv (003 Eq. 7.37 without averaging).
+        Vec3d dSdu(0), dSdv(0);
+        bool exact = false;
+        {
+            Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
+            Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
+            double det = d1.x * d2.y - d2.x * d1.y;
+            double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
+            if (std::fabs(det) > 1e-12 * scale && std::isfinite(det)) {
+                dSdu = (e1 * d2.y - e2 * d1.y) / det;
+                dSdv = (e2 * d1.x - e1 * d2.x) / det;
+                exact = true;
+            }
+        }
         std::vector<ClipVertex> poly;
         for (auto* p : v)
             poly.push_back({camera.toCamera(p->position), p->position, p->uv, p->tangent,
-                            p->bitangent, p->normal});
+                            p->bitangent, p->normal, p->handedness});
         if (!ortho) {  // Sutherland-Hodgman against forward >= nearZ
             std::vector<ClipVertex> out;
             for (size_t i = 0; i < poly.size(); ++i) {
@@ -171,20 +187,33 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                     f.covered = true;
                     f.uv0 = c[0]->uv * b0 + c[1]->uv * b1 + c[2]->uv * b2;
                     f.position = c[0]->world * b0 + c[1]->world * b1 + c[2]->world * b2;
+                    // 003 Listing 7.8: n = normalize(normal); t = normalize(tangent -
+                    // n * dot(tangent, n)); b = cross(normal, tangent) * sigma.
                     Vec3d n = glm::normalize(c[0]->n * b0 + c[1]->n * b1 + c[2]->n * b2);
                     Vec3d t = c[0]->t * b0 + c[1]->t * b1 + c[2]->t * b2;
-                    Vec3d bt = c[0]->b * b0 + c[1]->b * b1 + c[2]->b * b2;
-                    // Re-orthonormalise the interpolated frame (Gram-Schmidt).
+                    double w = c[0]->w * b0 + c[1]->w * b1 + c[2]->w * b2;
                     t = glm::normalize(t - n * glm::dot(n, t));
-                    bt = glm::normalize(bt - n * glm::dot(n, bt) - t * glm::dot(t, bt));
+                    Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
                     Vec3d view = camera.viewVector(f.position);
-                    Vec3d vt(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view));
-                    f.viewTangent = glm::normalize(vt);
+                    f.viewTangent = glm::normalize(
+                        Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
+                    f.viewTangentExact = f.viewTangent;
+                    f.exactFrame = exact;
+                    if (exact) {
+                        Vec3d te = glm::normalize(dSdu - n * glm::dot(n, dSdu));
+                        Vec3d be = dSdv - n * glm::dot(n, dSdv);
+                        be = glm::normalize(be - te * glm::dot(te, be));
+                        f.viewTangentExact = glm::normalize(
+                            Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
+                    }
                 }
             }
         }
     }
-    for (const auto& f : frags.data) st.covered += f.covered;
+    for (const auto& f : frags.data) {
+        st.covered += f.covered;
+        st.noExactFrame += f.covered && !f.exactFrame;
+    }
     if (stats) *stats = st;
     return frags;
 }

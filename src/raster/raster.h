@@ -17,6 +17,7 @@ struct BaseVertex {
     Vec3d position;
     Vec2d uv;
     Vec3d tangent, bitangent, normal;  // per-vertex frame (T along dS/du, B along dS/dv)
+    double handedness = 1.0;           // 003 Listing 7.4's w: sign of det(tangent frame)
 };
 
 struct BaseMesh {
@@ -37,6 +38,12 @@ struct Fragment {
     Vec2d uv0{0};
     Vec3d position{0};
     Vec3d viewTangent{0};  // unit V in tangent space (V.T, V.B, V.N); methods round to float
+    // V in the exact frame of the drawn surface: T along dS/du, B along dS/dv of the drawn
+    // triangle, N the interpolated normal the truth displaces along, orthonormalised
+    // (MODEL.md §2). Equal to viewTangent on a plane; false where the triangle's UVs are
+    // degenerate (then it repeats viewTangent).
+    Vec3d viewTangentExact{0};
+    bool exactFrame = false;
 };
 
 struct RasterOptions {
@@ -45,6 +52,7 @@ struct RasterOptions {
 
 struct RasterStats {
     int64_t covered = 0;
+    int64_t noExactFrame = 0;  // covered pixels on triangles with degenerate UVs
     int64_t trianglesDrawn = 0;
     int64_t trianglesCulled = 0;
 };

@@ -68,6 +68,49 @@ void parseHeightmap(Scene& s, JsonFields& root) {
     }
 }
 
+void parseMeshBase(Scene& s, JsonFields& f) {
+    MeshBase& m = s.mesh;
+    if (f.has("cage") == f.has("file"))
+        f.fail("cage", "a mesh base needs exactly one of \"cage\" (cube, cylinder, torus) or \"file\" (OBJ)");
+    ControlMesh cage;
+    std::vector<double> tiling =
+        f.has("tiling") ? f.numbers("tiling", 2, 1e-6, 1e6) : std::vector<double>{1.0, 1.0};
+    if (f.has("cage")) {
+        m.source = f.choice("cage", {"cube", "cylinder", "torus"}, "cube");
+        if (m.source == "cube") {
+            cage = makeCubeCage(f.number("size", 1.0, 1e-6, 1e9), tiling[0]);
+        } else if (m.source == "cylinder") {
+            cage = makeCylinderCage(f.number("radius", 0.5, 1e-6, 1e9),
+                                    f.number("height", 1.0, 1e-6, 1e9),
+                                    f.integer("segments", 16, 3, 4096), tiling[0], tiling[1]);
+        } else {
+            std::vector<int> seg = f.has("segments") ? f.integers("segments", 2, 3, 4096)
+                                                     : std::vector<int>{16, 8};
+            cage = makeTorusCage(f.number("major_radius", 0.5, 1e-6, 1e9),
+                                 f.number("minor_radius", 0.2, 1e-6, 1e9), seg[0], seg[1],
+                                 tiling[0], tiling[1]);
+        }
+    } else {
+        std::string rel = f.string("file");
+        fs::path p = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
+        cage = loadObjMesh(p.string(), s.file, "base.file");
+        m.source = rel;
+    }
+    std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "catmark");
+    m.scheme = scheme == "bilinear" ? Scheme::Bilinear : scheme == "loop" ? Scheme::Loop : Scheme::Catmark;
+    m.refine = f.integer("refine", 2, 0, 6);
+    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal");
+    if (m.truthSurface == "limit")
+        f.fail("truth_surface", "the limit-surface truth is not implemented yet; use \"polygonal\"");
+    try {
+        m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));
+        m.worldPerUv = f.has("world_per_uv") ? f.number("world_per_uv", 1e-9, 1e9)
+                                             : worldPerUvFromAreas(cage);
+    } catch (const std::invalid_argument& e) {
+        f.fail(f.has("file") ? "file" : "cage", e.what());
+    }
+}
+
 }  // namespace
 
 Scene parseScene(const Json& json, const std::string& file) {
@@ -84,18 +127,23 @@ Scene parseScene(const Json& json, const std::string& file) {
 
     {
         JsonFields f(root.raw("base"), file, "base");
-        f.choice("type", {"plane"}, "plane");
-        s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
-        s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
-        if (f.has("center")) s.plane.center = vec3(f, "center");
-        s.plane.cullBackFaces = f.boolean("cull_back_faces", true);
-        s.plane.infinite = f.boolean("infinite", false);
-        if (s.plane.infinite) {
-            if (s.height.address != Address::Repeat)
-                f.fail("infinite", "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
-            if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
-                f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
+        std::string type = f.choice("type", {"plane", "mesh"}, "plane");
+        s.isMesh = type == "mesh";
+        if (s.isMesh) {
+            parseMeshBase(s, f);
+        } else {
+            s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
+            s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
+            if (f.has("center")) s.plane.center = vec3(f, "center");
+            s.plane.infinite = f.boolean("infinite", false);
+            if (s.plane.infinite) {
+                if (s.height.address != Address::Repeat)
+                    f.fail("infinite", "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
+                if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
+                    f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
+            }
         }
+        s.plane.cullBackFaces = f.boolean("cull_back_faces", true);
         f.finish();
     }
     if (root.has("displacement")) {
@@ -117,6 +165,8 @@ Scene parseScene(const Json& json, const std::string& file) {
         c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
         if (c.type == "orthographic") {
             c.theta = f.number("theta", 0.0, 90.0);
+        if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
+            f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
             c.phi = f.number("phi", 0.0, -360.0, 360.0);
             c.frame = f.choice("frame", {"plane", "fill"}, "plane");
             c.fillSize = f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2,
@@ -184,20 +234,31 @@ Camera makeCameraUnjittered(const Scene& s) {
         return Camera::orthographic(-v, c.target, up, height, c.width, c.height);
     }
     // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.
-    Camera probe = Camera::orthographic(-v, s.plane.center, up, 1.0, c.width, c.height);
-    double l = s.plane.worldPerUv(), sc = s.displacement.scale, b = s.displacement.bias;
+    double l = s.worldPerUv(), sc = s.displacement.scale, b = s.displacement.bias;
     double zLo = std::min(l * b, l * (sc + b)), zHi = std::max(l * b, l * (sc + b));
+    // The box to frame: the plane with its relief slab, or the mesh grown by the relief.
+    Vec3d boxLo, boxHi;
+    if (s.isMesh) {
+        boxLo = Vec3d(1e300), boxHi = Vec3d(-1e300);
+        for (const auto& vtx : s.mesh.drawn->mesh.vertices)
+            boxLo = glm::min(boxLo, vtx.position), boxHi = glm::max(boxHi, vtx.position);
+        double grow = std::max(std::fabs(zLo), std::fabs(zHi));
+        boxLo -= Vec3d(grow), boxHi += Vec3d(grow);
+    } else {
+        boxLo = s.plane.center + Vec3d(-0.5 * s.plane.size, -0.5 * s.plane.size, zLo);
+        boxHi = s.plane.center + Vec3d(0.5 * s.plane.size, 0.5 * s.plane.size, zHi);
+    }
+    Vec3d middle = (boxLo + boxHi) * 0.5;
+    Camera probe = Camera::orthographic(-v, middle, up, 1.0, c.width, c.height);
     Vec2d lo(1e300), hi(-1e300);
     for (int k = 0; k < 8; ++k) {
-        Vec3d corner = s.plane.center + Vec3d((k & 1 ? 0.5 : -0.5) * s.plane.size,
-                                              (k & 2 ? 0.5 : -0.5) * s.plane.size,
-                                              k & 4 ? zHi : zLo);
+        Vec3d corner(k & 1 ? boxHi.x : boxLo.x, k & 2 ? boxHi.y : boxLo.y, k & 4 ? boxHi.z : boxLo.z);
         Vec3d q = probe.toCamera(corner);
         lo = glm::min(lo, Vec2d(q.x, q.y));
         hi = glm::max(hi, Vec2d(q.x, q.y));
     }
     Vec2d mid = (lo + hi) * 0.5;
-    Vec3d target = s.plane.center + probe.right() * mid.x + probe.up() * mid.y;
+    Vec3d target = middle + probe.right() * mid.x + probe.up() * mid.y;
     double aspect = double(c.width) / c.height;
     double height = std::max(hi.y - lo.y, (hi.x - lo.x) / aspect) * 1.02;
     return Camera::orthographic(-v, target, up, height, c.width, c.height);
@@ -226,13 +287,25 @@ Json resolvedSceneJson(const Scene& s) {
     return {
         {"heightmap", {{"source", s.heightSource}, {"size", {s.height.width, s.height.height}}}},
         {"address", toString(s.height.address)},
-        {"base",
+        {"base", s.isMesh ? Json{{"type", "mesh"},
+                                 {"source", s.mesh.source},
+                                 {"scheme", toString(s.mesh.scheme)},
+                                 {"refine", s.mesh.refine},
+                                 {"truth_surface", s.mesh.truthSurface},
+                                 {"world_per_uv", s.mesh.worldPerUv},
+                                 {"cull_back_faces", s.plane.cullBackFaces}} : Json
          {{"type", "plane"},
           {"size", s.plane.size},
           {"tiling", s.plane.tiling},
           {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
           {"cull_back_faces", s.plane.cullBackFaces},
           {"infinite", s.plane.infinite}}},
+        {"drawn_mesh", s.isMesh ? Json{{"vertices", s.mesh.drawn->mesh.vertices.size()},
+                                       {"triangles", s.mesh.drawn->mesh.indices.size() / 3},
+                                       {"degenerate_uv_triangles", s.mesh.drawn->frames.degenerateUvTriangles},
+                                       {"fallback_tangents", s.mesh.drawn->frames.fallbackTangents},
+                                       {"mirrored_vertices", s.mesh.drawn->frames.mirroredVertices}}
+                                : Json(nullptr)},
         {"displacement", {{"scale", s.displacement.scale}, {"bias", s.displacement.bias}}},
         {"camera", camera},
         {"methods", methods},

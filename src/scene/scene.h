@@ -2,11 +2,14 @@
 // displacement (MODEL.md §3), camera (§4), methods (§6b) and truth settings (§5).
 #pragma once
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "heightfield/texture.h"
+#include "mesh/control_mesh.h"
+#include "mesh/refine.h"
 #include "methods/method.h"
 #include "scene/camera.h"
 
@@ -19,6 +22,16 @@ struct PlaneBase {
     bool cullBackFaces = true;
     bool infinite = false;    // the tile repeats forever in x and y (repeat, integer tiling)
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
+};
+
+// A curved base (issue 4): a control mesh refined by OpenSubdiv.
+struct MeshBase {
+    std::string source;            // "cube", "cylinder", "torus" or the OBJ path
+    Scheme scheme = Scheme::Catmark;
+    int refine = 2;                // levels for the mesh the rasteriser draws
+    std::string truthSurface = "polygonal";  // the drawn mesh displaced along its normals
+    double worldPerUv = 0;         // l: from the scene, else sqrt(world area / UV area)
+    std::shared_ptr<const RefinedMesh> drawn;  // built at load time
 };
 
 struct Displacement {
@@ -57,7 +70,10 @@ struct Scene {
     Texture height;       // address mode set from the scene
     std::string heightSource;  // file path or procedural name, for the summary
     PlaneBase plane;
+    bool isMesh = false;  // base.type "mesh": `mesh` holds it, `plane` is unused
+    MeshBase mesh;
     Displacement displacement;
+    double worldPerUv() const { return isMesh ? mesh.worldPerUv : plane.worldPerUv(); }
     CameraSpec camera;
     std::vector<MethodConfig> methods;
     TruthSpec truth;

@@ -155,6 +155,14 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
     for (const auto& m : r.methods) {
         Json j = toJson(m.stats);
         j["label"] = m.config.label;
+        if (m.haveExactFrame) {
+            // The error with the exact frame is the method's own; the rest of the mean is
+            // what the per-vertex tangent frame adds.
+            j["exact_frame"] = toJson(m.statsExactFrame);
+            double a = m.stats.error.mean, e = m.statsExactFrame.error.mean;
+            j["frame_share_of_mean"] = a > 0 && std::isfinite(a) && std::isfinite(e)
+                                           ? Json(1.0 - e / a) : Json(nullptr);
+        }
         j["config"] = toJson(m.config);
         j["ns_per_px"] = m.nsPerPixel;
         methods.push_back(j);
@@ -165,6 +173,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
             {"view", view},
             {"truth", truth},
             {"raster", {{"covered_pixels", r.raster.covered},
+                        {"no_exact_frame_pixels", r.raster.noExactFrame},
                         {"triangles_drawn", r.raster.trianglesDrawn},
                         {"triangles_culled", r.raster.trianglesCulled}}},
             {"methods", methods},

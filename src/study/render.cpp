@@ -29,6 +29,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             list.view.push_back(Vec3f(f.viewTangent));
             list.uv0d.push_back(f.uv0);
             list.viewd.push_back(f.viewTangent);
+            list.viewExact.push_back(Vec3f(f.viewTangentExact));
+            list.viewExactd.push_back(f.viewTangentExact);
         }
     return list;
 }
@@ -48,6 +50,8 @@ FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) 
         out.view.push_back(all.view[k]);
         out.uv0d.push_back(all.uv0d[k]);
         out.viewd.push_back(all.viewd[k]);
+        out.viewExact.push_back(all.viewExact[k]);
+        out.viewExactd.push_back(all.viewExactd[k]);
     }
     return out;
 }
@@ -73,19 +77,26 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
 
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
     const int rate = scene_.truth.rate;
-    if (!base_) base_ = tessellatePlane(scene_.height, scene_.plane, rate);
+    auto tessellate = [&](int r) {
+        if (scene_.isMesh)
+            return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
+        return tessellatePlane(scene_.height, scene_.plane, r);
+    };
+    // A mesh's truth is an explicit triangle list; grids are for planes.
+    TruthGeometry geometry = scene_.isMesh ? TruthGeometry::Triangles : scene_.truth.geometry;
+    bool periodic = !scene_.isMesh && scene_.plane.infinite;
+    if (!base_) base_ = tessellate(rate);
     TruthPair p;
-    p.truth = std::make_unique<TruthSurface>(base_, disp, scene_.truth.geometry,
-                                             scene_.plane.infinite);
+    p.truth = std::make_unique<TruthSurface>(base_, disp, geometry, periodic);
     if (withUncertainty) {
-        if (!fine_) fine_ = tessellatePlane(scene_.height, scene_.plane, 2 * rate);
-        p.fine = std::make_unique<TruthSurface>(fine_, disp, scene_.truth.geometry,
-                                                scene_.plane.infinite);
+        if (!fine_) fine_ = tessellate(2 * rate);
+        p.fine = std::make_unique<TruthSurface>(fine_, disp, geometry, periodic);
     }
     return p;
 }
 
 BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
+    if (scene.isMesh) return scene.mesh.drawn->mesh;
     int tiles = scene.plane.infinite ? tilesToCover(camera, scene.plane.center, scene.plane.size)
                                      : 0;
     return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
@@ -128,14 +139,17 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
 }  // namespace
 
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
-                                    const MethodTextures& tex, int width, int height) {
+                                    const MethodTextures& tex, int width, int height,
+                                    bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
+    const auto& view = exactFrame ? frags.viewExact : frags.view;
+    const auto& viewd = exactFrame ? frags.viewExactd : frags.viewd;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0d[k], frags.viewd[k])
-                                    : runOne<float>(cfg, tex, frags.uv0[k], frags.view[k]);
+                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0d[k], viewd[k])
+                                    : runOne<float>(cfg, tex, frags.uv0[k], view[k]);
         }
     });
     return out;
@@ -210,6 +224,12 @@ RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPai
         mf.pixels = evaluateMethod(cfg, frags, tex, W, H);
         mf.stats = compareWithTruth(r.truth, mf.pixels, scene.height.width, scene.height.height,
                                     scene.height.address, keepImages ? &mf.errTexels : nullptr);
+        if (scene.isMesh) {
+            auto exact = evaluateMethod(cfg, frags, tex, W, H, true);
+            mf.statsExactFrame = compareWithTruth(r.truth, exact, scene.height.width,
+                                                  scene.height.height, scene.height.address);
+            mf.haveExactFrame = true;
+        }
         if (timing.repeats > 0) {
             auto tt = Clock::now();
             mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);

@@ -24,6 +24,8 @@ struct FragmentList {
     std::vector<Vec3f> view;     // unit tangent-space V, rounded to float
     std::vector<Vec2d> uv0d;     // double copies for `precision: double`
     std::vector<Vec3d> viewd;
+    std::vector<Vec3f> viewExact;  // V in the exact frame of the drawn surface (meshes)
+    std::vector<Vec3d> viewExactd;
     size_t size() const { return pixel.size(); }
 };
 FragmentList compactFragments(const Image2D<Fragment>& frags);
@@ -52,8 +54,10 @@ private:
 };
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.
+// `exactFrame` feeds V in the exact frame instead of the per-vertex (Listing 7.4/7.8) frame.
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
-                                    const MethodTextures& tex, int width, int height);
+                                    const MethodTextures& tex, int width, int height,
+                                    bool exactFrame = false);
 
 // Measured cost of the method alone: single-threaded, median of `repeats` passes over the
 // fragment list, in nanoseconds per fragment.
@@ -87,6 +91,10 @@ struct MethodFrame {
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
     FrameStats stats;
+    // Meshes: the same method fed the exact frame; the difference to `stats` is the share
+    // of the error caused by the per-vertex tangent frame.
+    FrameStats statsExactFrame;
+    bool haveExactFrame = false;
     double nsPerPixel = 0;
 };
 

@@ -85,7 +85,7 @@ const std::vector<std::string>& resultColumns() {
         "mean",         "rms",          "p50",           "p90",           "p99",
         "max",          "frac_gt_1texel", "truth_only",  "raster_only",   "nonfinite",
         "zero_divide",  "step_limit",   "fetches_mean",  "fetches_max",   "ns_per_px",
-        "truth_uncertainty_p99", "truth_uncertainty_max"};
+        "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame", "p90_exact_frame"};
     return cols;
 }
 
@@ -220,7 +220,9 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
            << s.stepLimit << ',' << num(s.fetchesMean) << ',' << s.fetchesMax << ','
            << num(m.nsPerPixel) << ','
            << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
-           << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << '\n';
+           << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
+           << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
+           << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << '\n';
     }
     return os.str();
 }

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -161,6 +162,94 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     return out;
 }
 
+std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
+                                                            const BaseMesh& drawn,
+                                                            double worldPerUv, int rate,
+                                                            int64_t maxVertices) {
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.worldPerUv = worldPerUv;
+    const size_t nTri = drawn.indices.size() / 3;
+    PGT_CHECK(nTri > 0);
+    Vec3d lo(1e300), hi(-1e300);
+    for (const auto& v : drawn.vertices) lo = glm::min(lo, v.position), hi = glm::max(hi, v.position);
+    m.origin = (lo + hi) * 0.5;
+    // One subdivision count n for every triangle: rate samples per texel along the longest
+    // UV edge of the mesh.
+    double longest = 0;
+    for (size_t t = 0; t < nTri; ++t)
+        for (int e = 0; e < 3; ++e) {
+            Vec2d a = drawn.vertices[drawn.indices[3 * t + e]].uv;
+            Vec2d b = drawn.vertices[drawn.indices[3 * t + (e + 1) % 3]].uv;
+            longest = std::max(longest, glm::length((b - a) * Vec2d(height.width, height.height)));
+        }
+    int n = std::max(1, int(std::ceil(rate * longest - 1e-9)));
+    // Vertices: corners V, edge points E*(n-1), interior T*(n-1)(n-2)/2 <= T*(n+1)(n+2)/2.
+    while (n > 1 && double(nTri) * (n + 1) * (n + 2) / 2 > double(maxVertices)) --n;
+    m.nu = m.nv = 0;
+
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeStart;  // first of n-1 edge points
+    auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c,
+                         double wa, double wb, double wc) {
+        Vec3d p = a.position * wa + b.position * wb + c.position * wc;
+        Vec3d nrm = a.normal * wa + b.normal * wb + c.normal * wc;
+        double len = glm::length(nrm);
+        nrm = len > 0 ? nrm / len : Vec3d(0, 0, 1);
+        Vec2d uv = a.uv * wa + b.uv * wb + c.uv * wc;
+        m.position.push_back(Vec3f(p - m.origin));
+        m.normal.push_back(Vec3f(nrm));
+        m.uv.push_back(uv);
+        m.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.position.size() - 1);
+    };
+    // Corners first: drawn vertex i is tessellation vertex i.
+    for (const auto& v : drawn.vertices) addVertex(v, v, v, 1, 0, 0);
+    std::vector<uint32_t> local;
+    for (size_t t = 0; t < nTri; ++t) {
+        const uint32_t id[3] = {drawn.indices[3 * t], drawn.indices[3 * t + 1],
+                                drawn.indices[3 * t + 2]};
+        const BaseVertex* v[3] = {&drawn.vertices[id[0]], &drawn.vertices[id[1]],
+                                  &drawn.vertices[id[2]]};
+        // Lattice point (i, j), i + j <= n, barycentric (1 - (i+j)/n, i/n, j/n).
+        local.assign(size_t(n + 1) * (n + 1), 0);
+        auto at = [&](int i, int j) -> uint32_t& { return local[size_t(j) * (n + 1) + i]; };
+        at(0, 0) = id[0], at(n, 0) = id[1], at(0, n) = id[2];
+        // Edge points, shared through the pair of drawn vertex indices (canonical order).
+        auto edge = [&](int ea, int eb, auto point) {
+            uint32_t a = id[ea], b = id[eb];
+            bool flip = a > b;
+            auto key = std::make_pair(std::min(a, b), std::max(a, b));
+            auto it = edgeStart.find(key);
+            if (it == edgeStart.end()) {
+                uint32_t first = uint32_t(m.position.size());
+                const BaseVertex& lo0 = drawn.vertices[key.first];
+                const BaseVertex& hi0 = drawn.vertices[key.second];
+                for (int k = 1; k < n; ++k)
+                    addVertex(lo0, hi0, hi0, 1.0 - double(k) / n, double(k) / n, 0.0);
+                it = edgeStart.emplace(key, first).first;
+            }
+            for (int k = 1; k < n; ++k) point(k) = it->second + uint32_t(flip ? n - 1 - k : k - 1);
+        };
+        edge(0, 1, [&](int k) -> uint32_t& { return at(k, 0); });
+        edge(0, 2, [&](int k) -> uint32_t& { return at(0, k); });
+        edge(1, 2, [&](int k) -> uint32_t& { return at(n - k, k); });
+        for (int j = 1; j < n; ++j)
+            for (int i = 1; i + j < n; ++i)
+                at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n,
+                                     double(i) / n, double(j) / n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i + j < n; ++i) {
+                m.triangles.insert(m.triangles.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+                if (i + j + 1 < n)
+                    m.triangles.insert(m.triangles.end(),
+                                       {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+    }
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
 struct TruthSurface::Impl {
     std::shared_ptr<const BaseTessellation> base;
     TruthGeometry geometry;
@@ -198,6 +287,10 @@ struct TruthSurface::Impl {
             double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
             int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
             s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
+        } else if (!base->triangles.empty()) {
+            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+            double u = rh.hit.u, v = rh.hit.v;
+            s.uv = base->uv[t[0]] * (1 - u - v) + base->uv[t[1]] * u + base->uv[t[2]] * v;
         } else {
             // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
             // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
@@ -287,6 +380,8 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
     m.periodic = periodic;
     m.nu = m.base->nu;
     m.nv = m.base->nv;
+    const bool meshTriangles = !m.base->triangles.empty();
+    PGT_CHECK(!(meshTriangles && (periodic || geometry == TruthGeometry::Grid)));
     if (periodic) {
         double T = m.base->periodUv;
         PGT_CHECK_LT(std::fabs(T - std::round(T)), 1e-9);  // scene validation guarantees it
@@ -335,6 +430,13 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
         std::copy(m.grids.begin(), m.grids.end(), gb);
         m.stats.primitives = int64_t(m.grids.size());
         m.stats.geometryBytes += int64_t(m.grids.size() * sizeof(RTCGrid));
+    } else if (meshTriangles) {
+        const auto& tri = m.base->triangles;
+        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tri.size() / 3));
+        std::copy(tri.begin(), tri.end(), ib);
+        m.stats.primitives = int64_t(tri.size() / 3);
+        m.stats.geometryBytes += int64_t(tri.size() * sizeof(unsigned));
     } else {
         size_t nTri = size_t(m.nu) * m.nv * 2;
         auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(

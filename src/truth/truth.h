@@ -9,6 +9,7 @@
 #include "core/image.h"
 #include "core/math.h"
 #include "core/samples.h"
+#include "raster/raster.h"
 #include "heightfield/texture.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -35,11 +36,24 @@ struct BaseTessellation {
     std::vector<Vec3f> normal;    // unit N(u, v)
     std::vector<Vec2d> uv;
     std::vector<double> height;   // h(u, v) from the shared bilinear sampler
+    // Meshes: explicit triangles over the vertices (then nu, nv are 0 and no grid is used).
+    std::vector<uint32_t> triangles;
     double tessellateMs = 0;
 };
 
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                         const PlaneBase& plane, int rate);
+
+// The `polygonal` truth of a mesh (issue 4): the very triangles the rasteriser draws, each
+// split uniformly into n^2 sub-triangles (n from the largest UV edge in texels x rate, one n
+// for the whole mesh so shared edges get the same points), displaced along the interpolated
+// vertex normal. Vertices on an edge shared by two drawn triangles are shared, so the sheet
+// is watertight wherever the UVs are continuous (it opens at UV seams, as the real
+// displaced asset does). `maxVertices` bounds the tessellation (n is lowered to fit).
+std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
+                                                            const BaseMesh& drawn,
+                                                            double worldPerUv, int rate,
+                                                            int64_t maxVertices = int64_t(1) << 26);
 
 class TruthSurface {
 public:
