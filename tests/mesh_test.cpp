@@ -227,3 +227,51 @@ TEST(MeshRender, BundledMeshScenesRender) {
 
 }  // namespace
 }  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// The exact-frame split responds to the tangent frame: on a flat grid whose UVs are an
+// affine map the Listing 7.4 frame is exact (share 0); bend the UV map (v shifted by a sine
+// of x, so the direction of dS/du turns across the mesh) and neighbouring triangles disagree
+// on dS/du: the per-vertex average differs from the triangle's own frame and the share is no
+// longer 0. (Bending u by a sine of y would not do: dS/du keeps its direction and Listing
+// 7.8 rebuilds B from n x t.)
+TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
+    auto dir = test::tempDir("bentuv");
+    auto writeGrid = [&](const std::string& name, double bend) {
+        std::ofstream obj(dir / name);
+        const int n = 8;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                obj << "vt " << double(i) / n << " "
+                    << double(j) / n + bend * std::sin(kPi * i / n) << "\n";
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c
+                    << " " << d << "/" << d << "\n";
+            }
+    };
+    writeGrid("affine.obj", 0.0);
+    writeGrid("bent.obj", 0.3);
+    auto share = [&](const std::string& obj) {
+        std::string json = R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
+            "displacement": {"scale": 0.05, "bias": -0.025},
+            "base": {"type": "mesh", "file": ")" + obj + R"(", "scheme": "bilinear", "refine": 0},
+            "camera": {"type": "orthographic", "theta": 60, "phi": 0, "resolution": [64, 64]},
+            "methods": ["parallax"], "truth": {"rate": 2, "uncertainty": false}})";
+        Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
+        RenderResult r = renderFrame(s, {1});
+        return 1.0 - r.methods[0].statsExactFrame.error.mean / r.methods[0].stats.error.mean;
+    };
+    EXPECT_NEAR(share("affine.obj"), 0.0, 1e-9);
+    EXPECT_GT(std::fabs(share("bent.obj")), 1e-3);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt
