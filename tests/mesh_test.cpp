@@ -275,3 +275,51 @@ TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
 
 }  // namespace
 }  // namespace pgt
+
+#include "truth/truth.h"
+
+namespace pgt {
+namespace {
+
+// Limit truth: a Catmull-Clark torus (16 x 8 quads, UV seams where u and v wrap) tessellated
+// face by face with Bfr. Corners and edge points are shared between faces except across the
+// seams, so the vertex count is exactly: 17 x 9 UV corners + (128 + 16) u-edges x (ru - 1) +
+// (128 + 8) v-edges x (rv - 1) + 128 faces x (ru - 1)(rv - 1) interior points, with
+// ru = 32 texels / 16 = 2 and rv = 32 / 8 = 4 at rate 1.
+TEST(LimitTruth, TorusSharesEveryPointOffTheSeams) {
+    Texture t = test::smoothTexture(32, 32);
+    ControlMesh cage = makeTorusCage(0.5, 0.2, 16, 8, 1.0, 1.0);
+    auto tess = tessellateLimitSurface(t, cage, Scheme::Catmark, 1.0, 1);
+    const int ru = 2, rv = 4;
+    size_t want = 17 * 9 + 144 * (ru - 1) + 136 * (rv - 1) + 128 * (ru - 1) * (rv - 1);
+    EXPECT_EQ(tess->position.size(), want);
+    for (size_t k = 0; k < tess->normal.size(); ++k)
+        ASSERT_NEAR(glm::length(Vec3d(tess->normal[k])), 1.0, 1e-6) << k;
+}
+
+// MODEL.md §5 on a curved surface: the limit cube's truth converges as the rate doubles.
+TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
+    std::string json = R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
+        "base": {"type": "mesh", "cage": "cube", "scheme": "catmark", "refine": 3,
+                 "truth_surface": "limit"},
+        "displacement": {"scale": 0.04, "bias": -0.02},
+        "camera": {"type": "orthographic", "theta": 50, "phi": 30, "resolution": [96, 96]},
+        "methods": ["parallax"], "truth": {"rate": 1}})";
+    Scene s = parseScene(nlohmann::json::parse(json), "limit.json");
+    Camera cam = makeCamera(s);
+    auto frame = [&](int rate) {
+        auto base = tessellateLimitSurface(s.height, *s.mesh.cage, s.mesh.scheme, s.worldPerUv(),
+                                           rate);
+        TruthSurface surface(base, s.displacement, TruthGeometry::Triangles, false);
+        return surface.traceFrame(cam);
+    };
+    auto f1 = frame(1), f2 = frame(2), f4 = frame(4);
+    TruthUncertainty a = compareTruthFrames(f1, f2, s.height, s.height.address);
+    TruthUncertainty b = compareTruthFrames(f2, f4, s.height, s.height.address);
+    EXPECT_GT(a.pixelsCompared, 2000);
+    EXPECT_LT(b.p99Texels, a.p99Texels * 0.6) << a.p99Texels << " -> " << b.p99Texels;
+    EXPECT_LT(b.p50Texels, a.p50Texels * 0.6) << a.p50Texels << " -> " << b.p50Texels;
+}
+
+}  // namespace
+}  // namespace pgt

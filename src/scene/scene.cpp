@@ -100,10 +100,9 @@ void parseMeshBase(Scene& s, JsonFields& f) {
     m.scheme = scheme == "bilinear" ? Scheme::Bilinear : scheme == "loop" ? Scheme::Loop : Scheme::Catmark;
     m.refine = f.integer("refine", 2, 0, 6);
     m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal");
-    if (m.truthSurface == "limit")
-        f.fail("truth_surface", "the limit-surface truth is not implemented yet; use \"polygonal\"");
     try {
         m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));
+        m.cage = std::make_shared<ControlMesh>(cage);
         m.worldPerUv = f.has("world_per_uv") ? f.number("world_per_uv", 1e-9, 1e9)
                                              : worldPerUvFromAreas(cage);
     } catch (const std::invalid_argument& e) {

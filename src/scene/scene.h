@@ -29,8 +29,12 @@ struct MeshBase {
     std::string source;            // "cube", "cylinder", "torus" or the OBJ path
     Scheme scheme = Scheme::Catmark;
     int refine = 2;                // levels for the mesh the rasteriser draws
-    std::string truthSurface = "polygonal";  // the drawn mesh displaced along its normals
+    // "polygonal": the drawn mesh displaced along its vertex normals (the method's own error);
+    // "limit": the OpenSubdiv limit surface displaced along its exact normal (the asset as
+    // meant: adds faceting and frame error).
+    std::string truthSurface = "polygonal";
     double worldPerUv = 0;         // l: from the scene, else sqrt(world area / UV area)
+    std::shared_ptr<const ControlMesh> cage;   // as read
     std::shared_ptr<const RefinedMesh> drawn;  // built at load time
 };
 

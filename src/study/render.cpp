@@ -78,6 +78,9 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
     const int rate = scene_.truth.rate;
     auto tessellate = [&](int r) {
+        if (scene_.isMesh && scene_.mesh.truthSurface == "limit")
+            return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
+                                          scene_.worldPerUv(), r);
         if (scene_.isMesh)
             return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
         return tessellatePlane(scene_.height, scene_.plane, r);

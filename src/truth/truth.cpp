@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <tuple>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -158,6 +159,136 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
             m.height[idx] = sampleBilinear<double>(height, m.uv[idx]);
         }
     });
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
+std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& height,
+                                                               const ControlMesh& cage,
+                                                               Scheme scheme, double worldPerUv,
+                                                               int rate) {
+    using namespace OpenSubdiv;
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.worldPerUv = worldPerUv;
+    Vec3d lo(1e300), hi(-1e300);
+    for (const auto& p : cage.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    m.origin = (lo + hi) * 0.5;
+
+    Far::TopologyDescriptor desc;
+    desc.numVertices = int(cage.positions.size());
+    desc.numFaces = cage.numFaces();
+    desc.numVertsPerFace = cage.faceSizes.data();
+    desc.vertIndicesPerFace = cage.faceVerts.data();
+    Far::TopologyDescriptor::FVarChannel uvChannel;
+    uvChannel.numValues = int(cage.uvs.size());
+    uvChannel.valueIndices = cage.faceUvs.data();
+    desc.numFVarChannels = 1;
+    desc.fvarChannels = &uvChannel;
+    Sdc::Options sdc;  // the same options as the drawn mesh (mesh/refine.cpp)
+    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+    sdc.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
+    Sdc::SchemeType type = scheme == Scheme::Bilinear  ? Sdc::SCHEME_BILINEAR
+                           : scheme == Scheme::Catmark ? Sdc::SCHEME_CATMARK
+                                                       : Sdc::SCHEME_LOOP;
+    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+    std::unique_ptr<Far::TopologyRefiner> refiner(
+        Factory::Create(desc, Factory::Options(type, sdc)));
+    if (!refiner) throw std::invalid_argument("OpenSubdiv rejected the control mesh's topology");
+    const Far::TopologyLevel& level = refiner->GetLevel(0);
+    Bfr::RefinerSurfaceFactory<> factory(*refiner,
+                                         Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
+
+    // Rate per cage edge: its longest UV image in texels x rate (the max over both sides).
+    std::vector<int> edgeRate(level.GetNumEdges(), 1);
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        auto fe = level.GetFaceEdges(f);
+        auto ft = level.GetFaceFVarValues(f, 0);
+        for (int i = 0; i < fe.size(); ++i) {
+            Vec2d a = cage.uvs[ft[i]], b = cage.uvs[ft[(i + 1) % fe.size()]];
+            double texels = glm::length((b - a) * Vec2d(height.width, height.height));
+            edgeRate[fe[i]] = std::max(edgeRate[fe[i]], int(std::ceil(rate * texels - 1e-9)));
+        }
+    }
+
+    std::map<std::pair<int, int>, uint32_t> cornerOf;                   // (vertex, uv value)
+    std::map<std::tuple<int, int, int, int>, uint32_t> edgeOf;          // (edge, k, uvA, uvB)
+    auto push = [&](const Vec3d& p, const Vec3d& n, const Vec2d& uv) {
+        m.position.push_back(Vec3f(p - m.origin));
+        m.normal.push_back(Vec3f(n));
+        m.uv.push_back(uv);
+        m.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.position.size() - 1);
+    };
+    Bfr::Surface<double> pos, tex;
+    std::vector<double> posPatch, uvPatch, coords;
+    std::vector<int> facets;
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        if (!factory.InitVertexSurface(f, &pos) || !factory.InitFaceVaryingSurface(f, &tex))
+            continue;  // holes have no limit surface
+        auto fv = level.GetFaceVertices(f);
+        auto fe = level.GetFaceEdges(f);
+        auto ft = level.GetFaceFVarValues(f, 0);
+        const int nEdges = fe.size();
+        std::vector<int> rates(nEdges);
+        for (int i = 0; i < nEdges; ++i) rates[i] = edgeRate[fe[i]];
+        Bfr::Tessellation tess(pos.GetParameterization(), nEdges, rates.data(),
+                               Bfr::Tessellation::Options().SetFacetSize(3));
+        PGT_CHECK(tess.IsValid());
+        coords.resize(size_t(tess.GetNumCoords()) * 2);
+        tess.GetCoords(coords.data());
+        posPatch.resize(size_t(pos.GetNumPatchPoints()) * 3);
+        uvPatch.resize(size_t(tex.GetNumPatchPoints()) * 2);
+        pos.PreparePatchPoints(&cage.positions[0].x, 3, posPatch.data(), 3);
+        tex.PreparePatchPoints(&cage.uvs[0].x, 2, uvPatch.data(), 2);
+        auto evaluate = [&](const double* st) {
+            double P[3], Du[3], Dv[3], UV[2];
+            pos.Evaluate(st, posPatch.data(), 3, P, Du, Dv);
+            tex.Evaluate(st, uvPatch.data(), 2, UV);
+            Vec3d n = glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2]));
+            double len = glm::length(n);
+            return push(Vec3d(P[0], P[1], P[2]), len > 0 ? n / len : Vec3d(0, 0, 1),
+                        Vec2d(UV[0], UV[1]));
+        };
+        // Map each coordinate of the pattern to a shared or new vertex: corners by
+        // (vertex, uv value), edge points by (edge, k from the edge's first vertex, uv values
+        // at both ends), interior points new.
+        std::map<std::pair<double, double>, uint32_t> vertexAt;
+        std::vector<double> buf(size_t(std::max(2, 2 * (*std::max_element(rates.begin(), rates.end()) + 1))));
+        for (int i = 0; i < nEdges; ++i) {
+            tess.GetVertexCoord(i, buf.data());
+            auto key = std::make_pair(int(fv[i]), int(ft[i]));
+            auto it = cornerOf.find(key);
+            if (it == cornerOf.end()) it = cornerOf.emplace(key, evaluate(buf.data())).first;
+            vertexAt[{buf[0], buf[1]}] = it->second;
+        }
+        for (int i = 0; i < nEdges; ++i) {
+            int count = tess.GetEdgeCoords(i, buf.data());
+            auto ev = level.GetEdgeVertices(fe[i]);
+            bool forward = ev[0] == fv[i];
+            int uvA = forward ? ft[i] : ft[(i + 1) % nEdges];
+            int uvB = forward ? ft[(i + 1) % nEdges] : ft[i];
+            for (int k = 0; k < count; ++k) {
+                int along = forward ? k : count - 1 - k;  // from the edge's first vertex
+                auto key = std::make_tuple(int(fe[i]), along, uvA, uvB);
+                auto it = edgeOf.find(key);
+                if (it == edgeOf.end()) it = edgeOf.emplace(key, evaluate(&buf[2 * k])).first;
+                vertexAt[{buf[2 * k], buf[2 * k + 1]}] = it->second;
+            }
+        }
+        std::vector<uint32_t> index(coords.size() / 2);
+        for (size_t c = 0; c < index.size(); ++c) {
+            auto it = vertexAt.find({coords[2 * c], coords[2 * c + 1]});
+            index[c] = it != vertexAt.end() ? it->second : evaluate(&coords[2 * c]);
+        }
+        facets.resize(size_t(tess.GetNumFacets()) * 3);
+        tess.GetFacets(facets.data());
+        for (size_t k = 0; k + 2 < facets.size(); k += 3)
+            m.triangles.insert(m.triangles.end(),
+                               {index[facets[k]], index[facets[k + 1]], index[facets[k + 2]]});
+    }
+    PGT_CHECK(!m.triangles.empty());
     m.tessellateMs = msSince(t0);
     return out;
 }

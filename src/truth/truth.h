@@ -9,6 +9,8 @@
 #include "core/image.h"
 #include "core/math.h"
 #include "core/samples.h"
+#include "mesh/control_mesh.h"
+#include "mesh/refine.h"
 #include "raster/raster.h"
 #include "heightfield/texture.h"
 #include "scene/camera.h"
@@ -50,6 +52,17 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
 // vertex normal. Vertices on an edge shared by two drawn triangles are shared, so the sheet
 // is watertight wherever the UVs are continuous (it opens at UV seams, as the real
 // displaced asset does). `maxVertices` bounds the tessellation (n is lowered to fit).
+// The `limit` truth of a mesh (issue 4): the OpenSubdiv limit surface of the control mesh
+// (its scheme), tessellated face by face with the Bfr Tessellation API at a rate per cage
+// edge from its UV length in texels x rate, displaced along the exact limit normal. Corners
+// and edge points are shared between faces (evaluated once), split only where the UVs are
+// discontinuous, so the sheet is watertight elsewhere. Throws std::invalid_argument on
+// topology OpenSubdiv rejects.
+std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& height,
+                                                               const ControlMesh& cage,
+                                                               Scheme scheme, double worldPerUv,
+                                                               int rate);
+
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,
                                                             double worldPerUv, int rate,
