@@ -323,3 +323,96 @@ TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
 
 }  // namespace
 }  // namespace pgt
+
+#include "study/sweep.h"
+
+namespace pgt {
+namespace {
+
+// 004's problem: a texture mirrored across a seam. Listing 7.4 gives w = -1 on the mirrored
+// half; on the mirror line itself the two halves' tangents cancel (fallbacks counted), and
+// the error map shows the seam: most of pom's error there is frame error.
+TEST(MeshRender, MirroredStripShowsItsSeam) {
+    Scene s = loadScene(test::sourceDir() + "/scenes/mirrored_obj.json");
+    const auto& drawn = *s.mesh.drawn;
+    int right = 0, left = 0;
+    for (size_t k = 0; k < drawn.mesh.vertices.size(); ++k) {
+        double x = drawn.mesh.vertices[k].position.x;
+        if (x > 0.01) {
+            EXPECT_EQ(drawn.handedness[k], -1.0f) << "x " << x;
+            ++right;
+        }
+        if (x < -0.01) {
+            EXPECT_EQ(drawn.handedness[k], 1.0f) << "x " << x;
+            ++left;
+        }
+    }
+    EXPECT_EQ(right, 20);
+    EXPECT_EQ(left, 20);
+    EXPECT_GT(drawn.frames.fallbackTangents, 0);
+    s.camera.width = s.camera.height = 128;
+    s.truth.uncertainty = false;
+    RenderResult r = renderFrame(s, {1});
+    const MethodFrame& pom = r.methods[2];
+    ASSERT_EQ(pom.config.name, "pom");
+    EXPECT_GT(1 - pom.statsExactFrame.error.mean / pom.stats.error.mean, 0.5);
+}
+
+// Loop subdivision on a triangle cage (an octahedron, one UV chart per face), both truths.
+TEST(MeshRender, LoopSchemeOnATriangleCage) {
+    auto dir = test::tempDir("octa");
+    {
+        std::ofstream obj(dir / "octa.obj");
+        obj << "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+               "vt 0 0\nvt 1 0\nvt 0.5 1\n";
+        const int f[8][3] = {{1, 3, 5}, {3, 2, 5}, {2, 4, 5}, {4, 1, 5},
+                             {3, 1, 6}, {2, 3, 6}, {4, 2, 6}, {1, 4, 6}};
+        for (const auto& t : f)
+            obj << "f " << t[0] << "/1 " << t[1] << "/2 " << t[2] << "/3\n";
+    }
+    for (const char* truth : {"polygonal", "limit"}) {
+        std::string json = std::string(R"({"heightmap": {"procedural": "noise", "size": [32, 32]},
+            "base": {"type": "mesh", "file": "octa.obj", "scheme": "loop", "refine": 2,
+                     "truth_surface": ")") + truth + R"("},
+            "displacement": {"scale": 0.03, "bias": -0.015},
+            "camera": {"type": "orthographic", "theta": 40, "phi": 20, "resolution": [64, 64]},
+            "methods": ["parallax", "pom"], "truth": {"rate": 1}})";
+        Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
+        RenderResult r = renderFrame(s, {1});
+        EXPECT_GT(r.raster.covered, 500) << truth;
+        for (const auto& m : r.methods) {
+            EXPECT_EQ(m.stats.nonfinite, 0) << truth;
+            EXPECT_GT(m.stats.error.count, 500) << truth;
+        }
+    }
+    std::filesystem::remove_all(dir);
+}
+
+// Done means `pgt sweep` works on every bundled mesh scene: two cases each, small.
+TEST(MeshRender, BundledMeshScenesSweep) {
+    for (const char* name : {"cube", "cylinder", "torus", "saddle_obj", "mirrored_obj"}) {
+        Scene s = loadScene(test::sourceDir() + "/scenes/" + name + ".json");
+        s.truth.rate = 1;
+        Study st = parseStudy(s);
+        st.width = st.height = 32;
+        st.timing = {1, 64, 1};
+        auto dir = test::tempDir(std::string("meshsweep_") + name);
+        SweepOptions opt;
+        opt.outDir = dir.string();
+        opt.progress = false;
+        opt.maxCases = 2;
+        SweepSummary sum = runSweep(s, st, opt);
+        EXPECT_EQ(sum.done, 2) << name;
+        std::ifstream in(dir / "results.csv");
+        int lines = 0;
+        for (std::string l; std::getline(in, l);) {
+            if (lines++ == 0) continue;
+            EXPECT_EQ(l.find(",nan,nan\n"), std::string::npos) << name << ": " << l;
+        }
+        EXPECT_EQ(lines, 1 + 2 * int(st.configs.size())) << name;
+        std::filesystem::remove_all(dir);
+    }
+}
+
+}  // namespace
+}  // namespace pgt
