@@ -10,6 +10,7 @@
 #include "study/fit.h"
 #include "study/outputs.h"
 #include "study/render.h"
+#include "study/stress.h"
 #include "study/sweep.h"
 
 namespace {
@@ -58,6 +59,13 @@ int main(int argc, char** argv) {
     auto* fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     fit->add_option("scene", scenePath, "Scene file (JSON), optional \"fit\" block")->required();
     fit->add_option("--out", outDir, "Output directory for fit.json")->required();
+    std::vector<std::string> stressPaths;
+    pgt::StressOptions stressOpt;
+    auto* stress = app.add_subcommand("stress", "Run the stiff suite (scenes/stress/)");
+    stress->add_option("scenes", stressPaths, "Scene files or folders of them")->required();
+    stress->add_option("--out", stressOpt.outDir, "Output directory for stress.csv")->required();
+    stress->add_option("--resolution", stressOpt.resolution, "Override every scene's resolution")
+        ->check(CLI::Range(1, 4096));
     CLI11_PARSE(app, argc, argv);
 
     try {
@@ -85,6 +93,9 @@ int main(int argc, char** argv) {
                 if (report.empty()) std::printf("report not written: %s\n", why.c_str());
                 else std::printf("report: %s\n", report.c_str());
             }
+        } else if (*stress) {
+            int n = pgt::runStress(stressPaths, stressOpt);
+            std::printf("%d scenes: %s/stress.csv\n", n, stressOpt.outDir.c_str());
         } else if (*fit) {
             pgt::Scene scene = pgt::loadScene(scenePath);
             std::error_code ec;  // before the search, so a bad --out fails at once

@@ -26,6 +26,7 @@ FrameStats compareWithTruth(const Image2D<TruthSample>& truth, const Image2D<Met
             fs.fetchesMax = std::max(fs.fetchesMax, m.fetches);
             if (m.flags & kFlagZeroDivide) ++fs.zeroDivide;
             if (m.flags & kFlagStepLimit) ++fs.stepLimit;
+            if (m.flags) ++fs.diverged;
         }
         if (t.hit && m.covered) ++fs.coverage.both;
         else if (t.hit) ++fs.coverage.truthOnly;

@@ -21,6 +21,7 @@ struct FrameStats {
     CoverageCounts coverage;
     int64_t nonfinite = 0;        // covered pixels whose uv' is not finite
     int64_t zeroDivide = 0, stepLimit = 0;  // stiff-case flags raised
+    int64_t diverged = 0;         // covered pixels marked by any stiff-case flag
     double fetchesMean = 0;       // over raster-covered pixels
     uint32_t fetchesMax = 0;
 };

@@ -137,6 +137,11 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     checkSize(sceneFile, field + ".size", size[0], size[1]);
     int w = size[0], h = size[1];
     unsigned seed = unsigned(f.integer("seed", 1, 0, 2147483647));
+    // Store the map as an 8- or 16-bit image would (h rounded to k/255 or k/65535 after
+    // clamping to [0, 1]): the same surface at two quantisations (issue 5).
+    int quantize = f.integer("quantize", 0, 0, 16);
+    if (quantize != 0 && quantize != 8 && quantize != 16)
+        f.fail("quantize", "expected 8 or 16 (bits), or 0 for float");
     f.has("channel");  // allowed and meaningless for procedural maps
 
     // Each generator is a function of the texel centre (u, v) in [0,1)^2.
@@ -241,8 +246,13 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     t.width = w;
     t.height = h;
     t.texels.resize(size_t(w) * h);
+    const double levels = quantize == 8 ? 255.0 : 65535.0;
     for (int j = 0; j < h; ++j)
-        for (int i = 0; i < w; ++i) t.texel(i, j) = float(fn((i + 0.5) / w, (j + 0.5) / h));
+        for (int i = 0; i < w; ++i) {
+            double v = fn((i + 0.5) / w, (j + 0.5) / h);
+            if (quantize) v = std::round(std::clamp(v, 0.0, 1.0) * levels) / levels;
+            t.texel(i, j) = float(v);
+        }
     return t;
 }
 

@@ -96,9 +96,19 @@ void parseMeshBase(Scene& s, JsonFields& f) {
         cage = loadObjMesh(p.string(), s.file, "base.file");
         m.source = rel;
     }
+    // Bound the work before refining: the drawn mesh has about faces x 4^refine faces (a
+    // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
+    if (cage.numFaces() > (1 << 20))
+        f.fail(f.has("file") ? "file" : "segments", "the control mesh has more than 2^20 faces");
     std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "catmark");
     m.scheme = scheme == "bilinear" ? Scheme::Bilinear : scheme == "loop" ? Scheme::Loop : Scheme::Catmark;
     m.refine = f.integer("refine", 2, 0, 6);
+    int maxFaceSize = *std::max_element(cage.faceSizes.begin(), cage.faceSizes.end());
+    double refinedFaces = double(cage.numFaces()) * (m.refine > 0 ? maxFaceSize : 1) *
+                          std::pow(4.0, std::max(0, m.refine - 1));
+    if (refinedFaces > double(1 << 24))
+        f.fail("refine", "would draw about " + std::to_string(int64_t(refinedFaces)) +
+                             " faces (more than 2^24): lower refine or the cage's segments");
     m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal");
     try {
         m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));

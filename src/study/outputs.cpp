@@ -102,6 +102,7 @@ Json toJson(const FrameStats& s) {
           {"raster_only", s.coverage.rasterOnly},
           {"neither", s.coverage.neither}}},
         {"nonfinite", s.nonfinite},
+        {"diverged", s.diverged},
         {"zero_divide", s.zeroDivide},
         {"step_limit", s.stepLimit},
         {"fetches", {{"mean", s.fetchesMean}, {"max", s.fetchesMax}}},

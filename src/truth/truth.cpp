@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <random>
 #include <tuple>
 #include <cmath>
 #include <mutex>
@@ -389,7 +390,32 @@ struct TruthSurface::Impl {
     Vec3d boundsLo{0}, boundsHi{0};  // of the displaced vertices, local frame
     std::vector<RTCGrid> grids;
     RTCScene scene = nullptr;
+    const Vec3f* vertices = nullptr;  // Embree's vertex buffer (owned by the scene)
     TruthBuildStats stats;
+
+    // The candidate triangles (vertex indices) of a hit: one, or a grid cell's two.
+    int candidates(const RTCRayHit& rh, uint32_t out[2][3]) const {
+        if (!base->triangles.empty()) {
+            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+            out[0][0] = t[0], out[0][1] = t[1], out[0][2] = t[2];
+            return 1;
+        }
+        int ci, cj;
+        if (geometry == TruthGeometry::Grid) {
+            const RTCGrid& g = grids[rh.hit.primID];
+            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+            ci = int(g.startVertexID % g.stride) + std::min(int(gx), g.width - 2);
+            cj = int(g.startVertexID / g.stride) + std::min(int(gy), g.height - 2);
+        } else {
+            ci = int((rh.hit.primID / 2) % unsigned(nu));
+            cj = int((rh.hit.primID / 2) / unsigned(nu));
+        }
+        uint32_t a = uint32_t(vertexIndex(ci, cj)), b = a + 1;
+        uint32_t c = uint32_t(vertexIndex(ci, cj + 1)), d = c + 1;
+        out[0][0] = a, out[0][1] = b, out[0][2] = c;
+        out[1][0] = d, out[1][1] = c, out[1][2] = b;
+        return 2;
+    }
 
     size_t vertexIndex(int i, int j) const { return size_t(j) * (nu + 1) + i; }
 
@@ -434,7 +460,15 @@ struct TruthSurface::Impl {
         return s;
     }
 
-    TruthSample intersect(Vec3d org, Vec3d dir, double tfar, RTCIntersectContext* ctx) const {
+    // What the last intersect() of a trace saw, for the double-precision check.
+    struct Detail {
+        RTCRayHit rh;
+        Vec3d org{0}, dir{0};  // the ray as given to Embree, local frame, before rounding
+        Vec2d uvOffset{0};     // tile offset added to the UV (periodic planes)
+    };
+
+    TruthSample intersect(Vec3d org, Vec3d dir, double tfar, RTCIntersectContext* ctx,
+                          Detail* detail = nullptr) const {
         RTCRayHit rh;
         rh.ray.org_x = float(org.x), rh.ray.org_y = float(org.y), rh.ray.org_z = float(org.z);
         rh.ray.dir_x = float(dir.x), rh.ray.dir_y = float(dir.y), rh.ray.dir_z = float(dir.z);
@@ -447,10 +481,11 @@ struct TruthSurface::Impl {
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, ctx, &rh);
+        if (detail) detail->rh = rh, detail->org = org, detail->dir = dir;
         return hitToSample(rh);
     }
 
-    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx) const {
+    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx, Detail* detail = nullptr) const {
         Vec3d o = ray.origin - base->origin;  // into the local frame, in double
         const double inf = std::numeric_limits<double>::infinity();
         // Parametric interval of the ray inside the bounds (x, y unbounded when periodic).
@@ -471,7 +506,7 @@ struct TruthSurface::Impl {
         // hit: float error scales with |origin| + t. 1% of the box keeps it strictly outside.
         double margin = 0.01 * glm::length(boundsHi - boundsLo) + 1e-6;
         double t = ray.line ? tEnter - margin : std::max(0.0, tEnter - margin);
-        if (!periodic) return intersect(o + ray.dir * t, ray.dir, inf, ctx);
+        if (!periodic) return intersect(o + ray.dir * t, ray.dir, inf, ctx, detail);
 
         // Infinite plane: walk the tiles the ray crosses inside the relief slab, tracing the
         // one tile shifted under each stretch and adding the tile's UV offset to the hit.
@@ -487,9 +522,11 @@ struct TruthSurface::Impl {
                 if (ray.dir[a] < 0) leave = std::min(leave, (-L / 2 - local[a]) / ray.dir[a]);
             }
             leave = std::max(leave, 0.0);
-            TruthSample s = intersect(local, ray.dir, std::min(leave, tExit + margin - t) + step, ctx);
+            TruthSample s = intersect(local, ray.dir, std::min(leave, tExit + margin - t) + step,
+                                      ctx, detail);
             if (s.hit) {
                 s.uv += Vec2d(kx * T, ky * T);
+                if (detail) detail->uvOffset = Vec2d(kx * T, ky * T);
                 return s;
             }
             t += leave + step;
@@ -531,6 +568,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
     // rtcSetNewGeometryBuffer pads the buffer as Embree requires for its SIMD loads.
     auto* vb = static_cast<Vec3f*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), nVerts));
+    m.vertices = vb;
     // MODEL.md §3: P = S + N * l * (s*h + b), in double, rounded once to float.
     const double l = m.base->worldPerUv;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, nVerts, 16384), [&](const auto& r) {
@@ -619,6 +657,72 @@ Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera) const {
                                   out.at(x, y) = m.trace(camera.pixelRay(x, y), &ctx);
                       });
     return out;
+}
+
+namespace {
+// Moller-Trumbore in double: t and the barycentrics (b1 on p1, b2 on p2) where the ray meets
+// the triangle's plane; inside when b1, b2 >= 0 and b1 + b2 <= 1 (within `slack`).
+bool intersectDouble(Vec3d o, Vec3d d, Vec3d p0, Vec3d p1, Vec3d p2, double slack, double& t,
+                     double& b1, double& b2) {
+    Vec3d e1 = p1 - p0, e2 = p2 - p0, pv = glm::cross(d, e2);
+    double det = glm::dot(e1, pv);
+    if (det == 0 || !std::isfinite(det)) return false;
+    Vec3d tv = o - p0, qv = glm::cross(tv, e1);
+    b1 = glm::dot(tv, pv) / det;
+    b2 = glm::dot(d, qv) / det;
+    t = glm::dot(e2, qv) / det;
+    return b1 >= -slack && b2 >= -slack && b1 + b2 <= 1 + slack;
+}
+}  // namespace
+
+PrecisionCheck TruthSurface::checkPrecision(const Camera& camera, const Texture& height,
+                                            int samples, uint32_t seed) const {
+    const Impl& m = *impl_;
+    PrecisionCheck pc;
+    std::vector<std::pair<int, int>> pixels;
+    for (int y = 0; y < camera.height(); ++y)
+        for (int x = 0; x < camera.width(); ++x) pixels.push_back({x, y});
+    std::mt19937 rng(seed);
+    std::shuffle(pixels.begin(), pixels.end(), rng);
+    setTracingFpMode();
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    std::vector<double> errs;
+    for (const auto& [x, y] : pixels) {
+        if (int64_t(errs.size()) >= samples) break;
+        Impl::Detail det;
+        TruthSample s = m.trace(camera.pixelRay(x, y), &ctx, &det);
+        if (!s.hit) continue;
+        uint32_t tri[2][3];
+        int n = m.candidates(det.rh, tri);
+        // Re-intersect the hit triangle in double (the same float vertices, the unrounded
+        // ray); a grid cell's two triangles are both tried, the nearer inside one wins.
+        double bestT = INFINITY;
+        Vec2d uv(0);
+        for (int k = 0; k < n; ++k) {
+            Vec3d p[3];
+            for (int c = 0; c < 3; ++c) p[c] = Vec3d(m.vertices[tri[k][c]]);
+            double t, b1, b2;
+            if (!intersectDouble(det.org, det.dir, p[0], p[1], p[2], 1e-6, t, b1, b2)) continue;
+            if (t < bestT) {
+                bestT = t;
+                uv = m.base->uv[tri[k][0]] * (1 - b1 - b2) + m.base->uv[tri[k][1]] * b1 +
+                     m.base->uv[tri[k][2]] * b2 + det.uvOffset;
+            }
+        }
+        if (!std::isfinite(bestT)) {
+            ++pc.edgeMisses;  // the float hit lies on an edge the double ray just misses
+            continue;
+        }
+        errs.push_back(uvErrorTexels(s.uv, uv, height.width, height.height, height.address));
+    }
+    pc.samples = int64_t(errs.size());
+    if (!errs.empty()) {
+        pc.p50Texels = percentile(errs, 0.5);
+        pc.p99Texels = percentile(errs, 0.99);
+        pc.maxTexels = *std::max_element(errs.begin(), errs.end());
+    }
+    return pc;
 }
 
 TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,

@@ -68,6 +68,14 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
                                                             double worldPerUv, int rate,
                                                             int64_t maxVertices = int64_t(1) << 26);
 
+// How far Embree's single precision can be trusted (issue 5): sampled hits re-intersected
+// in double with the same triangle, the UV difference in texels.
+struct PrecisionCheck {
+    int64_t samples = 0;
+    int64_t edgeMisses = 0;  // float hits on an edge that the double ray misses by a hair
+    double p50Texels = 0, p99Texels = 0, maxTexels = 0;
+};
+
 class TruthSurface {
 public:
     // Displaces `base` by (s, b) (MODEL.md §3) and builds the Embree scene. `periodic`
@@ -87,6 +95,10 @@ public:
     Image2D<TruthSample> traceFrame(const Camera& camera) const;
 
     const TruthBuildStats& stats() const;
+
+    // Re-intersects up to `samples` seeded pixels' hits in double precision.
+    PrecisionCheck checkPrecision(const Camera& camera, const Texture& height, int samples,
+                                  uint32_t seed = 1) const;
 
 private:
     struct Impl;
