@@ -35,7 +35,7 @@ int tilesToCover(const Camera& camera, Vec3d center, double size, int cap) {
             Vec3d p = r.origin + r.dir * t - center;
             reach = std::max({reach, std::fabs(p.x), std::fabs(p.y)});
         }
-    return std::min(cap, int(std::ceil(reach / size - 0.5)) + 1);
+    return int(std::min(double(cap), std::ceil(reach / size - 0.5) + 1));
 }
 
 namespace {
@@ -158,8 +158,13 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
             double y0 = std::min({s[0].y, s[1].y, s[2].y}), y1 = std::max({s[0].y, s[1].y, s[2].y});
             // Every pixel whose sample position (centre or jittered, inside the pixel) can
             // fall in the bounding box.
-            int px0 = std::max(0, int(std::floor(x0)) - 1), px1 = std::min(W - 1, int(std::ceil(x1)));
-            int py0 = std::max(0, int(std::floor(y0)) - 1), py1 = std::min(H - 1, int(std::ceil(y1)));
+            // (clamped in double first: a triangle clipped just in front of a pinhole eye can
+            // project to beyond +-2^31 pixels, where an int conversion is undefined)
+            auto index = [](double v, int lo, int hi) {
+                return v <= lo ? lo : v >= hi ? hi : int(v);
+            };
+            int px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
+            int py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);
             // Edge i is opposite vertex i: from s[(i+1)%3] to s[(i+2)%3].
             std::array<bool, 3> topLeft;
             for (int i = 0; i < 3; ++i) topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);

@@ -208,6 +208,16 @@ Scene parseScene(const Json& json, const std::string& file) {
         s.truth.uncertainty = f.boolean("uncertainty", true);
         f.finish();
     }
+    if (!s.isMesh) {
+        // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
+        double r = s.truth.rate * (s.truth.uncertainty ? 2.0 : 1.0);
+        double verts = (std::ceil(r * s.height.width * s.plane.tiling) + 1) *
+                       (std::ceil(r * s.height.height * s.plane.tiling) + 1);
+        if (verts > double(1u << 31))
+            throw InputError(file, "truth.rate", std::to_string(s.truth.rate),
+                             "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +
+                                 " truth vertices (more than 2^31); lower the rate or the tiling");
+    }
     if (root.has("sweep")) s.sweep = root.raw("sweep");
     if (root.has("fit")) s.fit = root.raw("fit");
     root.finish();

@@ -121,8 +121,12 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     PGT_CHECK(factory.InitFaceVaryingSurface(0, &uvSurface));
 
     // `rate` samples per texel per axis over the texels the plane covers.
-    m.nu = std::max(1, int(std::ceil(rate * height.width * tiling - 1e-9)));
-    m.nv = std::max(1, int(std::ceil(rate * height.height * tiling - 1e-9)));
+    double nu = std::ceil(rate * height.width * tiling - 1e-9);
+    double nv = std::ceil(rate * height.height * tiling - 1e-9);
+    // The scene parser bounds the vertex count; this keeps the int conversion defined.
+    PGT_CHECK_LT((nu + 1) * (nv + 1), double(int64_t(1) << 31));
+    m.nu = std::max(1, int(nu));
+    m.nv = std::max(1, int(nv));
     PGT_CHECK_LT(int64_t(m.nu + 1) * (m.nv + 1), int64_t(1) << 31);
     int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
     Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
@@ -209,7 +213,9 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
         for (int i = 0; i < fe.size(); ++i) {
             Vec2d a = cage.uvs[ft[i]], b = cage.uvs[ft[(i + 1) % fe.size()]];
             double texels = glm::length((b - a) * Vec2d(height.width, height.height));
-            edgeRate[fe[i]] = std::max(edgeRate[fe[i]], int(std::ceil(rate * texels - 1e-9)));
+            // (capped in double: a UV edge millions of texels long must not overflow an int)
+            double r = std::min(std::ceil(rate * texels - 1e-9), double(1 << 15));
+            edgeRate[fe[i]] = std::max(edgeRate[fe[i]], int(r));
         }
     }
 
@@ -316,7 +322,7 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
             Vec2d b = drawn.vertices[drawn.indices[3 * t + (e + 1) % 3]].uv;
             longest = std::max(longest, glm::length((b - a) * Vec2d(height.width, height.height)));
         }
-    int n = std::max(1, int(std::ceil(rate * longest - 1e-9)));
+    int n = std::max(1, int(std::min(std::ceil(rate * longest - 1e-9), double(1 << 15))));
     // Vertices: corners V, edge points E*(n-1), interior T*(n-1)(n-2)/2 <= T*(n+1)(n+2)/2.
     while (n > 1 && double(nTri) * (n + 1) * (n + 2) / 2 > double(maxVertices)) --n;
     m.nu = m.nv = 0;
