@@ -2,6 +2,8 @@
 // Listing 7.4 tangent frames of that mesh.
 #include "mesh/refine.h"
 
+#include "mesh/osd_refiner.h"
+
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -80,7 +82,8 @@ struct Point2 {
 
 }  // namespace
 
-RefinedMesh refineToTriangles(const ControlMesh& cage, Scheme scheme, int levels) {
+std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> createRefiner(const ControlMesh& cage,
+                                                                Scheme scheme) {
     using namespace OpenSubdiv;
     if (scheme == Scheme::Loop)
         for (int n : cage.faceSizes)
@@ -105,6 +108,12 @@ RefinedMesh refineToTriangles(const ControlMesh& cage, Scheme scheme, int levels
     std::unique_ptr<Far::TopologyRefiner> refiner(
         Factory::Create(desc, Factory::Options(type, sdc)));
     if (!refiner) throw std::invalid_argument("OpenSubdiv rejected the control mesh's topology");
+    return refiner;
+}
+
+RefinedMesh refineToTriangles(const ControlMesh& cage, Scheme scheme, int levels) {
+    using namespace OpenSubdiv;
+    std::unique_ptr<Far::TopologyRefiner> refiner = createRefiner(cage, scheme);
     Far::TopologyRefiner::UniformOptions uniform(levels);
     uniform.fullTopologyInLastLevel = true;
     refiner->RefineUniform(uniform);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
 #include "study/render.h"
@@ -26,12 +27,7 @@ const std::vector<std::string>& stressColumns() {
 }
 
 namespace {
-std::string num(double x) {
-    if (!std::isfinite(x)) return "nan";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", x);
-    return buf;
-}
+std::string num(double x) { return formatNumber(x, 6); }
 }  // namespace
 
 int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {

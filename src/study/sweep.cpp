@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/registry.h"
 #include "study/outputs.h"
@@ -28,12 +29,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double x) {
-    if (!std::isfinite(x)) return "nan";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.9g", x);
-    return buf;
-}
+std::string num(double x) { return formatNumber(x, 9); }
 
 // A list of values: [a, b, ...], a single number, or {"from": a, "to": b, "step": c}.
 std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, double hi) {

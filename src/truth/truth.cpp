@@ -26,6 +26,7 @@
 
 #include "compare/statistics.h"
 #include "core/error.h"
+#include "mesh/osd_refiner.h"
 
 namespace pgt {
 
@@ -92,28 +93,13 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     // The base plane as a one-quad bilinear control mesh with face-varying UVs; control
     // points relative to the plane centre (the local frame of the float vertices).
     const double half = plane.size / 2, tiling = plane.tiling;
-    const double ctrlPos[4][3] = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0},
-                                  {-half, half, 0}};
-    const double ctrlUv[4][2] = {{0, 0}, {tiling, 0}, {tiling, tiling}, {0, tiling}};
-    int vertsPerFace[1] = {4};
-    int faceVerts[4] = {0, 1, 2, 3};
-    Far::TopologyDescriptor desc;
-    desc.numVertices = 4;
-    desc.numFaces = 1;
-    desc.numVertsPerFace = vertsPerFace;
-    desc.vertIndicesPerFace = faceVerts;
-    Far::TopologyDescriptor::FVarChannel uvChannel;
-    uvChannel.numValues = 4;
-    uvChannel.valueIndices = faceVerts;
-    desc.numFVarChannels = 1;
-    desc.fvarChannels = &uvChannel;
-    Sdc::Options sdc;
-    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::unique_ptr<Far::TopologyRefiner> refiner(
-        Factory::Create(desc, Factory::Options(Sdc::SCHEME_BILINEAR, sdc)));
-    PGT_CHECK(refiner != nullptr);
-
+    ControlMesh quad;
+    quad.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
+    quad.uvs = {{0, 0}, {tiling, 0}, {tiling, tiling}, {0, tiling}};
+    quad.faceSizes = {4};
+    quad.faceVerts = {0, 1, 2, 3};
+    quad.faceUvs = {0, 1, 2, 3};
+    std::unique_ptr<Far::TopologyRefiner> refiner = createRefiner(quad, Scheme::Bilinear);
     Bfr::RefinerSurfaceFactory<> factory(*refiner,
                                          Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
     Bfr::Surface<double> posSurface, uvSurface;
@@ -139,8 +125,8 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
 
     std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
     std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
-    posSurface.PreparePatchPoints(&ctrlPos[0][0], 3, posPatch.data(), 3);
-    uvSurface.PreparePatchPoints(&ctrlUv[0][0], 2, uvPatch.data(), 2);
+    posSurface.PreparePatchPoints(&quad.positions[0].x, 3, posPatch.data(), 3);
+    uvSurface.PreparePatchPoints(&quad.uvs[0].x, 2, uvPatch.data(), 2);
 
     m.position.resize(nVerts);
     m.normal.resize(nVerts);
@@ -181,26 +167,7 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
     for (const auto& p : cage.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
     m.origin = (lo + hi) * 0.5;
 
-    Far::TopologyDescriptor desc;
-    desc.numVertices = int(cage.positions.size());
-    desc.numFaces = cage.numFaces();
-    desc.numVertsPerFace = cage.faceSizes.data();
-    desc.vertIndicesPerFace = cage.faceVerts.data();
-    Far::TopologyDescriptor::FVarChannel uvChannel;
-    uvChannel.numValues = int(cage.uvs.size());
-    uvChannel.valueIndices = cage.faceUvs.data();
-    desc.numFVarChannels = 1;
-    desc.fvarChannels = &uvChannel;
-    Sdc::Options sdc;  // the same options as the drawn mesh (mesh/refine.cpp)
-    sdc.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-    sdc.SetFVarLinearInterpolation(Sdc::Options::FVAR_LINEAR_ALL);
-    Sdc::SchemeType type = scheme == Scheme::Bilinear  ? Sdc::SCHEME_BILINEAR
-                           : scheme == Scheme::Catmark ? Sdc::SCHEME_CATMARK
-                                                       : Sdc::SCHEME_LOOP;
-    using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-    std::unique_ptr<Far::TopologyRefiner> refiner(
-        Factory::Create(desc, Factory::Options(type, sdc)));
-    if (!refiner) throw std::invalid_argument("OpenSubdiv rejected the control mesh's topology");
+    std::unique_ptr<Far::TopologyRefiner> refiner = createRefiner(cage, scheme);
     const Far::TopologyLevel& level = refiner->GetLevel(0);
     Bfr::RefinerSurfaceFactory<> factory(*refiner,
                                          Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
