@@ -50,8 +50,9 @@ TEST(Render, JitteredSamplesStayConsistent) {
             EXPECT_EQ(p, cam.samplePosition(x, y));  // deterministic
             moved += std::fabs(p.x - (x + 0.5)) > 1e-3;
             // uv0 is the jittered point's UV (head-on: a linear map of the position).
-            if (r.fragments.at(x, y).covered)
+            if (r.fragments.at(x, y).covered) {
                 EXPECT_NEAR(r.fragments.at(x, y).uv0.x, cam.ray(p.x, p.y).origin.x + 0.5, 1e-9);
+            }
         }
     EXPECT_GT(moved, 3500);
 }

@@ -160,8 +160,8 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
             // fall in the bounding box.
             // (clamped in double first: a triangle clipped just in front of a pinhole eye can
             // project to beyond +-2^31 pixels, where an int conversion is undefined)
-            auto index = [](double v, int lo, int hi) {
-                return v <= lo ? lo : v >= hi ? hi : int(v);
+            auto index = [](double x, int lo, int hi) {
+                return x <= lo ? lo : x >= hi ? hi : int(x);
             };
             int px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
             int py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);

@@ -174,8 +174,8 @@ Scene parseScene(const Json& json, const std::string& file) {
         c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
         if (c.type == "orthographic") {
             c.theta = f.number("theta", 0.0, 90.0);
-        if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
-            f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
+            if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
+                f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
             c.phi = f.number("phi", 0.0, -360.0, 360.0);
             c.frame = f.choice("frame", {"plane", "fill"}, "plane");
             c.fillSize = f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2,

@@ -67,7 +67,7 @@ void BM_Method(benchmark::State& state, const char* json) {
     std::vector<Vec2f> uv0(65536);
     Vec3f v(viewFromAngles(60, 20));
     for (size_t k = 0; k < uv0.size(); ++k)
-        uv0[k] = Vec2f(float((k % 256 + 0.5) / 256), float((k / 256 + 0.5) / 256));
+        uv0[k] = Vec2f(float((double(k % 256) + 0.5) / 256), float((double(k / 256) + 0.5) / 256));
     for (auto _ : state) {
         float acc = 0;
         for (const Vec2f& p : uv0) {
