@@ -85,6 +85,11 @@ int main(int argc, char** argv) {
             std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n",
                         sum.done, sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
                         sweepOpt.outDir.c_str());
+            if (!sum.stageMs.empty()) {
+                std::printf("stage totals (s):");
+                for (const auto& [stage, ms] : sum.stageMs) std::printf(" %s %.2f", stage.c_str(), ms / 1000);
+                std::printf("\n");
+            }
             if (!sum.finished) {
                 std::printf("stopped early; run the same command again to resume\n");
             } else if (!noReport) {

@@ -46,8 +46,12 @@ inline void texelPair(Real x, int n, Address address, int& i0, int& i1, Real& f)
     }
     long k = long(fl);
     if (address == Address::Repeat) {
-        long m = k % n;
-        if (m < 0) m += n;
+        // Inside the first period (the common case) no division is needed (issue 6).
+        long m = k;
+        if (m < 0 || m >= n) {
+            m = k % n;
+            if (m < 0) m += n;
+        }
         i0 = int(m);
         i1 = (i0 + 1 == n) ? 0 : i0 + 1;
     } else {

@@ -75,16 +75,17 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
     return cache_[key];
 }
 
+std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r) const {
+    if (scene_.isMesh && scene_.mesh.truthSurface == "limit")
+        return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
+                                      scene_.worldPerUv(), r);
+    if (scene_.isMesh)
+        return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
+    return tessellatePlane(scene_.height, scene_.plane, r);
+}
+
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
     const int rate = scene_.truth.rate;
-    auto tessellate = [&](int r) {
-        if (scene_.isMesh && scene_.mesh.truthSurface == "limit")
-            return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
-                                          scene_.worldPerUv(), r);
-        if (scene_.isMesh)
-            return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
-        return tessellatePlane(scene_.height, scene_.plane, r);
-    };
     // A mesh's truth is an explicit triangle list; grids are for planes.
     TruthGeometry geometry = scene_.isMesh ? TruthGeometry::Triangles : scene_.truth.geometry;
     bool periodic = !scene_.isMesh && scene_.plane.infinite;
@@ -96,6 +97,17 @@ TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
         p.fine = std::make_unique<TruthSurface>(fine_, disp, geometry, periodic);
     }
     return p;
+}
+
+const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncertainty) {
+    if (!current_.truth || (withUncertainty && !current_.fine)) {
+        current_ = build(disp, withUncertainty);
+        return current_;
+    }
+    current_.truth->setDisplacement(disp);
+    if (withUncertainty) current_.fine->setDisplacement(disp);
+    else current_.fine.reset();
+    return current_;
 }
 
 BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {

@@ -79,11 +79,17 @@ struct TruthPair {
 class TruthBuilder {
 public:
     explicit TruthBuilder(const Scene& scene) : scene_(scene) {}
+    // New surfaces for (s, b).
     TruthPair build(const Displacement& disp, bool withUncertainty);
+    // The builder's own surfaces re-displaced to (s, b) (TruthSurface::setDisplacement: no
+    // reallocation, refit where it is faster); built on first use. Valid until the next call.
+    const TruthPair& update(const Displacement& disp, bool withUncertainty);
 
 private:
+    std::shared_ptr<const BaseTessellation> tessellate(int rate) const;
     const Scene& scene_;
     std::shared_ptr<const BaseTessellation> base_, fine_;
+    TruthPair current_;
 };
 
 struct MethodFrame {

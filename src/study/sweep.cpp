@@ -386,16 +386,18 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
 
     TruthBuilder builder(scene);
     MethodTextureCache textures(scene.height, scene.plane.tiling);
-    std::unique_ptr<TruthPair> truths;
+    const TruthPair* truths = nullptr;
     std::pair<double, double> built(NAN, NAN);
     try {
         for (const StudyCase* c : todo) {
             if (opt.maxCases >= 0 && sum.done >= opt.maxCases) break;
             if (!(built.first == c->scale && built.second == c->bias)) {
                 // One truth per (s, b), reused for every view of that surface.
-                truths = std::make_unique<TruthPair>(
-                    builder.build({c->scale, c->bias}, scene.truth.uncertainty));
+                auto tb = Clock::now();
+                truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
                 built = {c->scale, c->bias};
+                sum.stageMs["truth_build"] +=
+                    std::chrono::duration<double, std::milli>(Clock::now() - tb).count();
             }
             Scene view = scene;
             view.camera.theta = c->theta;
@@ -406,6 +408,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
             view.displacement = {c->scale, c->bias};
             RenderResult r = renderView(view, makeCamera(view), *truths, study.configs, textures,
                                         study.timing, opt.images);
+            for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
             if (opt.images) {
                 char dir[32];
                 std::snprintf(dir, sizeof dir, "case_%05d", c->index);

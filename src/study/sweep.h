@@ -4,6 +4,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,7 @@ struct SweepSummary {
     int total = 0, resumed = 0, done = 0;
     bool finished = false;  // every case has its rows
     double wallSeconds = 0;
+    std::map<std::string, double> stageMs;  // summed over the cases run: build, trace, ...
 };
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);

@@ -23,24 +23,61 @@ struct TruthBuildStats {
     int64_t vertices = 0, primitives = 0;  // primitives: grids or triangles
     int64_t geometryBytes = 0;             // Embree buffers (vertices + indices/grids)
     double tessellateMs = 0, buildMs = 0;
+    double updateMs = 0;  // the last setDisplacement: displace + refit/rebuild
 };
 
-// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis, with the
-// height sampled at every vertex: everything the truth needs that does not depend on the
-// displacement (s, b), so a study builds it once per rate and reuses it.
+// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis: everything
+// the truth needs that does not depend on the displacement (s, b), so a study builds it once
+// per rate and reuses it.
+//
+// Planes are a regular (nu + 1) x (nv + 1) vertex grid that is stored implicitly: OpenSubdiv
+// (Bfr) evaluates the quad's corners, and vertex (i, j) is their bilinear blend at
+// (i / nu, j / nv) -- exactly what Bfr's bilinear scheme evaluates there (tested) -- with
+// the height sampled from the map when the surface is displaced. Nothing is stored per
+// vertex, so the only per-vertex memory of a plane's truth is Embree's 12-byte vertex
+// (issue 6: a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
+// vertices and triangles.
 struct BaseTessellation {
-    int nu = 0, nv = 0;           // segments; vertices are (nu + 1) x (nv + 1), row-major in v
+    int nu = 0, nv = 0;           // grid segments (planes); 0 for meshes
     Vec3d origin{0};              // positions are relative to this point (float precision)
     double worldPerUv = 1;        // l (MODEL.md §2)
     double periodWorld = 1;       // plane side L: the tile period of an infinite plane
     double periodUv = 1;          // tiling T: the UV period of the tile
+    // Planes: the Bfr-evaluated corners at (s, t) = (0,0), (1,0), (0,1), (1,1), the unit
+    // normal and the height map the vertices sample.
+    Vec3d cornerPosition[4]{};
+    Vec2d cornerUv[4]{};
+    Vec3d planeNormal{0, 0, 1};
+    std::shared_ptr<const Texture> heightMap;
+    // Meshes: explicit vertices and triangles over them.
     std::vector<Vec3f> position;  // S(u, v) - origin
     std::vector<Vec3f> normal;    // unit N(u, v)
     std::vector<Vec2d> uv;
     std::vector<double> height;   // h(u, v) from the shared bilinear sampler
-    // Meshes: explicit triangles over the vertices (then nu, nv are 0 and no grid is used).
     std::vector<uint32_t> triangles;
     double tessellateMs = 0;
+
+    bool isGrid() const { return triangles.empty(); }
+    size_t vertexCount() const {
+        return isGrid() ? size_t(nu + 1) * size_t(nv + 1) : position.size();
+    }
+    size_t gridIndex(int i, int j) const { return size_t(j) * size_t(nu + 1) + size_t(i); }
+    // Vertex (i, j) of the grid: the corners blended at (i / nu, j / nv).
+    template <class T>
+    static T blend(const T c[4], double s, double t) {
+        return (c[0] * (1 - s) + c[1] * s) * (1 - t) + (c[2] * (1 - s) + c[3] * s) * t;
+    }
+    Vec2d gridUv(int i, int j) const { return blend(cornerUv, gridS(i), gridT(j)); }
+    // i / nu and j / nv without a division per call, exact at the last vertex.
+    double gridS(int i) const { return i == nu ? 1.0 : i * invNu; }
+    double gridT(int j) const { return j == nv ? 1.0 : j * invNv; }
+    double invNu = 1, invNv = 1;
+    Vec3d positionAt(size_t k) const;
+    Vec3d normalAt(size_t k) const;
+    Vec2d uvAt(size_t k) const;
+    double heightAt(size_t k) const;  // h at the vertex (sampleBilinear<double>)
+    // Bytes held per vertex by this object (0 for planes).
+    size_t bytes() const;
 };
 
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
@@ -76,6 +113,21 @@ struct PrecisionCheck {
     double p50Texels = 0, p99Texels = 0, maxTexels = 0;
 };
 
+// How a (s, b) change reaches Embree: new vertices then a full BVH rebuild, or a refit of
+// the existing BVH (RTC_BUILD_QUALITY_REFIT: same topology, boxes recomputed).
+enum class TruthUpdate { Auto, Rebuild, Refit };
+
+// How a frame's rays are handed to Embree: one rtcIntersect1 per ray, or a tile's rays as a
+// coherent stream (rtcIntersect1M with RTC_INTERSECT_CONTEXT_FLAG_COHERENT).
+enum class TraceMode { Single, Coherent };
+
+// The same frame's rays traced by nothing but Embree calls (issue 6): the rays are made
+// before the clock starts, the loop over tiles only calls Embree. Median of the repeats.
+struct BareLoopTiming {
+    double bareMs = 0;   // the bare loop
+    int64_t rays = 0;
+};
+
 class TruthSurface {
 public:
     // Displaces `base` by (s, b) (MODEL.md §3) and builds the Embree scene. `periodic`
@@ -89,12 +141,25 @@ public:
     TruthSurface(const TruthSurface&) = delete;
     TruthSurface& operator=(const TruthSurface&) = delete;
 
+    // Re-displaces the same tessellation by a new (s, b): the vertices are rewritten in
+    // Embree's buffer and the BVH rebuilt or refitted (Auto: the one measured faster for
+    // the geometry, README "Performance"). Nothing is reallocated.
+    void setDisplacement(const Displacement& disp, TruthUpdate update = TruthUpdate::Auto);
+
     // First hit of one ray (world space) with the displaced sheet.
     TruthSample trace(const Ray& ray) const;
-    // One primary ray per pixel centre, all cores.
-    Image2D<TruthSample> traceFrame(const Camera& camera) const;
+    // One primary ray per pixel (camera.pixelRay), tiles over all cores.
+    Image2D<TruthSample> traceFrame(const Camera& camera,
+                                    TraceMode mode = TraceMode::Coherent) const;
+    // The same into `out`, reusing its memory when it already has the camera's size.
+    void traceFrame(const Camera& camera, Image2D<TruthSample>& out,
+                    TraceMode mode = TraceMode::Coherent) const;
+    // The bare-Embree baseline for traceFrame on the same rays (benchmarks; planes that are
+    // not periodic, where a pixel's ray is one Embree ray).
+    BareLoopTiming timeBareEmbreeLoop(const Camera& camera, TraceMode mode, int repeats) const;
 
     const TruthBuildStats& stats() const;
+    TruthUpdate lastUpdate() const;  // what the last setDisplacement did
 
     // Re-intersects up to `samples` seeded pixels' hits in double precision.
     PrecisionCheck checkPrecision(const Camera& camera, const Texture& height, int samples,

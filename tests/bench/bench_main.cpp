@@ -2,6 +2,8 @@
 // tracing, and each method's cost per fragment at its default parameters.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "methods/registry.h"
@@ -42,21 +44,84 @@ void BM_TruthBuild(benchmark::State& state) {
 }
 BENCHMARK(BM_TruthBuild)->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond);
 
-// One truth frame of 512^2 primary rays at theta 60 over a 1024^2 grid sheet (all cores).
-void BM_TruthFrame(benchmark::State& state) {
+Scene frameScene(int mapSide, int pixels) {
     Scene s;
-    s.height = smooth(1024);
+    s.height = smooth(mapSide);
     s.camera.theta = 60;
     s.camera.phi = 20;
     s.camera.frame = "fill";
     s.camera.fillSize = 0.5;
-    s.camera.width = s.camera.height = 512;
-    TruthSurface surface(s.height, s.plane, s.displacement, 1, TruthGeometry::Grid);
-    Camera cam = makeCamera(s);
-    for (auto _ : state) benchmark::DoNotOptimize(surface.traceFrame(cam));
-    state.SetItemsProcessed(state.iterations() * 512 * 512);
+    s.camera.width = s.camera.height = pixels;
+    return s;
 }
-BENCHMARK(BM_TruthFrame)->Unit(benchmark::kMillisecond);
+
+// One truth frame of range(0)^2 primary rays at theta 60 over a 1024^2 grid sheet (all
+// cores), Embree fed one ray at a time (range(1) = 0) or tile streams (1). The counters
+// compare it with the bare loop over the same rays and the same Embree call:
+// ratio = frame / bare (issue 6 target: <= 1.3).
+void BM_TruthFrame(benchmark::State& state) {
+    Scene s = frameScene(1024, int(state.range(0)));
+    TruthGeometry g = state.range(2) ? TruthGeometry::Triangles : TruthGeometry::Grid;
+    TruthSurface surface(s.height, s.plane, s.displacement, 1, g);
+    Camera cam = makeCamera(s);
+    TraceMode mode = state.range(1) ? TraceMode::Coherent : TraceMode::Single;
+    Image2D<TruthSample> frame;  // reused, as the bare loop reuses its ray buffer
+    for (auto _ : state) surface.traceFrame(cam, frame, mode);
+    double frameMs = 0;
+    std::vector<double> t;
+    for (int k = 0; k < 5; ++k) {
+        auto t0 = std::chrono::steady_clock::now();
+        surface.traceFrame(cam, frame, mode);
+        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(t.begin(), t.end());
+    frameMs = t[2];
+    BareLoopTiming bare = surface.timeBareEmbreeLoop(cam, mode, 5);
+    state.counters["frame_ms"] = frameMs;
+    state.counters["bare_ms"] = bare.bareMs;
+    state.counters["ratio"] = frameMs / bare.bareMs;
+    state.counters["Mrays_per_s"] = double(bare.rays) / frameMs / 1e3;
+    state.SetItemsProcessed(state.iterations() * state.range(0) * state.range(0));
+    state.SetLabel(std::string(state.range(2) ? "triangles, " : "grid, ") +
+                   (state.range(1) ? "coherent (rtcIntersect1M tiles)" : "single (rtcIntersect1)"));
+}
+BENCHMARK(BM_TruthFrame)
+    ->Args({512, 0, 0})->Args({512, 1, 0})->Args({1024, 1, 0})->Args({512, 1, 1})
+    ->Unit(benchmark::kMillisecond);
+
+// The default study's surface: infinite plane (periodic tile walk), 512^2 at theta 60.
+void BM_TruthFramePeriodic(benchmark::State& state) {
+    Scene s = frameScene(256, 512);
+    s.plane.infinite = true;
+    auto base = tessellatePlane(s.height, s.plane, 4);
+    TruthSurface surface(base, s.displacement, TruthGeometry::Grid, true);
+    Camera cam = makeCamera(s);
+    TraceMode mode = state.range(0) ? TraceMode::Coherent : TraceMode::Single;
+    for (auto _ : state) benchmark::DoNotOptimize(surface.traceFrame(cam, mode));
+    state.SetItemsProcessed(state.iterations() * 512 * 512);
+    state.SetLabel(state.range(0) ? "coherent" : "single");
+}
+BENCHMARK(BM_TruthFramePeriodic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// A (s, b) change on an existing surface (1025^2 vertices): displace + rebuild (0) or
+// refit (1), for the grid (range(0) = 0) and the triangle (1) geometry.
+void BM_TruthUpdate(benchmark::State& state) {
+    Texture t = smooth(1024);
+    auto base = tessellatePlane(t, PlaneBase{}, 1);
+    TruthGeometry g = state.range(0) ? TruthGeometry::Triangles : TruthGeometry::Grid;
+    TruthUpdate u = state.range(1) ? TruthUpdate::Refit : TruthUpdate::Rebuild;
+    TruthSurface surface(base, Displacement{0.05, -0.025}, g, false);
+    double scale = 0.05;
+    for (auto _ : state) {
+        scale = scale == 0.05 ? 0.1 : 0.05;
+        surface.setDisplacement(Displacement{scale, -scale / 2}, u);
+    }
+    state.SetLabel(std::string(state.range(0) ? "triangles" : "grid") +
+                   (state.range(1) ? " refit" : " rebuild"));
+}
+BENCHMARK(BM_TruthUpdate)
+    ->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 // Each method alone, single-threaded, over 65,536 fragments at theta 60 (ns per fragment =
 // time per iteration / 65,536; items/s is fragments per second).
