@@ -1,0 +1,124 @@
+// Issue 6's fast paths against the plain ones: coherent tile tracing vs one ray at a time,
+// in-place (s, b) updates (refit and rebuild) vs a fresh build, and the implicit plane grid
+// vs the closed form of the plane.
+#include <gtest/gtest.h>
+
+#include "compare/statistics.h"
+#include "scene/scene.h"
+#include "test_util.h"
+#include "truth/truth.h"
+
+namespace pgt {
+namespace {
+
+Texture wavyMap(int n) {
+    return test::makeTexture(n, n, [&](int i, int j) {
+        return 0.5 + 0.4 * std::sin(0.37 * i) * std::cos(0.23 * j);
+    });
+}
+
+Camera viewOf(double theta, double phi, int pixels, bool infinite) {
+    Scene s;
+    s.camera.theta = theta;
+    s.camera.phi = phi;
+    s.camera.frame = "fill";
+    s.camera.fillSize = infinite ? 1.0 : 0.6;
+    s.camera.width = s.camera.height = pixels;
+    s.camera.jitter = true;
+    return makeCamera(s);
+}
+
+// Counts pixels whose hit flag differs and the largest UV difference (texels) elsewhere.
+struct FrameDiff {
+    int64_t hitMismatch = 0;
+    double maxTexels = 0;
+};
+FrameDiff diff(const Image2D<TruthSample>& a, const Image2D<TruthSample>& b, int texels) {
+    FrameDiff d;
+    for (size_t k = 0; k < a.size(); ++k) {
+        if (a.data[k].hit != b.data[k].hit) {
+            ++d.hitMismatch;
+            continue;
+        }
+        if (a.data[k].hit)
+            d.maxTexels = std::max(d.maxTexels, uvErrorTexels(a.data[k].uv, b.data[k].uv, texels,
+                                                              texels, Address::Clamp));
+    }
+    return d;
+}
+
+// The same walk fed to Embree as tile streams or ray by ray: the same hits. Embree's
+// stream kernels may round differently from rtcIntersect1: 1e-3 texel and no hit flips.
+TEST(TruthPerf, CoherentTilesMatchSingleRays) {
+    Texture t = wavyMap(64);
+    for (bool infinite : {false, true}) {
+        PlaneBase plane;
+        plane.infinite = infinite;
+        auto base = tessellatePlane(t, plane, 2);
+        TruthSurface surface(base, Displacement{0.08, -0.04}, TruthGeometry::Grid, infinite);
+        for (double theta : {0.0, 45.0, 80.0, 88.0}) {
+            Camera cam = viewOf(theta, 25, 75, infinite);  // 75: partial edge tiles
+            auto single = surface.traceFrame(cam, TraceMode::Single);
+            auto coherent = surface.traceFrame(cam, TraceMode::Coherent);
+            FrameDiff d = diff(single, coherent, 64);
+            EXPECT_EQ(d.hitMismatch, 0) << "theta " << theta << " infinite " << infinite;
+            EXPECT_LT(d.maxTexels, 1e-3) << "theta " << theta << " infinite " << infinite;
+        }
+    }
+}
+
+// A surface moved to a new (s, b) in place traces like one built there: rebuilding is
+// deterministic (bit-identical UVs), a refitted BVH finds the same hits (1e-6 texel).
+TEST(TruthPerf, UpdateMatchesFreshBuild) {
+    Texture t = wavyMap(48);
+    auto base = tessellatePlane(t, PlaneBase{}, 2);
+    Camera cam = viewOf(70, 40, 64, false);
+    for (TruthGeometry g : {TruthGeometry::Grid, TruthGeometry::Triangles}) {
+        for (TruthUpdate u : {TruthUpdate::Rebuild, TruthUpdate::Refit}) {
+            TruthSurface moved(base, Displacement{0.02, 0.0}, g, false);
+            moved.setDisplacement(Displacement{0.1, -0.07}, u);
+            EXPECT_EQ(moved.lastUpdate(), u);
+            TruthSurface fresh(base, Displacement{0.1, -0.07}, g, false);
+            FrameDiff d = diff(moved.traceFrame(cam), fresh.traceFrame(cam), 48);
+            EXPECT_EQ(d.hitMismatch, 0);
+            EXPECT_LT(d.maxTexels, u == TruthUpdate::Rebuild ? 1e-12 : 1e-6);
+        }
+    }
+    TruthSurface autoGrid(base, Displacement{0.02, 0.0}, TruthGeometry::Grid, false);
+    autoGrid.setDisplacement(Displacement{0.05, 0.0});
+    EXPECT_EQ(autoGrid.lastUpdate(), TruthUpdate::Rebuild);  // measured faster for grids
+    TruthSurface autoTri(base, Displacement{0.02, 0.0}, TruthGeometry::Triangles, false);
+    autoTri.setDisplacement(Displacement{0.05, 0.0});
+    EXPECT_EQ(autoTri.lastUpdate(), TruthUpdate::Refit);  // measured faster for triangles
+}
+
+// The implicit grid is the plane of MODEL.md §2: vertex (i, j) at centre + ((i/nu - 1/2) L,
+// (j/nv - 1/2) L, 0) with UV (i/nu, j/nv) x tiling, normal +z, height sampled there.
+TEST(TruthPerf, ImplicitGridIsThePlane) {
+    Texture t = wavyMap(16);
+    PlaneBase plane;
+    plane.size = 3.0;
+    plane.tiling = 2.0;
+    plane.center = Vec3d(5, -2, 1);
+    auto base = tessellatePlane(t, plane, 3);
+    ASSERT_EQ(base->nu, 96);
+    ASSERT_EQ(base->vertexCount(), size_t(97 * 97));
+    EXPECT_EQ(base->bytes(), t.texels.size() * sizeof(float));  // nothing per vertex
+    for (int j : {0, 1, 50, 96})
+        for (int i : {0, 7, 95, 96}) {
+            size_t k = base->gridIndex(i, j);
+            Vec3d p = base->positionAt(k) + base->origin;
+            EXPECT_NEAR(p.x, 5 + (i / 96.0 - 0.5) * 3, 1e-12);
+            EXPECT_NEAR(p.y, -2 + (j / 96.0 - 0.5) * 3, 1e-12);
+            EXPECT_NEAR(p.z, 1, 1e-12);
+            EXPECT_NEAR(base->uvAt(k).x, 2 * i / 96.0, 1e-12);
+            EXPECT_NEAR(base->uvAt(k).y, 2 * j / 96.0, 1e-12);
+            EXPECT_EQ(base->normalAt(k), Vec3d(0, 0, 1));
+            EXPECT_EQ(base->heightAt(k), sampleBilinear<double>(t, base->uvAt(k)));
+        }
+    // The last vertex is exactly the tile's edge (the periodic walk relies on it).
+    EXPECT_EQ(base->uvAt(base->gridIndex(96, 96)), Vec2d(2, 2));
+}
+
+}  // namespace
+}  // namespace pgt
