@@ -236,7 +236,9 @@ RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPai
         const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg.kind));
         MethodFrame mf;
         mf.config = cfg;
+        auto te = Clock::now();
         mf.pixels = evaluateMethod(cfg, frags, tex, W, H);
+        r.timingsMs["methods_eval"] += msSince(te);
         mf.stats = compareWithTruth(r.truth, mf.pixels, scene.height.width, scene.height.height,
                                     scene.height.address, keepImages ? &mf.errTexels : nullptr);
         if (scene.isMesh) {

@@ -385,6 +385,8 @@ struct TruthSurface::Impl {
     Vec3f* vertices = nullptr;  // Embree's vertex buffer (owned by the geometry)
     TruthBuildStats stats;
     TruthUpdate lastUpdate = TruthUpdate::Rebuild;
+    Displacement built;  // the (s, b) in Embree's vertices
+    Vec3d shift{0};      // a translation of the built sheet (TruthUpdate::Translate)
 
     // The candidate triangles (vertex indices) of a hit: one, or a grid cell's two.
     int candidates(const RTCRayHit& rh, uint32_t out[2][3]) const {
@@ -465,7 +467,7 @@ struct TruthSurface::Impl {
 
     // Clips the ray; false when it misses the relief's bounds entirely.
     bool start(const Ray& ray, Walk& w) const {
-        w.o = ray.origin - base->origin;  // into the local frame, in double
+        w.o = ray.origin - base->origin - shift;  // into the built sheet's frame, in double
         w.dir = ray.dir;
         const double inf = std::numeric_limits<double>::infinity();
         // Parametric interval of the ray inside the bounds (x, y unbounded when periodic).
@@ -588,6 +590,15 @@ struct TruthSurface::Impl {
         for (int k = 0; k < n; ++k) out.at(x0 + k % w, y0 + k / w) = walks[size_t(k)].result;
     }
 
+    // Planes keep their vertices at (s, 0) and carry b as a translation N * l * b of the
+    // rays, so a surface reached by any sequence of (s, b) updates is bit-identical to one
+    // built at (s, b) directly (a resumed study reproduces an uninterrupted one).
+    void displaceCanonical(const Displacement& disp) {
+        if (!base->isGrid()) return displace(disp);
+        displace(Displacement{disp.scale, 0.0});
+        shift = base->planeNormal * (base->worldPerUv * disp.bias);
+    }
+
     // Writes P = S + N * l * (s*h + b) (MODEL.md §3, in double, rounded once to float) into
     // Embree's vertex buffer, and the bounds of the result.
     void displace(const Displacement& disp) {
@@ -617,6 +628,8 @@ struct TruthSurface::Impl {
         boundsLo = box.lo;
         boundsHi = box.hi;
         margin = 0.01 * glm::length(boundsHi - boundsLo) + 1e-6;
+        built = disp;
+        shift = Vec3d(0);
     }
 };
 
@@ -664,7 +677,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
         m.geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, sizeof(Vec3f), nVerts));
     throwIfEmbreeFailed();
     PGT_CHECK(m.vertices != nullptr);
-    m.displace(disp);
+    m.displaceCanonical(disp);
     m.stats.geometryBytes = int64_t(nVerts * sizeof(Vec3f));
     if (geometry == TruthGeometry::Grid) {
         for (int j0 = 0; j0 < m.nv; j0 += kGridBlock)
@@ -727,9 +740,19 @@ void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update)
     auto t0 = Clock::now();
     // Measured (README "Performance", BM_TruthUpdate): a triangle BVH refits in an eighth of
     // its rebuild; a grid's refit is no faster than its rebuild, and a rebuilt BVH stays tight.
+    const bool translatable = m.base->isGrid() && disp.scale == m.built.scale;
     if (update == TruthUpdate::Auto)
-        update = m.geometry == TruthGeometry::Grid ? TruthUpdate::Rebuild : TruthUpdate::Refit;
-    m.displace(disp);
+        update = translatable ? TruthUpdate::Translate
+                 : m.geometry == TruthGeometry::Grid ? TruthUpdate::Rebuild
+                                                     : TruthUpdate::Refit;
+    if (update == TruthUpdate::Translate) {
+        PGT_CHECK(translatable);
+        m.shift = m.base->planeNormal * (m.base->worldPerUv * (disp.bias - m.built.bias));
+        m.lastUpdate = update;
+        m.stats.updateMs = msSince(t0);
+        return;
+    }
+    m.displaceCanonical(disp);
     rtcUpdateGeometryBuffer(m.geom, RTC_BUFFER_TYPE_VERTEX, 0);
     rtcSetGeometryBuildQuality(m.geom, update == TruthUpdate::Refit ? RTC_BUILD_QUALITY_REFIT
                                                                     : RTC_BUILD_QUALITY_MEDIUM);

@@ -114,8 +114,10 @@ struct PrecisionCheck {
 };
 
 // How a (s, b) change reaches Embree: new vertices then a full BVH rebuild, or a refit of
-// the existing BVH (RTC_BUILD_QUALITY_REFIT: same topology, boxes recomputed).
-enum class TruthUpdate { Auto, Rebuild, Refit };
+// the existing BVH (RTC_BUILD_QUALITY_REFIT: same topology, boxes recomputed). Translate:
+// on a plane (one normal N) a bias change alone moves the sheet by N * l * (b' - b), so the
+// rays move instead and Embree does nothing (Auto picks it whenever it applies).
+enum class TruthUpdate { Auto, Rebuild, Refit, Translate };
 
 // How a frame's rays are handed to Embree: one rtcIntersect1 per ray, or a tile's rays as a
 // coherent stream (rtcIntersect1M with RTC_INTERSECT_CONTEXT_FLAG_COHERENT).
@@ -142,8 +144,9 @@ public:
     TruthSurface& operator=(const TruthSurface&) = delete;
 
     // Re-displaces the same tessellation by a new (s, b): the vertices are rewritten in
-    // Embree's buffer and the BVH rebuilt or refitted (Auto: the one measured faster for
-    // the geometry, README "Performance"). Nothing is reallocated.
+    // Embree's buffer and the BVH rebuilt or refitted (Auto: a translation when only b of a
+    // plane changed, else the one measured faster for the geometry, README "Performance").
+    // Nothing is reallocated.
     void setDisplacement(const Displacement& disp, TruthUpdate update = TruthUpdate::Auto);
 
     // First hit of one ray (world space) with the displaced sheet.
