@@ -193,5 +193,32 @@ TEST(Render, UnwritableOutputIsAnOutputError) {
     std::filesystem::remove_all(dir);
 }
 
+// A view whose truth exceeds truth.memory_mb is traced in blocks, each over a window of
+// the plane: the same truth frames (up to float ray starts), the same uncertainty, the same
+// method statistics, with the peak of one block.
+TEST(Render, TruthInBlocksMatchesTheWholeView) {
+    Scene s = test::planeScene(test::smoothTexture(128, 128), 0.08, -0.04, 55, 20, 96,
+                               parseMethods(nlohmann::json::parse(R"(["parallax","pom"])"), "t", "m"));
+    s.truth.rate = 2;
+    RenderResult whole = renderFrame(s, {0});
+    ASSERT_EQ(whole.truthBlocks, 1);
+    s.truth.memoryMb = 1;  // ~26k vertices per block: forces blocks
+    RenderResult blocks = renderFrame(s, {0});
+    EXPECT_GT(blocks.truthBlocks, 1);
+    EXPECT_LT(blocks.truthBuild.vertices * 8, whole.truthBuild.vertices);
+    int64_t mismatch = 0;
+    double maxDiff = 0;
+    for (size_t k = 0; k < whole.truth.size(); ++k) {
+        const auto &a = whole.truth.data[k], &b = blocks.truth.data[k];
+        if (a.hit != b.hit) ++mismatch;
+        else if (a.hit) maxDiff = std::max(maxDiff, uvErrorTexels(a.uv, b.uv, 128, 128, Address::Repeat));
+    }
+    EXPECT_EQ(mismatch, 0);
+    EXPECT_LT(maxDiff, 1e-4);
+    EXPECT_NEAR(blocks.uncertainty.p99Texels, whole.uncertainty.p99Texels, 1e-4);
+    for (size_t m = 0; m < whole.methods.size(); ++m)
+        EXPECT_NEAR(blocks.methods[m].stats.error.mean, whole.methods[m].stats.error.mean, 1e-5);
+}
+
 }  // namespace
 }  // namespace pgt

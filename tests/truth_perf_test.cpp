@@ -131,5 +131,33 @@ TEST(TruthPerf, ImplicitGridIsThePlane) {
     EXPECT_EQ(base->uvAt(base->gridIndex(96, 96)), Vec2d(2, 2));
 }
 
+// A window of an infinite plane (the part a close view sees) is the same lattice as the
+// whole tile: the view's truth is the same, hit for hit, without the periodic walk.
+TEST(TruthPerf, ViewWindowTracesLikeTheWholePlane) {
+    Texture t = wavyMap(64);
+    PlaneBase plane;
+    plane.infinite = true;
+    Displacement disp{0.08, -0.04};
+    Scene s;
+    s.camera.theta = 65;
+    s.camera.phi = 35;
+    s.camera.frame = "fill";
+    s.camera.fillSize = 0.2;
+    s.camera.width = s.camera.height = 64;
+    s.camera.target = Vec3d(0.45, 0.3, 0);  // across the tile's corner: the window unwraps
+    Camera cam = makeCamera(s);
+    TruthWindow w = viewWindow(plane, t, disp, cam);
+    ASSERT_TRUE(w.limited);
+    EXPECT_LT((w.uvMax.x - w.uvMin.x) * (w.uvMax.y - w.uvMin.y), 0.25);
+    auto windowed = tessellatePlane(t, plane, 2, w);
+    auto whole = tessellatePlane(t, plane, 2);
+    EXPECT_LT(windowed->vertexCount() * 4, whole->vertexCount());
+    TruthSurface a(windowed, disp, TruthGeometry::Grid, false);
+    TruthSurface b(whole, disp, TruthGeometry::Grid, true);
+    FrameDiff d = diff(a.traceFrame(cam), b.traceFrame(cam), 64);
+    EXPECT_EQ(d.hitMismatch, 0);
+    EXPECT_LT(d.maxTexels, 1e-4);  // the float rays start at different points
+}
+
 }  // namespace
 }  // namespace pgt

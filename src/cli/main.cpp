@@ -29,6 +29,9 @@ void printSummary(const pgt::RenderResult& r) {
         std::printf("truth uncertainty (rate %d vs %d): p99 %.5f, max %.5f texels\n",
                     r.uncertainty.rate, r.uncertainty.rateFine, r.uncertainty.p99Texels,
                     r.uncertainty.maxTexels);
+    if (r.truthBlocks > 1)
+        std::printf("truth traced in %d blocks, each over the part of the plane it sees "
+                    "(truth.memory_mb)\n", r.truthBlocks);
 }
 
 }  // namespace

@@ -206,6 +206,7 @@ Scene parseScene(const Json& json, const std::string& file) {
                                ? TruthGeometry::Triangles
                                : TruthGeometry::Grid;
         s.truth.uncertainty = f.boolean("uncertainty", true);
+        s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
         f.finish();
     }
     if (!s.isMesh) {
@@ -331,7 +332,8 @@ Json resolvedSceneJson(const Scene& s) {
         {"truth",
          {{"rate", s.truth.rate},
           {"geometry", s.truth.geometry == TruthGeometry::Grid ? "grid" : "triangles"},
-          {"uncertainty", s.truth.uncertainty}}},
+          {"uncertainty", s.truth.uncertainty},
+          {"memory_mb", s.truth.memoryMb}}},
     };
 }
 

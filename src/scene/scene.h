@@ -66,6 +66,9 @@ struct TruthSpec {
     int rate = 4;                      // tessellation samples per texel per axis
     TruthGeometry geometry = TruthGeometry::Grid;
     bool uncertainty = true;           // also trace at 2 x rate and report the difference
+    // `pgt render` of a plane: when the whole view's truth would need more than this, the
+    // frame is traced in blocks, each over a tessellation of only what it sees (issue 6).
+    int memoryMb = 1536;
 };
 
 struct Scene {

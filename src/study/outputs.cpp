@@ -137,7 +137,9 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
     };
     Json truth = {{"rate", scene.truth.rate},
                   {"geometry", scene.truth.geometry == TruthGeometry::Grid ? "grid" : "triangles"},
-                  {"build", build(r.truthBuild)}};
+                  {"build", build(r.truthBuild)},
+                  // > 1: traced in blocks over windows; build is then the largest block's
+                  {"blocks", r.truthBlocks}};
     int64_t hits = 0;
     for (const auto& t : r.truth.data) hits += t.hit;
     truth["hit_pixels"] = hits;

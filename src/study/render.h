@@ -84,12 +84,17 @@ public:
     // The builder's own surfaces re-displaced to (s, b) (TruthSurface::setDisplacement: no
     // reallocation, refit where it is faster); built on first use. Valid until the next call.
     const TruthPair& update(const Displacement& disp, bool withUncertainty);
+    // Planes: tessellate only the part of the plane this view can see at (s, b) (issue 6:
+    // large maps framed closely). Call before the first build.
+    void limitToView(const Camera& camera, const Displacement& disp, PixelRect block = {});
+    const TruthWindow& window() const { return window_; }
 
 private:
     std::shared_ptr<const BaseTessellation> tessellate(int rate) const;
     const Scene& scene_;
     std::shared_ptr<const BaseTessellation> base_, fine_;
     TruthPair current_;
+    TruthWindow window_;
 };
 
 struct MethodFrame {
@@ -114,7 +119,24 @@ struct RenderResult {
     RasterStats raster;
     std::vector<MethodFrame> methods;
     std::map<std::string, double> timingsMs;  // stage -> wall ms
+    int truthBlocks = 1;  // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
+
+// The truth frames of one view (the fine one only with the uncertainty).
+struct TruthFrames {
+    Image2D<TruthSample> truth, fine;
+    bool haveFine = false;
+    TruthBuildStats build, buildFine;
+    double traceMs = 0, fineMs = 0;
+    int blocks = 1;  // > 1: traced block by block over windows (renderFrame)
+};
+TruthFrames traceTruth(const Camera& camera, const TruthPair& truths);
+
+// Rasterisation, methods and comparison against given truth frames.
+RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFrames&& truth,
+                             const std::vector<MethodConfig>& configs,
+                             MethodTextureCache& textures, const TimingSpec& timing,
+                             bool keepImages = true);
 
 // One view with given truth surfaces; methods use the scene's (s, b) unless they have their
 // own. `keepImages` = false drops per-pixel images once the statistics are taken.

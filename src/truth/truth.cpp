@@ -79,8 +79,44 @@ constexpr int kGridBlock = 1024;
 
 }  // namespace
 
+TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                       const Camera& camera, PixelRect block, double marginTexels) {
+    if (block.empty()) block = {0, 0, camera.width(), camera.height()};
+    TruthWindow w;
+    float hMin = 1e30f, hMax = -1e30f;
+    for (float h : height.texels) hMin = std::min(hMin, h), hMax = std::max(hMax, h);
+    const double l = plane.worldPerUv();
+    const double z[2] = {plane.center.z + l * (disp.scale * hMin + disp.bias),
+                         plane.center.z + l * (disp.scale * hMax + disp.bias)};
+    // The frustum's four edge rays through the frame's corners meet each slab plane in a
+    // quadrilateral; every ray of the frame crosses the slab inside their hull.
+    Vec2d lo(1e300), hi(-1e300);
+    const double x0 = block.x0, x1 = block.x1, y0 = block.y0, y1 = block.y1;
+    for (Vec2d c : {Vec2d(x0, y0), Vec2d(x1, y0), Vec2d(x0, y1), Vec2d(x1, y1)}) {
+        Ray r = camera.ray(c.x, c.y);
+        if (!(std::fabs(r.dir.z) > 1e-9)) return {};  // parallel to the plane: unbounded
+        for (double zk : z) {
+            double t = (zk - r.origin.z) / r.dir.z;
+            if (!r.line && t < 0) return {};  // behind a pinhole eye: unbounded
+            Vec3d p = r.origin + r.dir * t;
+            Vec2d uv((p.x - plane.center.x) / l + plane.tiling / 2,
+                     (p.y - plane.center.y) / l + plane.tiling / 2);
+            lo = glm::min(lo, uv), hi = glm::max(hi, uv);
+        }
+    }
+    Vec2d margin = Vec2d(marginTexels / height.width, marginTexels / height.height);
+    lo -= margin, hi += margin;
+    if (!plane.infinite) lo = glm::max(lo, Vec2d(0)), hi = glm::min(hi, Vec2d(plane.tiling));
+    w.limited = true;
+    w.empty = !(lo.x < hi.x && lo.y < hi.y);
+    w.uvMin = lo;
+    w.uvMax = hi;
+    return w;
+}
+
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
-                                                        const PlaneBase& plane, int rate) {
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window) {
     using namespace OpenSubdiv;
     auto t0 = Clock::now();
     auto out = std::make_shared<BaseTessellation>();
@@ -113,13 +149,19 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     PGT_CHECK_LT((nu + 1) * (nv + 1), double(int64_t(1) << 31));
     m.nu = std::max(1, int(nu));
     m.nv = std::max(1, int(nv));
+    m.fullNu = m.nu;
+    m.fullNv = m.nv;
     m.invNu = 1.0 / m.nu;
     m.invNv = 1.0 / m.nv;
     int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
-    Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
-                           Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
-    PGT_CHECK(tess.IsValid());
-    PGT_CHECK_EQ(int64_t(tess.GetNumCoords()), int64_t(m.nu + 1) * (m.nv + 1));
+    // Bfr's pattern for these rates is the regular lattice the grid indexes (checked where
+    // its int count can hold it; windows of larger lattices use the same formula).
+    if (int64_t(m.nu + 1) * (m.nv + 1) < (int64_t(1) << 30)) {
+        Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
+                               Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
+        PGT_CHECK(tess.IsValid());
+        PGT_CHECK_EQ(int64_t(tess.GetNumCoords()), int64_t(m.nu + 1) * (m.nv + 1));
+    }
 
     std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
     std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
@@ -139,6 +181,15 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                       Vec3d(Dv[0], Dv[1], Dv[2])));
     }
     m.heightMap = std::make_shared<const Texture>(height);
+    if (window.limited) {
+        // The lattice vertices covering the window (whole cells of the tile's lattice, so
+        // the window's sheet is the very same surface as the tile's).
+        const double perUvU = m.fullNu / tiling, perUvV = m.fullNv / tiling;
+        m.offsetI = int(std::floor(window.uvMin.x * perUvU));
+        m.offsetJ = int(std::floor(window.uvMin.y * perUvV));
+        m.nu = std::max(1, int(std::ceil(window.uvMax.x * perUvU)) - m.offsetI);
+        m.nv = std::max(1, int(std::ceil(window.uvMax.y * perUvV)) - m.offsetJ);
+    }
     m.tessellateMs = msSince(t0);
     return out;
 }
@@ -774,13 +825,15 @@ namespace {
 // Frames are traced in 8 x 8 pixel tiles: one coherent stream per tile, tiles over threads.
 constexpr int kTile = 8;
 struct TileGrid {
-    int W, H, across, count;
-    TileGrid(int w, int h)
-        : W(w), H(h), across((w + kTile - 1) / kTile), count(across * ((h + kTile - 1) / kTile)) {}
-    int x0(int t) const { return (t % across) * kTile; }
-    int y0(int t) const { return (t / across) * kTile; }
-    int x1(int t) const { return std::min(x0(t) + kTile, W); }
-    int y1(int t) const { return std::min(y0(t) + kTile, H); }
+    int X0, Y0, X1, Y1, across, count;
+    TileGrid(int w, int h) : TileGrid(PixelRect{0, 0, w, h}) {}
+    explicit TileGrid(PixelRect r)
+        : X0(r.x0), Y0(r.y0), X1(r.x1), Y1(r.y1), across((r.x1 - r.x0 + kTile - 1) / kTile),
+          count(across * ((r.y1 - r.y0 + kTile - 1) / kTile)) {}
+    int x0(int t) const { return X0 + (t % across) * kTile; }
+    int y0(int t) const { return Y0 + (t / across) * kTile; }
+    int x1(int t) const { return std::min(x0(t) + kTile, X1); }
+    int y1(int t) const { return std::min(y0(t) + kTile, Y1); }
 };
 }  // namespace
 
@@ -794,8 +847,15 @@ void TruthSurface::traceFrame(const Camera& camera, Image2D<TruthSample>& out,
                               TraceMode mode) const {
     if (out.width != camera.width() || out.height != camera.height())
         out = Image2D<TruthSample>(camera.width(), camera.height());
+    traceBlock(camera, out, PixelRect{0, 0, camera.width(), camera.height()}, mode);
+}
+
+void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
+                              TraceMode mode) const {
+    PGT_CHECK(out.width == camera.width() && out.height == camera.height());
+    PGT_CHECK(block.x0 >= 0 && block.y0 >= 0 && block.x1 <= out.width && block.y1 <= out.height);
     const Impl& m = *impl_;
-    const TileGrid tiles(camera.width(), camera.height());
+    const TileGrid tiles(block);
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles.count, 4), [&](const auto& r) {
         setTracingFpMode();
         if (mode == TraceMode::Coherent) {

@@ -39,6 +39,10 @@ struct TruthBuildStats {
 // vertices and triangles.
 struct BaseTessellation {
     int nu = 0, nv = 0;           // grid segments (planes); 0 for meshes
+    // A window of the plane's vertex lattice (TruthWindow): local vertex (i, j) is lattice
+    // vertex (i + offsetI, j + offsetJ) of the whole tile's fullNu x fullNv segments
+    // (outside [0, fullNu] on an infinite plane: the tile's continuation).
+    int offsetI = 0, offsetJ = 0, fullNu = 0, fullNv = 0;
     Vec3d origin{0};              // positions are relative to this point (float precision)
     double worldPerUv = 1;        // l (MODEL.md §2)
     double periodWorld = 1;       // plane side L: the tile period of an infinite plane
@@ -68,9 +72,9 @@ struct BaseTessellation {
         return (c[0] * (1 - s) + c[1] * s) * (1 - t) + (c[2] * (1 - s) + c[3] * s) * t;
     }
     Vec2d gridUv(int i, int j) const { return blend(cornerUv, gridS(i), gridT(j)); }
-    // i / nu and j / nv without a division per call, exact at the last vertex.
-    double gridS(int i) const { return i == nu ? 1.0 : i * invNu; }
-    double gridT(int j) const { return j == nv ? 1.0 : j * invNv; }
+    // Lattice i / fullNu and j / fullNv without a division per call, exact at the tile edge.
+    double gridS(int i) const { i += offsetI; return i == fullNu ? 1.0 : i * invNu; }
+    double gridT(int j) const { j += offsetJ; return j == fullNv ? 1.0 : j * invNv; }
     double invNu = 1, invNv = 1;
     Vec3d positionAt(size_t k) const;
     Vec3d normalAt(size_t k) const;
@@ -80,8 +84,29 @@ struct BaseTessellation {
     size_t bytes() const;
 };
 
+// The part of a plane's UV domain a frame can see: the texels under the camera's frustum
+// between the lowest and the highest displaced height (the displacement is along the
+// plane's normal, so a hit's UV lies under its ray's passage through that slab), plus a
+// margin. Unwrapped UV (may leave [0, tiling] on an infinite plane).
+struct TruthWindow {
+    bool limited = false;  // false: the whole plane (tile)
+    bool empty = false;    // limited to nothing: the view misses the plane
+    Vec2d uvMin{0}, uvMax{0};
+};
+// A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                       const Camera& camera, PixelRect block = {}, double marginTexels = 2);
+// Bytes per truth vertex of a plane's grid, Embree's BVH included (measured: 3.27 GB peak for
+// 84M grid vertices, a 4096^2 map at rates 1 and 2).
+constexpr double kTruthBytesPerGridVertex = 40;
+
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
-                                                        const PlaneBase& plane, int rate);
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window = {});
 
 // The `polygonal` truth of a mesh (issue 4): the very triangles the rasteriser draws, each
 // split uniformly into n^2 sub-triangles (n from the largest UV edge in texels x rate, one n
@@ -156,6 +181,9 @@ public:
                                     TraceMode mode = TraceMode::Coherent) const;
     // The same into `out`, reusing its memory when it already has the camera's size.
     void traceFrame(const Camera& camera, Image2D<TruthSample>& out,
+                    TraceMode mode = TraceMode::Coherent) const;
+    // Only the pixels of `block` (out must have the camera's size already).
+    void traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
                     TraceMode mode = TraceMode::Coherent) const;
     // The bare-Embree baseline for traceFrame on the same rays (benchmarks; planes that are
     // not periodic, where a pixel's ray is one Embree ray).
