@@ -6,6 +6,7 @@ against fetches with the Pareto front, bias-ratio x scale heat maps with the min
 and a table of recommended scale/bias defaults beside the source documents' advice.
 Usage: /usr/bin/python3 analysis/report.py DIR"""
 import argparse
+import multiprocessing
 import math
 import os
 import sys
@@ -156,6 +157,10 @@ def main():
     figdir = os.path.join(args.dir, "figures")
     os.makedirs(figdir, exist_ok=True)
 
+    # The heat maps draw in a forked worker while this process draws the rest (matplotlib
+    # drawing is most of the report's time; two cores halve it).
+    pool = multiprocessing.get_context("fork").Pool(1)
+    heat_job = pool.apply_async(fig_heatmaps, (df, reps, figdir))
     theta_figs = fig_error_vs_theta(df, reps, figdir)
     agg, pareto_files, fronts = fig_pareto(df, figdir)
     table = defaults_table(df, reps)
@@ -164,7 +169,9 @@ def main():
     # over theta <= 80 shows the defaults for the views most frames contain.
     typical = df[df["theta"] <= 80]
     table80 = defaults_table(typical, reps) if len(typical) and typical["theta"].nunique() < df["theta"].nunique() else None
-    heat = fig_heatmaps(df, reps, figdir)
+    heat = heat_job.get()
+    pool.close()
+    pool.join()
 
     cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
     lines = ["# pgt study report", ""]
