@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,10 @@
 
 namespace pgt {
 
-enum class MethodKind { None, Parallax, OffsetLimited, Steep, Pom, Relief, Iterative, TangentPlane };
+enum class MethodKind { None, Parallax, OffsetLimited, Steep, Pom, Relief, Iterative, TangentPlane,
+                        Glsl };
+
+struct GlslSpec;  // gl/glsl_method.h: a user's shader function run in OpenGL (issue 7)
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
@@ -29,6 +33,8 @@ struct MethodConfig {
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (MODEL.md §3).
     double scale = NAN, bias = NAN;
+    // Glsl: the shader file, function, sampler and uniforms (its name is the user's).
+    std::shared_ptr<const GlslSpec> glsl;
 };
 
 // Stiff-case flags a method raises (counted per frame, never thrown).
@@ -75,5 +81,7 @@ std::string toString(MethodKind kind);
 const std::vector<std::string>& methodNames();
 // Which method kinds need the derived normal/parallax maps (003).
 bool needsDerivedMaps(MethodKind kind);
+// The same for a configuration (a GLSL method needs them when it names their samplers).
+bool needsDerivedMaps(const MethodConfig& cfg);
 
 }  // namespace pgt

@@ -2,10 +2,14 @@
 #include "methods/registry.h"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
 #include "core/json_fields.h"
+#include "gl/glsl_method.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
 #include "methods/simple.h"
@@ -44,11 +48,85 @@ bool needsDerivedMaps(MethodKind kind) {
     return kind == MethodKind::Iterative || kind == MethodKind::TangentPlane;
 }
 
+namespace {
+
+// {"name": "mine", "glsl": FILE, "function": F, "sampler": S, "texture": "height"|"depth",
+//  "uniforms": {...}}: the file is read now, relative to the scene file's folder.
+MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
+    MethodConfig cfg;
+    cfg.kind = MethodKind::Glsl;
+    cfg.name = f.string("name", "");
+    if (cfg.name.empty() || cfg.name.find_first_of(" ./\\") != std::string::npos)
+        f.fail("name", "a GLSL method needs a name without spaces, dots or slashes");
+    auto spec = std::make_shared<GlslSpec>();
+    std::string rel = f.string("glsl", "");
+    std::filesystem::path p(rel);
+    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+    spec->path = p.lexically_normal().string();
+    std::ifstream in(spec->path);
+    if (rel.empty() || !in) f.fail("glsl", "cannot read the shader file " + spec->path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    spec->source = text.str();
+    spec->function = f.string("function", "ParallaxMapping");
+    spec->sampler = f.string("sampler", "depthMap");
+    // 003's derived maps for shaders that read them (iterative, tangent_plane): the unit
+    // normal (RGB) and m_z * (s*h + b), built for the truth's (s, b).
+    spec->normalSampler = f.string("normal_sampler", "");
+    spec->parallaxSampler = f.string("parallax_sampler", "");
+    spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
+    if (f.has("uniforms")) {
+        const Json& u = f.raw("uniforms");
+        if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
+        for (const auto& [name, value] : u.items()) {
+            GlslSpec::Uniform un;
+            un.name = name;
+            if (value.is_string() && (value == "scale" || value == "bias")) {
+                un.bind = value.get<std::string>();
+            } else if (value.is_number()) {
+                un.values.push_back(value.get<double>());
+                un.isInt = value.is_number_integer();
+            } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
+                for (const auto& x : value) {
+                    if (!x.is_number()) f.fail("uniforms." + name, "expected numbers");
+                    un.values.push_back(x.get<double>());
+                }
+            } else {
+                f.fail("uniforms." + name,
+                       "expected a number, an array of 2 to 4 numbers, \"scale\" or \"bias\"");
+            }
+            for (double x : un.values)
+                if (!std::isfinite(x)) f.fail("uniforms." + name, "is not finite");
+            spec->uniforms.push_back(un);
+        }
+    }
+    cfg.discardOutside = f.boolean("discard_outside", false);
+    cfg.scale = f.number("scale", NAN, -1e3, 1e3);
+    cfg.bias = f.number("bias", NAN, -1e3, 1e3);
+    cfg.label = f.string("label", "");
+    f.finish();
+    cfg.glsl = std::move(spec);
+    return cfg;
+}
+
+}  // namespace
+
+bool needsDerivedMaps(const MethodConfig& cfg) {
+    if (cfg.glsl) return !cfg.glsl->normalSampler.empty() || !cfg.glsl->parallaxSampler.empty();
+    return needsDerivedMaps(cfg.kind);
+}
+
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
     Json object = entry.is_string() ? Json{{"name", entry}} : entry;
     if (!object.is_object())
         throw InputError(file, path, shortDump(entry), "expected a method name or object");
     JsonFields f(object, file, path);
+    if (object.contains("glsl")) {
+        MethodConfig cfg = parseGlslMethod(f, file);
+        if (!cfg.label.empty() && cfg.label.find_first_of(" ./\\") != std::string::npos)
+            f.fail("label", "must be non-empty without spaces, dots or slashes");
+        return cfg;
+    }
     MethodConfig cfg;
     cfg.name = f.choice("name", methodNames(), "");
     for (const auto& m : kMethods)
@@ -147,6 +225,20 @@ std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file
 
 Json toJson(const MethodConfig& c) {
     Json j = {{"name", c.name}, {"label", c.label}};
+    if (c.glsl) {
+        j["glsl"] = c.glsl->path;
+        j["function"] = c.glsl->function;
+        j["sampler"] = c.glsl->sampler;
+        j["texture"] = c.glsl->depthTexture ? "depth" : "height";
+        Json u = Json::object();
+        for (const auto& un : c.glsl->uniforms)
+            u[un.name] = !un.bind.empty()         ? Json(un.bind)
+                         : un.values.size() == 1 ? Json(un.values[0])
+                                                 : Json(un.values);
+        j["uniforms"] = u;
+        // The shader's text is part of the identity: an edited file is another method.
+        j["source_hash"] = std::to_string(std::hash<std::string>{}(c.glsl->source));
+    }
     switch (c.kind) {
         case MethodKind::Steep:
         case MethodKind::Pom:
@@ -183,6 +275,7 @@ Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Rea
         case MethodKind::Relief: return methodRelief(ctx, uv0, v, cfg);
         case MethodKind::Iterative: return methodIterative(ctx, uv0, v, cfg);
         case MethodKind::TangentPlane: return methodTangentPlane(ctx, uv0, v, cfg);
+        case MethodKind::Glsl: break;  // runs in OpenGL (study/render.cpp), never here
     }
     return uv0;
 }

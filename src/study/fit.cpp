@@ -117,7 +117,7 @@ FitReport runFit(const Scene& scene, bool progress) {
         Score sc;
         double s = std::isfinite(cfg.scale) ? cfg.scale : s0;
         double b = std::isfinite(cfg.bias) ? cfg.bias : b0;
-        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg.kind));
+        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
         double obj = 0, mean = 0, p90 = 0;
         for (const View& v : views) {
             auto px = evaluateMethod(cfg, v.frags, tex, v.width, v.height);

@@ -168,6 +168,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
         }
         j["config"] = toJson(m.config);
         j["ns_per_px"] = m.nsPerPixel;
+        j["timing_backend"] = m.timingBackend;
         methods.push_back(j);
     }
     return {{"tool", "pgt"},

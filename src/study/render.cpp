@@ -8,6 +8,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "gl/glsl_method.h"
 #include "methods/registry.h"
 
 namespace pgt {
@@ -166,9 +167,41 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
 
 }  // namespace
 
+std::string timingBackend(const MethodConfig& cfg) {
+    if (cfg.kind != MethodKind::Glsl) return "cpu";
+    const GlInfo& gl = glContext();
+    return "gl: " + gl.renderer + (gl.software ? " (software: not a GPU time)" : "");
+}
+
+namespace {
+
+// A GLSL method's frame: its shader in OpenGL over the same float inputs (issue 7).
+Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
+                                  const MethodTextures& tex, int width, int height,
+                                  bool exactFrame) {
+    Image2D<MethodPixel> out(width, height);
+    GlslRun run = runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
+                          tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
+                          frags.uv0, exactFrame ? frags.viewExact : frags.view);
+    const float hi = float(tex.tiling);
+    for (size_t k = 0; k < frags.pixel.size(); ++k) {
+        MethodPixel& p = out.data[size_t(frags.pixel[k])];
+        p.covered = true;
+        p.uv = Vec2d(run.uv[k]);
+        p.fetches = run.fetches[k];
+        const Vec2f uv = run.uv[k];
+        if (cfg.discardOutside && (uv.x > hi || uv.y > hi || uv.x < 0.0f || uv.y < 0.0f))
+            p.covered = false;
+    }
+    return out;
+}
+
+}  // namespace
+
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame) {
+    if (cfg.kind == MethodKind::Glsl) return evaluateGlsl(cfg, frags, tex, width, height, exactFrame);
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
@@ -187,6 +220,12 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
                             const MethodTextures& tex, int repeats) {
     const size_t n = frags.pixel.size();
     if (n == 0 || repeats < 1) return 0.0;
+    // A GLSL method: the draw's GL time (timer queries), median of the repeats.
+    if (cfg.kind == MethodKind::Glsl)
+        return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
+                       tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
+                       frags.uv0, frags.view, repeats)
+            .gpuNsPerPixel;
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
@@ -268,9 +307,10 @@ RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFram
     for (const MethodConfig& cfg : configs) {
         double s = std::isfinite(cfg.scale) ? cfg.scale : scene.displacement.scale;
         double b = std::isfinite(cfg.bias) ? cfg.bias : scene.displacement.bias;
-        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg.kind));
+        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
         MethodFrame mf;
         mf.config = cfg;
+        mf.timingBackend = timingBackend(cfg);
         auto te = Clock::now();
         mf.pixels = evaluateMethod(cfg, frags, tex, W, H);
         r.timingsMs["methods_eval"] += msSince(te);
@@ -284,7 +324,9 @@ RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFram
         }
         if (timing.repeats > 0) {
             auto tt = Clock::now();
-            mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);
+            // A GL draw has a fixed cost: GLSL methods are timed over every fragment.
+            const bool gl = cfg.kind == MethodKind::Glsl;
+            mf.nsPerPixel = timeMethodNsPerPixel(cfg, gl ? frags : timed, tex, timing.repeats);
             timingMs += msSince(tt);
         }
         if (!keepImages) mf.pixels = {};

@@ -107,7 +107,11 @@ struct MethodFrame {
     FrameStats statsExactFrame;
     bool haveExactFrame = false;
     double nsPerPixel = 0;
+    std::string timingBackend;  // "cpu", or "gl: RENDERER" for GLSL methods
 };
+
+// Where a method's ns/px comes from: "cpu" (single thread) or "gl: <GL_RENDERER>".
+std::string timingBackend(const MethodConfig& cfg);
 
 struct RenderResult {
     Camera camera;

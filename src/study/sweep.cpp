@@ -81,7 +81,8 @@ const std::vector<std::string>& resultColumns() {
         "mean",         "rms",          "p50",           "p90",           "p99",
         "max",          "frac_gt_1texel", "truth_only",  "raster_only",   "nonfinite",
         "zero_divide",  "step_limit",   "fetches_mean",  "fetches_max",   "ns_per_px",
-        "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame", "p90_exact_frame"};
+        "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame", "p90_exact_frame",
+        "timing_backend"};
     return cols;
 }
 
@@ -218,7 +219,8 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
            << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
            << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
-           << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << '\n';
+           << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << ','
+           << csvQuote(m.timingBackend) << '\n';
     }
     return os.str();
 }

@@ -1,0 +1,440 @@
+// Headless OpenGL through EGL (surfaceless Mesa platform, or an EGL device), the GLSL
+// wrapper around a user's parallax function, and the run over a fragment list.
+#include "gl/glsl_method.h"
+
+#define EGL_EGLEXT_PROTOTYPES
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#define GL_GLEXT_PROTOTYPES
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.h"
+
+namespace pgt {
+
+namespace {
+
+std::mutex gMutex;
+std::string gDevice;
+bool gTried = false;
+std::string gFailure;
+GlInfo gInfo;
+EGLDisplay gDisplay = EGL_NO_DISPLAY;
+EGLContext gContext = EGL_NO_CONTEXT;
+
+std::string eglErrorString() {
+    std::ostringstream os;
+    os << "EGL error 0x" << std::hex << eglGetError();
+    return os.str();
+}
+
+EGLDisplay openDisplay(const std::string& device) {
+    if (device.empty())
+        return eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    const std::string prefix = "egl-device:";
+    if (device.rfind(prefix, 0) != 0)
+        throw std::runtime_error("--gl-device '" + device +
+                                 "': expected egl-device:N (N from 0) or nothing");
+    int index = std::stoi(device.substr(prefix.size()));
+    auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    if (!query) throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
+    EGLDeviceEXT devices[16];
+    EGLint n = 0;
+    if (!query(16, devices, &n) || index < 0 || index >= n)
+        throw std::runtime_error("--gl-device '" + device + "': EGL lists " + std::to_string(n) +
+                                 " devices");
+    return eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
+}
+
+void createContext() {
+    gTried = true;
+    EGLDisplay dpy = openDisplay(gDevice);
+    if (dpy == EGL_NO_DISPLAY) throw std::runtime_error("no EGL display: " + eglErrorString());
+    EGLint major = 0, minor = 0;
+    if (!eglInitialize(dpy, &major, &minor))
+        throw std::runtime_error("eglInitialize failed: " + eglErrorString() +
+                                 " (is Mesa's EGL installed? libegl-mesa0, libgl1-mesa-dri)");
+    if (!eglBindAPI(EGL_OPENGL_API)) throw std::runtime_error("eglBindAPI(OpenGL) failed");
+    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                    EGL_OPENGL_BIT, EGL_NONE};
+    EGLConfig config;
+    EGLint count = 0;
+    if (!eglChooseConfig(dpy, configAttribs, &config, 1, &count) || count < 1)
+        throw std::runtime_error("no EGL config for desktop OpenGL: " + eglErrorString());
+    const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                 EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                 EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctxAttribs);
+    if (ctx == EGL_NO_CONTEXT)
+        throw std::runtime_error("cannot create an OpenGL 4.5 core context: " + eglErrorString());
+    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx))
+        throw std::runtime_error("eglMakeCurrent without a surface failed: " + eglErrorString());
+    gDisplay = dpy;
+    gContext = ctx;
+    auto str = [](GLenum e) {
+        const GLubyte* s = glGetString(e);
+        return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
+    };
+    gInfo.renderer = str(GL_RENDERER);
+    gInfo.version = str(GL_VERSION);
+    gInfo.vendor = str(GL_VENDOR);
+    for (const char* sw : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
+        if (gInfo.renderer.find(sw) != std::string::npos) gInfo.software = true;
+}
+
+// Makes the context current on this thread (the caller holds gMutex).
+void ensureContext() {
+    if (!gTried) {
+        try {
+            createContext();
+        } catch (const std::exception& e) {
+            gFailure = e.what();
+        }
+    }
+    if (!gFailure.empty()) throw std::runtime_error("OpenGL unavailable: " + gFailure);
+    if (eglGetCurrentContext() != gContext)
+        eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, gContext);
+}
+
+// The wrapper: a prelude that counts texture() calls, the user's file (its #version removed;
+// `#line 1 1` so the driver's messages carry the file's own line numbers as source 1), and a
+// main() that feeds the function one fragment per output pixel.
+constexpr const char* kPrelude = R"(#version 450 core
+int pgt_fetches = 0;
+vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
+vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s, p, b); }
+vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
+vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
+    pgt_fetches++; return textureGrad(s, p, dx, dy); }
+#define texture pgt_texture
+#define textureLod pgt_textureLod
+#define textureGrad pgt_textureGrad
+)";
+
+constexpr const char* kMain = R"(
+uniform sampler2D pgt_uv0;   // RG32F: uv0 of fragment k at texel (k % w, k / w)
+uniform sampler2D pgt_view;  // RGBA32F: tangent-space V
+uniform int pgt_count;
+uniform int pgt_width;
+layout(location = 0) out vec2 pgt_out_uv;
+layout(location = 1) out float pgt_out_fetches;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    if (p.y * pgt_width + p.x >= pgt_count) discard;
+    vec2 uv0 = texelFetch(pgt_uv0, p, 0).xy;
+    vec3 v = texelFetch(pgt_view, p, 0).xyz;
+    pgt_fetches = 0;
+    pgt_out_uv = PGT_FUNCTION(uv0, v);
+    pgt_out_fetches = float(pgt_fetches);
+}
+)";
+
+constexpr const char* kVertex = R"(#version 450 core
+void main() {  // one triangle covering the viewport
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+std::string stripVersion(const std::string& src) {
+    std::istringstream in(src);
+    std::ostringstream out;
+    std::string line;
+    while (std::getline(in, line)) {
+        size_t first = line.find_first_not_of(" \t");
+        if (first != std::string::npos && line.compare(first, 8, "#version") == 0) line.clear();
+        out << line << "\n";
+    }
+    return out.str();
+}
+
+// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with S the source
+// string: 1 = the user's file; the others are ours.
+std::string translateLog(const std::string& log, const std::string& file) {
+    std::istringstream in(log);
+    std::ostringstream out;
+    std::string line;
+    static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\): (.*)$)");
+    static const std::regex other(R"(^(\d+)\((\d+)\) ?: (.*)$)");
+    while (std::getline(in, line)) {
+        std::smatch m;
+        if (std::regex_match(line, m, mesa)) {
+            std::string where = m[1] == "1" ? file : m[1] == "2" ? "pgt wrapper" : "pgt prelude";
+            out << where << ":" << m[2] << ":" << m[3] << ": " << m[4] << "\n";
+        } else if (std::regex_match(line, m, other)) {
+            std::string where = m[1] == "1" ? file : m[1] == "2" ? "pgt wrapper" : "pgt prelude";
+            out << where << ":" << m[2] << ": " << m[3] << "\n";
+        } else if (!line.empty()) {
+            out << line << "\n";
+        }
+    }
+    return out.str();
+}
+
+GLuint compile(GLenum type, const std::string& src, const std::string& file) {
+    GLuint s = glCreateShader(type);
+    const char* p = src.c_str();
+    glShaderSource(s, 1, &p, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetShaderInfoLog(s, len, nullptr, log.data());
+        glDeleteShader(s);
+        throw InputError(file, "glsl", "", "the shader does not compile:\n" +
+                                               translateLog(log.c_str(), file));
+    }
+    return s;
+}
+
+struct Program {
+    GLuint id = 0;
+};
+
+// Programs by (file, source, function): compiled once per process.
+std::map<std::string, Program> gPrograms;
+GLuint gVao = 0;
+
+GLuint programFor(const GlslSpec& spec) {
+    std::string key = spec.path + "\n" + spec.function + "\n" + spec.source;
+    auto it = gPrograms.find(key);
+    if (it != gPrograms.end()) return it->second.id;
+    static const std::regex ident(R"([A-Za-z_][A-Za-z0-9_]*)");
+    if (!std::regex_match(spec.function, ident))
+        throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
+    std::string fs = std::string(kPrelude) + "#line 1 1\n" + stripVersion(spec.source) +
+                     "\n#line 1 2\n#define PGT_FUNCTION " + spec.function + "\n" + kMain;
+    GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path);
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, f);
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(f);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        GLint len = 0;
+        glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
+        std::string log(size_t(std::max(len, 1)), '\0');
+        glGetProgramInfoLog(prog, len, nullptr, log.data());
+        glDeleteProgram(prog);
+        throw InputError(spec.path, "glsl", "", "the shader does not link:\n" +
+                                                    translateLog(log.c_str(), spec.path));
+    }
+    gPrograms[key] = {prog};
+    return prog;
+}
+
+GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* data, GLenum filter,
+                   GLenum wrap) {
+    GLuint t = 0;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, format, GL_FLOAT, data);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GLint(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GLint(filter));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GLint(wrap));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GLint(wrap));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    return t;
+}
+
+// Map textures (height or depth R32F, 003's RGB normal map, the parallax map): one upload per
+// content (keyed by a hash of the texels, never by address), bilinear, the map's address mode
+// (MODEL.md §1: texel centres at (i + 0.5) / W, as GL samples).
+std::map<std::tuple<uint64_t, int, int, int, bool, int>, GLuint> gMaps;
+
+GLuint mapTexture(const Texture& t, bool depth) {
+    uint64_t hash = 1469598103934665603ull;  // FNV-1a over the texel bits
+    for (float x : t.texels) {
+        uint32_t bits;
+        std::memcpy(&bits, &x, 4);
+        hash = (hash ^ bits) * 1099511628211ull;
+    }
+    auto key = std::make_tuple(hash, t.width, t.height, t.channels, depth, int(t.address));
+    auto it = gMaps.find(key);
+    if (it != gMaps.end()) return it->second;
+    const int c = t.channels >= 3 ? 3 : 1;
+    std::vector<float> data(size_t(t.width) * t.height * size_t(c));
+    for (size_t k = 0; k < size_t(t.width) * t.height; ++k)
+        for (int ch = 0; ch < c; ++ch) {
+            float h = t.texels[k * size_t(t.channels) + size_t(ch)];
+            data[k * size_t(c) + size_t(ch)] = depth ? 1.0f - h : h;
+        }
+    GLuint id = makeTexture(c == 3 ? GL_RGB32F : GL_R32F, c == 3 ? GL_RGB : GL_RED, t.width,
+                            t.height, data.data(), GL_LINEAR,
+                            t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    gMaps[key] = id;
+    return id;
+}
+
+void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
+                 const std::string& name, int unit, const Texture* t, bool depth) {
+    if (name.empty()) return;
+    GLint loc = glGetUniformLocation(prog, name.c_str());
+    if (loc < 0)
+        throw InputError(spec.path, field, name,
+                         "is not an active sampler2D uniform of the shader (declare it and "
+                         "sample it in " + spec.function + ")");
+    PGT_CHECK(t != nullptr);
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    glBindTexture(GL_TEXTURE_2D, mapTexture(*t, depth));
+    glUniform1i(loc, unit);
+}
+
+void checkGl(const std::string& what) {
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        std::ostringstream os;
+        os << "OpenGL error 0x" << std::hex << e << " in " << what;
+        throw std::runtime_error(os.str());
+    }
+}
+
+}  // namespace
+
+void setGlDevice(const std::string& device) {
+    std::lock_guard<std::mutex> lock(gMutex);
+    if (gTried && device != gDevice)
+        throw std::runtime_error("the GL device is chosen before the first GL method runs");
+    gDevice = device;
+}
+
+const GlInfo& glContext(const std::string& device) {
+    std::lock_guard<std::mutex> lock(gMutex);
+    if (!device.empty() && !gTried) gDevice = device;
+    ensureContext();
+    return gInfo;
+}
+
+GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                const Texture* parallax, double scale, double bias,
+                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                int timingRepeats) {
+    PGT_CHECK_EQ(uv0.size(), view.size());
+    std::lock_guard<std::mutex> lock(gMutex);
+    ensureContext();
+    GlslRun run;
+    const int n = int(uv0.size());
+    if (n == 0) return run;
+    GLuint prog = programFor(spec);
+    glUseProgram(prog);
+    if (!gVao) glGenVertexArrays(1, &gVao);
+    glBindVertexArray(gVao);
+
+    // Fragment k at texel (k % w, k / w) of the input and output images.
+    const int w = std::min(n, 2048), h = (n + w - 1) / w;
+    std::vector<float> uvData(size_t(w) * h * 2, 0.0f), viewData(size_t(w) * h * 4, 0.0f);
+    for (int k = 0; k < n; ++k) {
+        uvData[2 * size_t(k)] = uv0[size_t(k)].x;
+        uvData[2 * size_t(k) + 1] = uv0[size_t(k)].y;
+        viewData[4 * size_t(k)] = view[size_t(k)].x;
+        viewData[4 * size_t(k) + 1] = view[size_t(k)].y;
+        viewData[4 * size_t(k) + 2] = view[size_t(k)].z;
+    }
+    GLuint uvTex = makeTexture(GL_RG32F, GL_RG, w, h, uvData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+    GLuint viewTex =
+        makeTexture(GL_RGBA32F, GL_RGBA, w, h, viewData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+    GLuint outUv = makeTexture(GL_RG32F, GL_RG, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    GLuint outFetch = makeTexture(GL_R32F, GL_RED, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    GLuint fbo = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, outUv, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, outFetch, 0);
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    PGT_CHECK(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+
+    // Units: 0 = the height/depth map, 1 = uv0, 2 = V, 3 = normal map, 4 = parallax map.
+    bindSampler(prog, spec, "sampler", spec.sampler, 0, &height, spec.depthTexture);
+    bindSampler(prog, spec, "normal_sampler", spec.normalSampler, 3, normal, false);
+    bindSampler(prog, spec, "parallax_sampler", spec.parallaxSampler, 4, parallax, false);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, uvTex);
+    glUniform1i(glGetUniformLocation(prog, "pgt_uv0"), 1);
+    glActiveTexture(GL_TEXTURE2);
+    glBindTexture(GL_TEXTURE_2D, viewTex);
+    glUniform1i(glGetUniformLocation(prog, "pgt_view"), 2);
+    glUniform1i(glGetUniformLocation(prog, "pgt_count"), n);
+    glUniform1i(glGetUniformLocation(prog, "pgt_width"), w);
+    for (const GlslSpec::Uniform& un : spec.uniforms) {
+        GLint u = glGetUniformLocation(prog, un.name.c_str());
+        if (u < 0)
+            throw InputError(spec.path, "uniforms." + un.name, "",
+                             "is not an active uniform of the shader (misspelt, or unused by " +
+                                 spec.function + ")");
+        std::vector<float> f(un.values.begin(), un.values.end());
+        if (un.bind == "scale") f = {float(scale)};
+        if (un.bind == "bias") f = {float(bias)};
+        if (un.isInt) glUniform1i(u, int(un.values[0]));
+        else if (f.size() == 1) glUniform1f(u, f[0]);
+        else if (f.size() == 2) glUniform2f(u, f[0], f[1]);
+        else if (f.size() == 3) glUniform3f(u, f[0], f[1], f[2]);
+        else glUniform4f(u, f[0], f[1], f[2], f[3]);
+        if (glGetError() != GL_NO_ERROR)
+            throw InputError(spec.path, "uniforms." + un.name, "",
+                             "does not match the uniform's type in the shader");
+    }
+    glViewport(0, 0, w, h);
+    glDisable(GL_BLEND);
+    glDisable(GL_DEPTH_TEST);
+    const float clear[4] = {NAN, NAN, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, clear);
+    glClearBufferfv(GL_COLOR, 1, clear + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    checkGl("the draw of " + spec.path);
+
+    std::vector<float> outUvData(size_t(w) * h * 2), outFetchData(size_t(w) * h);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RG, GL_FLOAT, outUvData.data());
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, outFetchData.data());
+    checkGl("reading back " + spec.path);
+    run.uv.resize(size_t(n));
+    run.fetches.resize(size_t(n));
+    for (int k = 0; k < n; ++k) {
+        run.uv[size_t(k)] = Vec2f(outUvData[2 * size_t(k)], outUvData[2 * size_t(k) + 1]);
+        run.fetches[size_t(k)] = uint32_t(std::max(0.0f, outFetchData[size_t(k)]));
+    }
+
+    // GL time of the draw alone (GL_TIME_ELAPSED), median of the repeats.
+    if (timingRepeats > 0) {
+        GLuint q = 0;
+        glGenQueries(1, &q);
+        std::vector<double> ns;
+        for (int r = 0; r < timingRepeats; ++r) {
+            glBeginQuery(GL_TIME_ELAPSED, q);
+            glDrawArrays(GL_TRIANGLES, 0, 3);
+            glEndQuery(GL_TIME_ELAPSED);
+            GLuint64 t = 0;
+            glGetQueryObjectui64v(q, GL_QUERY_RESULT, &t);
+            ns.push_back(double(t) / n);
+        }
+        glDeleteQueries(1, &q);
+        std::sort(ns.begin(), ns.end());
+        run.gpuNsPerPixel = ns[ns.size() / 2];
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    GLuint textures[4] = {uvTex, viewTex, outUv, outFetch};
+    glDeleteTextures(4, textures);
+    checkGl("cleaning up after " + spec.path);
+    return run;
+}
+
+}  // namespace pgt

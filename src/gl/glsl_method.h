@@ -1,0 +1,67 @@
+// GLSL methods (issue 7): a user's shader function `vec2 F(vec2 uv, vec3 viewTangent)` run
+// in a real OpenGL (EGL, headless: Mesa llvmpipe on machines without a GPU) over the
+// rasteriser's fragments, with the same float uv0 and tangent-space V the C++ methods get.
+// The only module that includes OpenGL/EGL headers.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/math.h"
+#include "heightfield/texture.h"
+
+namespace pgt {
+
+// What a scene's `{"name": ..., "glsl": FILE, ...}` method entry says (parsed in methods/).
+struct GlslSpec {
+    std::string path;      // as resolved from the scene file's folder
+    std::string source;    // the file's text (read when the scene is parsed)
+    std::string function = "ParallaxMapping";
+    std::string sampler = "depthMap";  // "" = the function samples no height map
+    std::string normalSampler, parallaxSampler;  // optional: 003's derived maps
+    bool depthTexture = false;  // "texture": "depth" -> the sampler holds d = 1 - h
+    // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
+    // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
+    struct Uniform {
+        std::string name;
+        std::vector<double> values;
+        bool isInt = false;
+        std::string bind;  // "", "scale" or "bias"
+    };
+    std::vector<Uniform> uniforms;
+};
+
+// The GL the methods run in, named as the driver names itself.
+struct GlInfo {
+    std::string renderer, version, vendor;
+    bool software = false;  // llvmpipe / softpipe / swrast: timings are CPU timings
+};
+
+// The process's headless GL context (created on first use). `device` = "" picks the EGL
+// surfaceless platform (Mesa: llvmpipe without a GPU); "egl-device:N" picks the N-th EGL
+// device (a hardware GPU when one is present). Throws std::runtime_error when no GL 4.3+
+// context can be made, with what was tried.
+const GlInfo& glContext(const std::string& device = "");
+// Selects the device before the first use (CLI --gl-device).
+void setGlDevice(const std::string& device);
+
+// One run of a GLSL method over a list of fragments.
+struct GlslRun {
+    std::vector<Vec2f> uv;        // uv' per fragment
+    std::vector<uint32_t> fetches;  // texture() calls per fragment
+    double gpuNsPerPixel = 0;     // GL_TIME_ELAPSED of the draw, median of the repeats
+};
+
+// Compiles the spec's shader (cached per source, function and sampler) and runs it over the
+// fragments. Compile and link errors throw InputError naming the user's file and line.
+// `timingRepeats` > 0 also times the draw with GL timer queries.
+// `normal` and `parallax` are 003's derived maps (needed when the spec names their samplers).
+// `scale`, `bias`: the (s, b) of the case, for uniforms bound to them.
+GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                const Texture* parallax, double scale, double bias,
+                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                int timingRepeats = 0);
+
+}  // namespace pgt
