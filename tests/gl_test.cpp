@@ -214,5 +214,60 @@ TEST(Gl, MissingSamplerOrUniformIsNamed) {
     }
 }
 
+// The engine presets on a constant height h (depth d = 1 - h) have closed forms: Godot's
+// offset without the division by V.z, uv0 - V.xy * 0.05 * d, for the plain and the deep
+// variant (its occlusion step lands exactly on a flat depth); Bevy's occlusion divides by
+// |V.z|: uv0 - V.xy * 0.1 * d / |V.z|; its relief refinement lands within half a layer / 2^5.
+TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
+    const double h = 0.3, d = 1 - h;
+    Texture t = test::makeTexture(16, 16, [&](int, int) { return h; });
+    Inputs in = randomInputs(400, 13);
+    auto preset = [&](const char* name) {
+        MethodConfig cfg = parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
+                                       "scene.json", "methods[0]");
+        EXPECT_EQ(cfg.preset, name);
+        return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view);
+    };
+    GlslRun godot = preset("godot"), deep = preset("godot_deep");
+    GlslRun occlusion = preset("bevy_occlusion"), relief = preset("bevy_relief");
+    for (size_t k = 0; k < in.uv0.size(); ++k) {
+        Vec2d uv0(in.uv0[k]);
+        Vec3d v(in.view[k]);
+        Vec2d g = uv0 - Vec2d(v.x, v.y) * 0.05 * d;
+        EXPECT_LT(glm::length(Vec2d(godot.uv[k]) - g), 1e-6) << k;
+        EXPECT_LT(glm::length(Vec2d(deep.uv[k]) - g), 2e-6) << k;
+        EXPECT_EQ(godot.fetches[k], 1u);
+        Vec2d b = uv0 - Vec2d(v.x, v.y) * 0.1 * d / std::fabs(v.z);
+        EXPECT_LT(glm::length(Vec2d(occlusion.uv[k]) - b), 1e-5 * (1 + glm::length(b - uv0)))
+            << k;
+        double layers = 16 * (1 - std::fabs(v.z)) + std::fabs(v.z);
+        double step = 0.1 / layers * glm::length(Vec2d(v.x, v.y)) / std::fabs(v.z);
+        EXPECT_LT(glm::length(Vec2d(relief.uv[k]) - b), step / 32 + 1e-6) << k;
+    }
+}
+
+// The source documents' own settings are the built-in methods with their (s, b).
+TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
+    auto preset = [](const char* name) {
+        return parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
+                           "scene.json", "methods[0]");
+    };
+    MethodConfig welsh = preset("welsh");
+    EXPECT_EQ(welsh.kind, MethodKind::Parallax);
+    EXPECT_EQ(welsh.scale, 0.04);
+    EXPECT_EQ(welsh.bias, -0.02);
+    MethodConfig blog = preset("deferred_blog");
+    EXPECT_EQ(blog.kind, MethodKind::Steep);
+    EXPECT_EQ(blog.maxLayers, 100);
+    EXPECT_EQ(blog.maxSteps, 100);
+    EXPECT_EQ(blog.scale, 0.15);
+    EXPECT_EQ(blog.label, "deferred_blog");
+    MethodConfig lpom = preset("learnopengl_pom");
+    EXPECT_EQ(lpom.kind, MethodKind::Pom);
+    EXPECT_EQ(lpom.scale, 0.1);
+    EXPECT_EQ(lpom.bias, -0.1);
+    EXPECT_THROW(preset("unreal"), InputError);
+}
+
 }  // namespace
 }  // namespace pgt

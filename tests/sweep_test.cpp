@@ -3,7 +3,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
 
 #include "core/error.h"
 #include "study/sweep.h"
@@ -65,7 +67,7 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
         "pixels", "mean", "rms", "p50", "p90", "p99", "max", "frac_gt_1texel", "truth_only",
         "raster_only", "nonfinite", "zero_divide", "step_limit", "fetches_mean", "fetches_max",
         "ns_per_px", "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame",
-        "p90_exact_frame"};
+        "p90_exact_frame", "timing_backend"};
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);
@@ -152,10 +154,66 @@ TEST(Sweep, BadSweepEntriesNameTheKey) {
         return std::string();
     };
     EXPECT_NE(bad("pom.linear_steps", {4}).find("sweep.pom.linear_steps"), std::string::npos);
-    EXPECT_NE(bad("relief.binary_steps", {4}).find("no method named"), std::string::npos);
+    EXPECT_NE(bad("relief.binary_steps", {4}).find("no built-in method named"), std::string::npos);
     EXPECT_NE(bad("theta", {10, 95}).find("sweep.theta"), std::string::npos);
     EXPECT_NE(bad("thetas", {10}).find("did you mean \"theta\""), std::string::npos);
     EXPECT_NE(bad("bias", {0.0}).find("either"), std::string::npos);
+}
+
+// A user's GLSL file runs in a sweep like a built-in (issue 7): LearnOpenGL's
+// ParallaxMapping on a depth map with height_scale bound to the case's s is the built-in
+// parallax at b = -s, so at bias ratio -1 the two rows of every case agree; its rows carry
+// the GL renderer as their timing backend.
+TEST(Sweep, UserGlslMethodAppearsInTheResults) {
+    auto dir = test::tempDir("glsl_sweep");
+    std::ofstream(dir / "mine.glsl") << "#version 330 core\n"
+                                        "uniform sampler2D depthMap;\n"
+                                        "uniform float height_scale;\n"
+                                        "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n"
+                                        "    float height = texture(depthMap, texCoords).r;\n"
+                                        "    vec2 p = viewDir.xy / viewDir.z * (height * height_scale);\n"
+                                        "    return texCoords - p;\n"
+                                        "}\n";
+    nlohmann::json j = nlohmann::json::parse(kStudyScene);
+    j["methods"] = nlohmann::json::parse(
+        R"(["parallax", {"name": "mine", "glsl": "mine.glsl", "texture": "depth",
+                         "uniforms": {"height_scale": "scale"}}])");
+    j["sweep"].erase("pom.max_layers");
+    j["sweep"]["bias_ratio"] = {-1};
+    Scene scene = parseScene(j, (dir / "scene.json").string());
+    Study study = parseStudy(scene);
+    ASSERT_EQ(study.configs.size(), 2u);
+    SweepOptions opt;
+    opt.outDir = (dir / "out").string();
+    opt.progress = false;
+    SweepSummary sum = runSweep(scene, study, opt);
+    ASSERT_TRUE(sum.finished);
+    auto lines = readLines(dir / "out" / "results.csv");
+    std::map<std::string, std::map<std::string, double>> meanBy;  // case -> label -> mean
+    int glRows = 0;
+    for (size_t i = 1; i < lines.size(); ++i) {
+        const std::string& l = lines[i];
+        std::string c = l.substr(0, l.find(','));
+        bool mine = l.find(",mine,mine,") != std::string::npos;
+        if (mine) {
+            EXPECT_TRUE(l.find("gl wall clock: ") != std::string::npos ||
+                        l.find("gl timer query: ") != std::string::npos)
+                << l;
+            ++glRows;
+        }
+        // mean is the 11th column; params (9th) is the only field before it with commas.
+        std::string after = l.substr(l.find("}\",", l.find(",\"{")) + 3);
+        std::stringstream ss(after);
+        std::string pixels, mean;
+        std::getline(ss, pixels, ',');
+        std::getline(ss, mean, ',');
+        meanBy[c][mine ? "mine" : "parallax"] = std::stod(mean);
+    }
+    EXPECT_EQ(glRows, int(study.cases.size()));
+    for (const auto& [c, m] : meanBy) {
+        ASSERT_EQ(m.size(), 2u);
+        EXPECT_NEAR(m.at("mine"), m.at("parallax"), 1e-3 + 1e-4 * m.at("parallax")) << "case " << c;
+    }
 }
 
 }  // namespace

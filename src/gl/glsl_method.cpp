@@ -9,6 +9,7 @@
 #include <GL/glcorearb.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <map>
 #include <mutex>
@@ -416,18 +417,25 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
     if (timingRepeats > 0) {
         GLuint q = 0;
         glGenQueries(1, &q);
-        std::vector<double> ns;
+        std::vector<double> ns, wall;
         for (int r = 0; r < timingRepeats; ++r) {
+            glFinish();
+            auto t0 = std::chrono::steady_clock::now();
             glBeginQuery(GL_TIME_ELAPSED, q);
             glDrawArrays(GL_TRIANGLES, 0, 3);
             glEndQuery(GL_TIME_ELAPSED);
+            glFinish();
+            wall.push_back(std::chrono::duration<double, std::nano>(
+                               std::chrono::steady_clock::now() - t0).count() / n);
             GLuint64 t = 0;
             glGetQueryObjectui64v(q, GL_QUERY_RESULT, &t);
             ns.push_back(double(t) / n);
         }
         glDeleteQueries(1, &q);
         std::sort(ns.begin(), ns.end());
+        std::sort(wall.begin(), wall.end());
         run.gpuNsPerPixel = ns[ns.size() / 2];
+        run.wallNsPerPixel = wall[wall.size() / 2];
     }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);

@@ -52,6 +52,7 @@ struct GlslRun {
     std::vector<Vec2f> uv;        // uv' per fragment
     std::vector<uint32_t> fetches;  // texture() calls per fragment
     double gpuNsPerPixel = 0;     // GL_TIME_ELAPSED of the draw, median of the repeats
+    double wallNsPerPixel = 0;    // the same draw between two glFinish, wall clock
 };
 
 // Compiles the spec's shader (cached per source, function and sampler) and runs it over the

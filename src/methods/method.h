@@ -35,6 +35,7 @@ struct MethodConfig {
     double scale = NAN, bias = NAN;
     // Glsl: the shader file, function, sampler and uniforms (its name is the user's).
     std::shared_ptr<const GlslSpec> glsl;
+    std::string preset;  // the engine/document preset it came from, if any
 };
 
 // Stiff-case flags a method raises (counted per frame, never thrown).

@@ -2,6 +2,7 @@
 #include "methods/registry.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -116,10 +117,69 @@ bool needsDerivedMaps(const MethodConfig& cfg) {
     return needsDerivedMaps(cfg.kind);
 }
 
+std::string shaderDir() {
+    const char* env = std::getenv("PGT_SHADER_DIR");
+    return env ? env : PGT_SHADER_DIR;
+}
+
+const std::vector<MethodPreset>& methodPresets() {
+    // Engine defaults and the source documents' own settings (README "Engine presets" gives
+    // each one's source). GLSL presets are our re-implementations of the engines' shader
+    // code paths, in src/shaders/presets/.
+    static const std::vector<MethodPreset> presets = {
+        {"welsh", "000 (Welsh 2004): parallax mapping at its own s 0.04, b -0.02",
+         R"({"name": "parallax", "scale": 0.04, "bias": -0.02})"},
+        {"learnopengl_parallax", "002 (LearnOpenGL): ParallaxMapping, height_scale 0.1 on a depth map",
+         R"({"name": "parallax", "scale": 0.1, "bias": -0.1})"},
+        {"learnopengl_steep", "002 (LearnOpenGL): steep parallax, 8-32 layers, height_scale 0.1",
+         R"({"name": "steep", "min_layers": 8, "max_layers": 32, "scale": 0.1, "bias": -0.1})"},
+        {"learnopengl_pom", "002 (LearnOpenGL): parallax occlusion, 8-32 layers, height_scale 0.1",
+         R"({"name": "pom", "min_layers": 8, "max_layers": 32, "scale": 0.1, "bias": -0.1})"},
+        {"deferred_blog", "004 (the deferred-renderer blog): numSteps 100 at height scale 0.15",
+         R"({"name": "steep", "layers": 100, "max_steps": 100, "scale": 0.15, "bias": -0.15})"},
+        {"godot", "Godot 4 BaseMaterial3D, height mapping on, deep parallax off: heightmap_scale 5",
+         R"({"glsl": "presets/godot.glsl", "function": "GodotParallax", "sampler": "heightMap",
+             "uniforms": {"heightmap_scale": 5.0}})"},
+        {"godot_deep", "Godot 4 BaseMaterial3D deep parallax: heightmap_scale 5, 8-32 layers",
+         R"({"glsl": "presets/godot.glsl", "function": "GodotDeepParallax", "sampler": "heightMap",
+             "uniforms": {"heightmap_scale": 5.0, "heightmap_min_layers": 8.0,
+                          "heightmap_max_layers": 32.0}})"},
+        {"bevy_occlusion", "Bevy StandardMaterial: depth scale 0.1, 16 layers, Occlusion (default)",
+         R"({"glsl": "presets/bevy.glsl", "function": "BevyOcclusion", "sampler": "depthMap",
+             "texture": "depth", "uniforms": {"depth_scale": 0.1, "max_layer_count": 16.0}})"},
+        {"bevy_relief", "Bevy StandardMaterial: depth scale 0.1, 16 layers, Relief with 5 steps",
+         R"({"glsl": "presets/bevy.glsl", "function": "BevyRelief", "sampler": "depthMap",
+             "texture": "depth", "uniforms": {"depth_scale": 0.1, "max_layer_count": 16.0,
+                                              "max_steps": 5}})"},
+    };
+    return presets;
+}
+
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
     Json object = entry.is_string() ? Json{{"name", entry}} : entry;
     if (!object.is_object())
         throw InputError(file, path, shortDump(entry), "expected a method name or object");
+    if (object.contains("preset")) {
+        // {"preset": NAME, "label": optional}: the preset's own entry, labelled NAME.
+        JsonFields pf(object, file, path);
+        std::vector<std::string> names;
+        for (const auto& p : methodPresets()) names.push_back(p.name);
+        std::string name = pf.choice("preset", names, "");
+        std::string label = pf.string("label", name);
+        pf.finish();
+        for (const auto& p : methodPresets()) {
+            if (p.name != name) continue;
+            Json expanded = Json::parse(p.entry);
+            if (expanded.contains("glsl")) {
+                expanded["name"] = name;
+                expanded["glsl"] = shaderDir() + "/" + expanded["glsl"].get<std::string>();
+            }
+            expanded["label"] = label;
+            MethodConfig cfg = parseMethod(expanded, file, path);
+            cfg.preset = name;
+            return cfg;
+        }
+    }
     JsonFields f(object, file, path);
     if (object.contains("glsl")) {
         MethodConfig cfg = parseGlslMethod(f, file);
@@ -225,6 +285,7 @@ std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file
 
 Json toJson(const MethodConfig& c) {
     Json j = {{"name", c.name}, {"label", c.label}};
+    if (!c.preset.empty()) j["preset"] = c.preset;
     if (c.glsl) {
         j["glsl"] = c.glsl->path;
         j["function"] = c.glsl->function;

@@ -17,6 +17,15 @@ MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
                          const std::string& path);
 nlohmann::json toJson(const MethodConfig& cfg);
 
+// Named configurations: engine defaults and the source documents' settings (issue 7), used
+// as {"preset": NAME} in a method list. `entry` is the method entry it stands for.
+struct MethodPreset {
+    std::string name, source, entry;
+};
+const std::vector<MethodPreset>& methodPresets();
+// Where the shipped GLSL files are (src/shaders; PGT_SHADER_DIR in the environment wins).
+std::string shaderDir();
+
 // Runs one method on one fragment. Never throws; stiff cases land in ctx.flags.
 template <class Real>
 Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Real> uv0,

@@ -136,15 +136,23 @@ Study parseStudy(const Scene& scene) {
         Json values = it.value().is_array() ? it.value() : Json::array({it.value()});
         if (values.empty()) f.failValue(it.key(), it.value(), "no values");
         bool known = false;
-        for (const auto& m : scene.methods) known = known || m.name == prefix || m.label == prefix;
+        for (const auto& m : scene.methods)
+            known = known || ((m.name == prefix || m.label == prefix) && !m.glsl && m.preset.empty());
         if (!known)
-            f.fail(it.key(), "no method named or labelled \"" + prefix + "\" in \"methods\"");
+            f.fail(it.key(), "no built-in method named or labelled \"" + prefix +
+                                 "\" in \"methods\" (presets and GLSL methods are fixed)");
         lists[prefix].push_back({param, values});
     }
     f.finish(dotted);
 
     Json expanded = Json::array();
-    for (const auto& m : scene.methods) {
+    for (size_t i = 0; i < scene.methods.size(); ++i) {
+        const MethodConfig& m = scene.methods[i];
+        // Presets and GLSL methods are fixed configurations: taken as the user wrote them.
+        if (m.glsl || !m.preset.empty()) {
+            expanded.push_back(scene.json["methods"][i]);
+            continue;
+        }
         std::vector<Json> entries = {toJson(m)};
         bool varied = false;
         for (const std::string& prefix : {m.name, m.label}) {
@@ -220,7 +228,10 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
            << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << ','
-           << csvQuote(m.timingBackend) << '\n';
+           << (m.timingBackend.find_first_of(",\"") == std::string::npos
+                   ? m.timingBackend
+                   : csvQuote(m.timingBackend))
+           << '\n';
     }
     return os.str();
 }
