@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 #include "study/fit.h"
 #include "study/outputs.h"
+#include "gl/glsl_method.h"
 #include "study/render.h"
 #include "study/stress.h"
 #include "study/sweep.h"
@@ -69,9 +70,16 @@ int main(int argc, char** argv) {
     stress->add_option("--out", stressOpt.outDir, "Output directory for stress.csv")->required();
     stress->add_option("--resolution", stressOpt.resolution, "Override every scene's resolution")
         ->check(CLI::Range(1, 4096));
+    // GLSL methods (issue 7): the GL they run in. Default: Mesa's EGL surfaceless platform
+    // (llvmpipe without a GPU); egl-device:N picks the N-th EGL device (a hardware GPU).
+    std::string glDevice;
+    for (CLI::App* sub : {render, sweep, stress})
+        sub->add_option("--gl-device", glDevice,
+                         "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
     CLI11_PARSE(app, argc, argv);
 
     try {
+        if (!glDevice.empty()) pgt::setGlDevice(glDevice);
         if (*render) {
             pgt::Scene scene = pgt::loadScene(scenePath);
             pgt::RenderResult result = pgt::renderFrame(scene, {repeats});

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <exception>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -26,7 +27,7 @@ namespace {
 std::mutex gMutex;
 std::string gDevice;
 bool gTried = false;
-std::string gFailure;
+std::exception_ptr gFailurePtr;  // why the context could not be made (rethrown each use)
 GlInfo gInfo;
 EGLDisplay gDisplay = EGL_NO_DISPLAY;
 EGLContext gContext = EGL_NO_CONTEXT;
@@ -41,17 +42,18 @@ EGLDisplay openDisplay(const std::string& device) {
     if (device.empty())
         return eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     const std::string prefix = "egl-device:";
-    if (device.rfind(prefix, 0) != 0)
-        throw std::runtime_error("--gl-device '" + device +
-                                 "': expected egl-device:N (N from 0) or nothing");
-    int index = std::stoi(device.substr(prefix.size()));
+    const std::string digits = device.rfind(prefix, 0) == 0 ? device.substr(prefix.size()) : "";
+    if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError("command line", "--gl-device", device,
+                         "expected egl-device:N (N from 0), or no option for EGL surfaceless");
+    int index = std::stoi(digits);
     auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
     if (!query) throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
     EGLDeviceEXT devices[16];
     EGLint n = 0;
     if (!query(16, devices, &n) || index < 0 || index >= n)
-        throw std::runtime_error("--gl-device '" + device + "': EGL lists " + std::to_string(n) +
-                                 " devices");
+        throw InputError("command line", "--gl-device", device,
+                         "EGL lists " + std::to_string(n) + " device(s) on this machine");
     return eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
 }
 
@@ -96,11 +98,14 @@ void ensureContext() {
     if (!gTried) {
         try {
             createContext();
+        } catch (const InputError&) {
+            gFailurePtr = std::current_exception();
         } catch (const std::exception& e) {
-            gFailure = e.what();
+            gFailurePtr = std::make_exception_ptr(
+                std::runtime_error(std::string("OpenGL unavailable: ") + e.what()));
         }
     }
-    if (!gFailure.empty()) throw std::runtime_error("OpenGL unavailable: " + gFailure);
+    if (gFailurePtr) std::rethrow_exception(gFailurePtr);
     if (eglGetCurrentContext() != gContext)
         eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, gContext);
 }
@@ -396,7 +401,32 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
     const float clear[4] = {NAN, NAN, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_COLOR, 1, clear + 2);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    // The draw, `timingRepeats` times when timed (each between two glFinish and inside a
+    // GL_TIME_ELAPSED query; every draw writes the same outputs), once otherwise.
+    GLuint query = 0;
+    if (timingRepeats > 0) glGenQueries(1, &query);
+    std::vector<double> gpuNs, wallNs;
+    for (int r = 0; r < std::max(1, timingRepeats); ++r) {
+        if (query) glFinish();
+        auto t0 = std::chrono::steady_clock::now();
+        if (query) glBeginQuery(GL_TIME_ELAPSED, query);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        if (!query) break;
+        glEndQuery(GL_TIME_ELAPSED);
+        glFinish();
+        wallNs.push_back(std::chrono::duration<double, std::nano>(
+                             std::chrono::steady_clock::now() - t0).count() / n);
+        GLuint64 t = 0;
+        glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
+        gpuNs.push_back(double(t) / n);
+    }
+    if (query) {
+        glDeleteQueries(1, &query);
+        std::sort(gpuNs.begin(), gpuNs.end());
+        std::sort(wallNs.begin(), wallNs.end());
+        run.gpuNsPerPixel = gpuNs[gpuNs.size() / 2];
+        run.wallNsPerPixel = wallNs[wallNs.size() / 2];
+    }
     checkGl("the draw of " + spec.path);
 
     std::vector<float> outUvData(size_t(w) * h * 2), outFetchData(size_t(w) * h);
@@ -413,30 +443,6 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
         run.fetches[size_t(k)] = uint32_t(std::max(0.0f, outFetchData[size_t(k)]));
     }
 
-    // GL time of the draw alone (GL_TIME_ELAPSED), median of the repeats.
-    if (timingRepeats > 0) {
-        GLuint q = 0;
-        glGenQueries(1, &q);
-        std::vector<double> ns, wall;
-        for (int r = 0; r < timingRepeats; ++r) {
-            glFinish();
-            auto t0 = std::chrono::steady_clock::now();
-            glBeginQuery(GL_TIME_ELAPSED, q);
-            glDrawArrays(GL_TRIANGLES, 0, 3);
-            glEndQuery(GL_TIME_ELAPSED);
-            glFinish();
-            wall.push_back(std::chrono::duration<double, std::nano>(
-                               std::chrono::steady_clock::now() - t0).count() / n);
-            GLuint64 t = 0;
-            glGetQueryObjectui64v(q, GL_QUERY_RESULT, &t);
-            ns.push_back(double(t) / n);
-        }
-        glDeleteQueries(1, &q);
-        std::sort(ns.begin(), ns.end());
-        std::sort(wall.begin(), wall.end());
-        run.gpuNsPerPixel = ns[ns.size() / 2];
-        run.wallNsPerPixel = wall[wall.size() / 2];
-    }
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
     GLuint textures[4] = {uvTex, viewTex, outUv, outFetch};
