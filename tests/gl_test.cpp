@@ -116,8 +116,8 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
         MethodConfig cpu = parseMethod(nlohmann::json::parse(cpuJson), "test", "m");
         MethodConfig gl = glslMethod(glJson);
         Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
-        std::printf("%-15s fragments %lld, over 1e-3 texel %lld, max below %.2e texel, fetch "
-                    "count mismatches %lld\n",
+        std::printf("%-15s fragments %lld, over the tolerance %lld, max within it %.2e texel, "
+                    "fetch count mismatches %lld\n",
                     cpu.name.c_str(), (long long)a.n, (long long)a.over, a.maxTexels,
                     (long long)a.fetchMismatch);
         if (march) {
