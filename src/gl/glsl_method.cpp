@@ -9,12 +9,12 @@
 #include <GL/glcorearb.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <exception>
 #include <map>
 #include <mutex>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -168,21 +168,50 @@ std::string translateLog(const std::string& log, const std::string& file) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
-    static const std::regex mesa(R"(^(\d+):(\d+)\((\d+)\): (.*)$)");
-    static const std::regex other(R"(^(\d+)\((\d+)\) ?: (.*)$)");
+    auto digitsAt = [](const std::string& t, size_t& i) {
+        size_t start = i;
+        while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+        return t.substr(start, i - start);
+    };
     while (std::getline(in, line)) {
-        std::smatch m;
-        if (std::regex_match(line, m, mesa)) {
-            std::string where = m[1] == "1" ? file : m[1] == "2" ? "pgt wrapper" : "pgt prelude";
-            out << where << ":" << m[2] << ":" << m[3] << ": " << m[4] << "\n";
-        } else if (std::regex_match(line, m, other)) {
-            std::string where = m[1] == "1" ? file : m[1] == "2" ? "pgt wrapper" : "pgt prelude";
-            out << where << ":" << m[2] << ": " << m[3] << "\n";
-        } else if (!line.empty()) {
-            out << line << "\n";
+        size_t i = 0;
+        std::string src = digitsAt(line, i), ln, col;
+        bool ok = !src.empty() && i < line.size();
+        if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
+            ++i;
+            ln = digitsAt(line, i);
+            ok = !ln.empty() && i < line.size() && line[i] == '(';
+            if (ok) {
+                ++i;
+                col = digitsAt(line, i);
+                ok = i + 2 < line.size() && line.compare(i, 3, "): ") == 0;
+                i += 3;
+            }
+        } else if (ok && line[i] == '(') {  // S(L) : rest
+            ++i;
+            ln = digitsAt(line, i);
+            ok = !ln.empty() && line.compare(i, 1, ")") == 0;
+            ++i;
+            while (ok && i < line.size() && (line[i] == ' ' || line[i] == ':')) ++i;
+        } else {
+            ok = false;
         }
+        if (!ok) {
+            if (!line.empty()) out << line << "\n";
+            continue;
+        }
+        std::string where = src == "1" ? file : src == "2" ? "pgt wrapper" : "pgt prelude";
+        out << where << ":" << ln << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
+            << "\n";
     }
     return out.str();
+}
+
+bool isIdentifier(const std::string& s) {
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
 }
 
 GLuint compile(GLenum type, const std::string& src, const std::string& file) {
@@ -216,8 +245,7 @@ GLuint programFor(const GlslSpec& spec) {
     std::string key = spec.path + "\n" + spec.function + "\n" + spec.source;
     auto it = gPrograms.find(key);
     if (it != gPrograms.end()) return it->second.id;
-    static const std::regex ident(R"([A-Za-z_][A-Za-z0-9_]*)");
-    if (!std::regex_match(spec.function, ident))
+    if (!isIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     std::string fs = std::string(kPrelude) + "#line 1 1\n" + stripVersion(spec.source) +
                      "\n#line 1 2\n#define PGT_FUNCTION " + spec.function + "\n" + kMain;
