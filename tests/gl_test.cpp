@@ -174,6 +174,7 @@ TEST(Gl, CompileErrorNamesFileAndLine) {
         std::string what = e.what();
         EXPECT_NE(what.find(path + ":3"), std::string::npos) << what;
         EXPECT_NE(what.find("undefined_thing"), std::string::npos) << what;
+        EXPECT_EQ(what.find("pgt prelude"), std::string::npos) << what;  // all in the file
     }
 }
 

@@ -110,9 +110,9 @@ void ensureContext() {
         eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, gContext);
 }
 
-// The wrapper: a prelude that counts texture() calls, the user's file (its #version removed;
-// `#line 1 1` so the driver's messages carry the file's own line numbers as source 1), and a
-// main() that feeds the function one fragment per output pixel.
+// The wrapper: a prelude that counts texture() calls, the user's file (its #version line
+// blanked, so its lines keep their numbers), and a main() that feeds the function one
+// fragment per output pixel.
 constexpr const char* kPrelude = R"(#version 450 core
 int pgt_fetches = 0;
 vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
@@ -162,9 +162,10 @@ std::string stripVersion(const std::string& src) {
     return out.str();
 }
 
-// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with S the source
-// string: 1 = the user's file; the others are ours.
-std::string translateLog(const std::string& log, const std::string& file) {
+// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with L a line of the
+// whole fragment shader: lines (first, first + count] are the user's file (Mesa does not
+// keep #line's source numbers on every message, so lines are mapped by position).
+std::string translateLog(const std::string& log, const std::string& file, int first, int count) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -176,6 +177,7 @@ std::string translateLog(const std::string& log, const std::string& file) {
     while (std::getline(in, line)) {
         size_t i = 0;
         std::string src = digitsAt(line, i), ln, col;
+        (void)src;
         bool ok = !src.empty() && i < line.size();
         if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
             ++i;
@@ -200,8 +202,10 @@ std::string translateLog(const std::string& log, const std::string& file) {
             if (!line.empty()) out << line << "\n";
             continue;
         }
-        std::string where = src == "1" ? file : src == "2" ? "pgt wrapper" : "pgt prelude";
-        out << where << ":" << ln << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
+        int n = std::stoi(ln);
+        std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
+        if (n > first && n <= first + count) n -= first;
+        out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
             << "\n";
     }
     return out.str();
@@ -214,7 +218,11 @@ bool isIdentifier(const std::string& s) {
     return true;
 }
 
-GLuint compile(GLenum type, const std::string& src, const std::string& file) {
+int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
+GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
+               int userCount = 1 << 30) {
     GLuint s = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
@@ -228,7 +236,8 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file) {
         glGetShaderInfoLog(s, len, nullptr, log.data());
         glDeleteShader(s);
         throw InputError(file, "glsl", "", "the shader does not compile:\n" +
-                                               translateLog(log.c_str(), file));
+                                               translateLog(log.c_str(), file, userFirst,
+                                                            userCount));
     }
     return s;
 }
@@ -247,10 +256,12 @@ GLuint programFor(const GlslSpec& spec) {
     if (it != gPrograms.end()) return it->second.id;
     if (!isIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
-    std::string fs = std::string(kPrelude) + "#line 1 1\n" + stripVersion(spec.source) +
-                     "\n#line 1 2\n#define PGT_FUNCTION " + spec.function + "\n" + kMain;
+    const std::string user = stripVersion(spec.source);
+    const int first = countLines(kPrelude), count = countLines(user);
+    std::string fs = std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function +
+                     "\n" + kMain;
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
-    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path);
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
     GLuint prog = glCreateProgram();
     glAttachShader(prog, vs);
     glAttachShader(prog, f);
@@ -266,7 +277,8 @@ GLuint programFor(const GlslSpec& spec) {
         glGetProgramInfoLog(prog, len, nullptr, log.data());
         glDeleteProgram(prog);
         throw InputError(spec.path, "glsl", "", "the shader does not link:\n" +
-                                                    translateLog(log.c_str(), spec.path));
+                                                    translateLog(log.c_str(), spec.path, first,
+                                                                 count));
     }
     gPrograms[key] = {prog};
     return prog;
