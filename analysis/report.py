@@ -205,7 +205,8 @@ def main():
         "truth's own tessellation error.",
         "",
         "Errors are UV distances in texels (MODEL.md section 7); run time is the method alone, "
-        "single-threaded, on this machine's CPU.",
+        "single-threaded, on this machine's CPU; GLSL methods (marked GL) are timed by the GL "
+        "named in results.csv's timing_backend, not comparable with one CPU thread.",
         "",
         "## Error against view angle", ""]
     for scale, ratio, fname in theta_figs:
@@ -219,8 +220,9 @@ def main():
               "| configuration | mean error | p90 | ns/px | fetches/px |",
               "|---|---|---|---|---|"]
     for _, r in agg.sort_values("mean").iterrows():
+        gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
         lines.append(f"| {r['label']} | {nice(r['mean'])} | {nice(r['p90'])} | "
-                     f"{nice(r['ns'], 3)} | {nice(r['fetches'], 3)} |")
+                     f"{nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} |")
     lines += ["", "## Scale and bias defaults", "",
               "For each method (its configuration as the scene lists it) and scale: the bias "
               "ratio b/s with the lowest error averaged over the study's view angles, by mean "
