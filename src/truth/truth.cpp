@@ -181,6 +181,8 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                       Vec3d(Dv[0], Dv[1], Dv[2])));
     }
     m.heightMap = std::make_shared<const Texture>(height);
+    const Vec2d skew = m.cornerUv[0] + m.cornerUv[3] - m.cornerUv[1] - m.cornerUv[2];
+    m.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(m.cornerUv[3] - m.cornerUv[0]));
     if (window.limited) {
         // The lattice vertices covering the window (whole cells of the tile's lattice, so
         // the window's sheet is the very same surface as the tile's).
@@ -469,6 +471,11 @@ struct TruthSurface::Impl {
         ci = std::clamp(ci, 0, nu - 1);
         cj = std::clamp(cj, 0, nv - 1);
         const BaseTessellation& t = *base;
+        // A parallelogram's UVs are affine in (i, j): both triangles of a cell interpolate
+        // the same affine function, which is the corners' blend at the hit's lattice point.
+        if (t.affineUv)
+            return BaseTessellation::blend(t.cornerUv, (ci + t.offsetI + fx) * t.invNu,
+                                           (cj + t.offsetJ + fy) * t.invNv);
         const Vec2d a = t.gridUv(ci, cj), b = t.gridUv(ci + 1, cj);
         const Vec2d c = t.gridUv(ci, cj + 1), d = t.gridUv(ci + 1, cj + 1);
         if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
@@ -520,6 +527,9 @@ struct TruthSurface::Impl {
     bool start(const Ray& ray, Walk& w) const {
         w.o = ray.origin - base->origin - shift;  // into the built sheet's frame, in double
         w.dir = ray.dir;
+        w.guard = 0;
+        w.done = false;
+        w.result = TruthSample{};
         const double inf = std::numeric_limits<double>::infinity();
         // Parametric interval of the ray inside the bounds (x, y unbounded when periodic).
         double tEnter = ray.line ? -inf : 0.0, tExit = inf;
@@ -621,7 +631,7 @@ struct TruthSurface::Impl {
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         const int w = x1 - x0, n = w * (y1 - y0);
-        walks.assign(size_t(n), Walk{});
+        walks.resize(size_t(n));  // start() resets what a walk reads
         live.clear();
         for (int k = 0; k < n; ++k)
             if (start(camera.pixelRay(x0 + k % w, y0 + k / w), walks[size_t(k)])) live.push_back(k);

@@ -76,6 +76,7 @@ struct BaseTessellation {
     double gridS(int i) const { i += offsetI; return i == fullNu ? 1.0 : i * invNu; }
     double gridT(int j) const { j += offsetJ; return j == fullNv ? 1.0 : j * invNv; }
     double invNu = 1, invNv = 1;
+    bool affineUv = false;  // the corners' UVs form a parallelogram (every plane does)
     Vec3d positionAt(size_t k) const;
     Vec3d normalAt(size_t k) const;
     Vec2d uvAt(size_t k) const;
