@@ -40,9 +40,12 @@ void BM_TruthBuild(benchmark::State& state) {
     auto base = tessellatePlane(t, PlaneBase{}, 1);
     TruthGeometry g = state.range(1) ? TruthGeometry::Triangles : TruthGeometry::Grid;
     for (auto _ : state) TruthSurface surface(base, Displacement{0.05, -0.025}, g, false);
-    state.SetLabel(state.range(1) ? "triangles" : "grid");
+    state.SetLabel(std::string(state.range(1) ? "triangles, " : "grid, ") +
+                   std::to_string(state.range(0) + 1) + "^2 vertices");
 }
-BENCHMARK(BM_TruthBuild)->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TruthBuild)
+    ->Args({256, 0})->Args({256, 1})->Args({1024, 0})->Args({1024, 1})->Args({2048, 0})
+    ->Unit(benchmark::kMillisecond);
 
 Scene frameScene(int mapSide, int pixels) {
     Scene s;
