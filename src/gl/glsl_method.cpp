@@ -38,15 +38,21 @@ std::string eglErrorString() {
     return os.str();
 }
 
+// "egl-device:N" -> N; a malformed value is bad input naming the option.
+int deviceIndex(const std::string& device) {
+    const std::string prefix = "egl-device:";
+    const std::string digits = device.rfind(prefix, 0) == 0 ? device.substr(prefix.size()) : "";
+    if (digits.empty() || digits.size() > 3 ||
+        digits.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError("command line", "--gl-device", device,
+                         "expected egl-device:N (N from 0), or no option for EGL surfaceless");
+    return std::stoi(digits);
+}
+
 EGLDisplay openDisplay(const std::string& device) {
     if (device.empty())
         return eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    const std::string prefix = "egl-device:";
-    const std::string digits = device.rfind(prefix, 0) == 0 ? device.substr(prefix.size()) : "";
-    if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError("command line", "--gl-device", device,
-                         "expected egl-device:N (N from 0), or no option for EGL surfaceless");
-    int index = std::stoi(digits);
+    const int index = deviceIndex(device);
     auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
     if (!query) throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
     EGLDeviceEXT devices[16];
@@ -353,6 +359,7 @@ void checkGl(const std::string& what) {
 }  // namespace
 
 void setGlDevice(const std::string& device) {
+    if (!device.empty()) deviceIndex(device);  // the form now; the device at first use
     std::lock_guard<std::mutex> lock(gMutex);
     if (gTried && device != gDevice)
         throw std::runtime_error("the GL device is chosen before the first GL method runs");

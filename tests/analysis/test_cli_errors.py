@@ -37,6 +37,10 @@ cases = [  # (name, scene or raw text, expected status, words the message must c
     ("missing image", variant(["heightmap"], {"file": "nope.png"}), 2, ["heightmap.file", "nope.png"]),
     ("empty methods", variant(["methods"], []), 2, ["methods", "empty"]),
     ("unknown method", variant(["methods"], ["parralax"]), 2, ["methods[0].name", "tangent_plane"]),
+    ("missing shader", variant(["methods"], [{"name": "mine", "glsl": "nope.glsl"}]), 2,
+     ["methods[0].glsl", "nope.glsl"]),
+    ("unknown preset", variant(["methods"], [{"preset": "unreal"}]), 2,
+     ["methods[0].preset", "godot_deep"]),
 ]
 failures = []
 with tempfile.TemporaryDirectory() as d:
@@ -60,7 +64,12 @@ with tempfile.TemporaryDirectory() as d:
                        capture_output=True, text=True)
     if r.returncode != 3 or "cannot" not in r.stderr:
         failures.append(f"unwritable output: exit {r.returncode}, stderr {r.stderr!r}")
+    # A malformed GL device: status 2 naming the option (checked before any work).
+    r = subprocess.run([pgt, "render", path, "--out", os.path.join(d, "gl"), "--gl-device",
+                        "gpu0"], capture_output=True, text=True)
+    if r.returncode != 2 or "--gl-device" not in r.stderr or os.path.exists(os.path.join(d, "gl")):
+        failures.append(f"bad --gl-device: exit {r.returncode}, stderr {r.stderr!r}")
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print(f"{len(cases) + 1} passed, 0 failed")
+print(f"{len(cases) + 2} passed, 0 failed")
