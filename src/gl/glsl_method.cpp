@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <map>
@@ -64,19 +63,6 @@ EGLDisplay openDisplay(const std::string& device) {
     return eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
 }
 
-// Releases the context before the process's exit handlers run, so Mesa's worker threads
-// are joined while the process is still whole (LeakSanitizer's exit-time scan crashed once
-// in CI with llvmpipe's threads still alive).
-void shutdownGl() {
-    if (gDisplay == EGL_NO_DISPLAY) return;
-    eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-    if (gContext != EGL_NO_CONTEXT) eglDestroyContext(gDisplay, gContext);
-    eglTerminate(gDisplay);
-    eglReleaseThread();
-    gContext = EGL_NO_CONTEXT;
-    gDisplay = EGL_NO_DISPLAY;
-}
-
 void createContext() {
     gTried = true;
     EGLDisplay dpy = openDisplay(gDevice);
@@ -102,7 +88,6 @@ void createContext() {
         throw std::runtime_error("eglMakeCurrent without a surface failed: " + eglErrorString());
     gDisplay = dpy;
     gContext = ctx;
-    std::atexit(shutdownGl);
     auto str = [](GLenum e) {
         const GLubyte* s = glGetString(e);
         return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
