@@ -32,6 +32,17 @@ TEST(Fit, ParallaxOnConstantHeightReachesZero) {
     EXPECT_NEAR(sb, 0.06 * 0.4 - 0.03, 2e-3);
 }
 
+// Presets and GLSL methods are fixed configurations: skipped, the others still fitted.
+TEST(Fit, PresetsAndGlslMethodsAreSkipped) {
+    Scene s = fitScene(R"({"procedural": "constant", "value": 0.4, "size": [16, 16]})",
+                       R"({"theta": [30], "resolution": [16, 16], "scale_factors": [1],
+                           "bias_ratios": [-0.5], "refine": 0,
+                           "methods": ["parallax", {"preset": "welsh"}, {"preset": "godot"}]})");
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 1u);
+    EXPECT_EQ(r.methods[0].method, "parallax");
+}
+
 // A smooth field and a dense march: the best own (s, b) is the truth's own (s, b).
 TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
     Scene s = fitScene(R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})",

@@ -135,6 +135,14 @@ FitReport runFit(const Scene& scene, bool progress) {
     };
 
     for (const MethodConfig& base : methods) {
+        // Presets are fixed configurations (fit the built-in they stand for instead), and a
+        // GLSL method's parameters are its uniforms, which pgt does not vary.
+        if (base.glsl || !base.preset.empty()) {
+            if (progress)
+                std::fprintf(stderr, "fit: %s skipped (presets and GLSL methods are fixed)\n",
+                             base.label.c_str());
+            continue;
+        }
         const char* stepKey = stepParameter(base.kind);
         std::vector<double> stepList = stepKey ? steps : std::vector<double>{0};
         bool usesHeight = base.kind != MethodKind::None;
