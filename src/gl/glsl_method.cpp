@@ -226,6 +226,16 @@ bool isIdentifier(const std::string& s) {
 
 int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
+// A shader's or program's info log (glGet{Shader,Program}iv + ...InfoLog).
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+    GLint len = 0;
+    getIv(object, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    getLog(object, len, nullptr, log.data());
+    return log.c_str();  // up to the terminating NUL
+}
+
 // `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
                int userCount = 1 << 30) {
@@ -236,14 +246,10 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file, int
     GLint ok = 0;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        GLint len = 0;
-        glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetShaderInfoLog(s, len, nullptr, log.data());
+        std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
         glDeleteShader(s);
         throw InputError(file, "glsl", "", "the shader does not compile:\n" +
-                                               translateLog(log.c_str(), file, userFirst,
-                                                            userCount));
+                                               translateLog(log, file, userFirst, userCount));
     }
     return s;
 }
@@ -277,14 +283,10 @@ GLuint programFor(const GlslSpec& spec) {
     GLint ok = 0;
     glGetProgramiv(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
-        GLint len = 0;
-        glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetProgramInfoLog(prog, len, nullptr, log.data());
+        std::string log = infoLog(prog, glGetProgramiv, glGetProgramInfoLog);
         glDeleteProgram(prog);
         throw InputError(spec.path, "glsl", "", "the shader does not link:\n" +
-                                                    translateLog(log.c_str(), spec.path, first,
-                                                                 count));
+                                                    translateLog(log, spec.path, first, count));
     }
     gPrograms[key] = {prog};
     return prog;

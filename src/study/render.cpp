@@ -184,16 +184,22 @@ double glNsPerPixel(const GlslRun& run) {
     return glContext().software ? run.wallNsPerPixel : run.gpuNsPerPixel;
 }
 
+// A GLSL method over fragment inputs, with the maps and (s, b) of `tex`.
+GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex,
+                    const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view, int repeats) {
+    return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
+                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias, uv0,
+                   view, repeats);
+}
+
 // `nsPerPixel` (optional): also time the draw, median of `repeats`.
 Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
                                   const MethodTextures& tex, int width, int height,
                                   bool exactFrame, double* nsPerPixel = nullptr,
                                   int repeats = 0) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run = runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
-                          tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
-                          frags.uv0, exactFrame ? frags.viewExact : frags.view,
-                          nsPerPixel ? repeats : 0);
+    GlslRun run = runGlslWith(cfg, tex, frags.uv0, exactFrame ? frags.viewExact : frags.view,
+                              nsPerPixel ? repeats : 0);
     if (nsPerPixel) *nsPerPixel = glNsPerPixel(run);
     const float hi = float(tex.tiling);
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
@@ -232,13 +238,9 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
                             const MethodTextures& tex, int repeats) {
     const size_t n = frags.pixel.size();
     if (n == 0 || repeats < 1) return 0.0;
-    // A GLSL method: the draw's GL time (timer queries), median of the repeats.
-    if (cfg.kind == MethodKind::Glsl) {
-        GlslRun run = runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
-                       tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
-                       frags.uv0, frags.view, repeats);
-        return glNsPerPixel(run);
-    }
+    // A GLSL method: the GL time of its draw (glNsPerPixel), median of the repeats.
+    if (cfg.kind == MethodKind::Glsl)
+        return glNsPerPixel(runGlslWith(cfg, tex, frags.uv0, frags.view, repeats));
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
