@@ -8,6 +8,12 @@
 
 namespace pgt {
 
+// `text` made safe for a one-line message: control characters (a NUL, a newline) become
+// \uXXXX escapes and anything past `maxChars` is cut with "...". Keys and values of hostile
+// files are echoed through this, so an error stays one short line. `keepNewlines` keeps
+// '\n' (a compiler log in a message).
+std::string printable(const std::string& text, size_t maxChars, bool keepNewlines = false);
+
 // Bad input: names the file, the field (JSON pointer-like path or image texel) and the value.
 class InputError : public std::runtime_error {
 public:
@@ -24,11 +30,13 @@ public:
 private:
     static std::string format(const std::string& file, const std::string& field,
                               const std::string& value, const std::string& message) {
+        // Long enough for any real field path or value, short enough for one line.
+        constexpr size_t kMaxEcho = 120;
         std::ostringstream os;
-        os << (file.empty() ? "<input>" : file);
-        if (!field.empty()) os << ": " << field;
-        if (!value.empty()) os << " = " << value;
-        os << ": " << message;
+        os << (file.empty() ? "<input>" : printable(file, 4 * kMaxEcho));
+        if (!field.empty()) os << ": " << printable(field, kMaxEcho);
+        if (!value.empty()) os << " = " << printable(value, kMaxEcho);
+        os << ": " << printable(message, 64 * kMaxEcho, true);
         return os.str();
     }
     std::string file_, field_, value_;

@@ -40,7 +40,8 @@ std::string joinNames(const std::vector<std::string>& names) {
 }
 
 std::string shortDump(const Json& j) {
-    std::string s = j.dump();
+    // Values come from parsed (valid UTF-8) files, but replace rather than throw regardless.
+    std::string s = j.dump(-1, ' ', false, Json::error_handler_t::replace);
     if (s.size() > 60) s = s.substr(0, 57) + "...";
     return s;
 }

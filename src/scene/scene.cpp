@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/json_fields.h"
+#include "core/json_read.h"
 #include "heightfield/heightfield.h"
 #include "methods/registry.h"
 
@@ -15,29 +16,7 @@ namespace pgt {
 namespace fs = std::filesystem;
 
 Scene loadScene(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw InputError(path, "", "", "cannot open scene file");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    std::string text = buffer.str();
-    Json json;
-    try {
-        json = Json::parse(text);
-    } catch (const Json::parse_error& e) {
-        // Translate the byte offset into line and column for people.
-        size_t offset = std::min<size_t>(e.byte, text.size());
-        int line = 1, column = 1;
-        for (size_t i = 0; i + 1 < offset; ++i) {
-            if (text[i] == '\n') ++line, column = 1;
-            else ++column;
-        }
-        std::string what = e.what();
-        auto pos = what.find("parse error");
-        throw InputError(path, "line " + std::to_string(line) + ", column " +
-                                   std::to_string(column), "",
-                         "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
-    }
-    return parseScene(json, path);
+    return parseScene(readJsonFile(path), path);
 }
 
 namespace {
@@ -47,7 +26,15 @@ Vec3d vec3(JsonFields& f, const std::string& key, double lo = -1e9, double hi = 
     return {v[0], v[1], v[2]};
 }
 
-void parseHeightmap(Scene& s, JsonFields& root) {
+// A height image named by the scene: its header is read while parsing, its pixels only
+// after every other check has passed (a huge map is refused before it is decoded).
+struct PendingImage {
+    std::string path;
+    int channel = 0;
+    bool channelGiven = false;
+};
+
+void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
     const Json& hm = root.raw("heightmap");
     JsonFields f(hm, s.file, "heightmap");
     if (f.has("file") == f.has("procedural"))
@@ -60,8 +47,12 @@ void parseHeightmap(Scene& s, JsonFields& root) {
         f.finish();
         fs::path p = fs::path(rel).is_absolute() ? fs::path(rel)
                                                  : fs::path(s.file).parent_path() / rel;
-        s.height = loadHeightImage(p.string(), channel, s.file, "heightmap", channelGiven);
+        HeightImageHeader header = probeHeightImage(p.string(), channel, s.file, "heightmap");
+        s.height.width = header.width;
+        s.height.height = header.height;
+        pending = {p.string(), channel, channelGiven};
         s.heightSource = rel;
+        s.heightSha1 = fileSha1(p.string());
     } else {
         s.height = makeProceduralHeight(hm, s.file, "heightmap");
         s.heightSource = "procedural:" + hm.at("procedural").get<std::string>();
@@ -95,6 +86,7 @@ void parseMeshBase(Scene& s, JsonFields& f) {
         fs::path p = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
         cage = loadObjMesh(p.string(), s.file, "base.file");
         m.source = rel;
+        m.sourceSha1 = fileSha1(p.string());
     }
     // Bound the work before refining: the drawn mesh has about faces x 4^refine faces (a
     // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
@@ -129,7 +121,8 @@ Scene parseScene(const Json& json, const std::string& file) {
     JsonFields root(json, file, "");
     root.string("description", "");
 
-    parseHeightmap(s, root);
+    PendingImage pending;
+    parseHeightmap(s, root, pending);
     s.height.address =
         root.choice("address", {"repeat", "clamp"}, "repeat") == "clamp" ? Address::Clamp
                                                                          : Address::Repeat;
@@ -222,6 +215,12 @@ Scene parseScene(const Json& json, const std::string& file) {
     if (root.has("sweep")) s.sweep = root.raw("sweep");
     if (root.has("fit")) s.fit = root.raw("fit");
     root.finish();
+    if (!pending.path.empty()) {
+        Address address = s.height.address;
+        s.height = loadHeightImage(pending.path, pending.channel, file, "heightmap",
+                                   pending.channelGiven);
+        s.height.address = address;
+    }
     return s;
 }
 
@@ -285,6 +284,13 @@ Camera makeCameraUnjittered(const Scene& s) {
 }
 }  // namespace
 
+namespace {
+// A block of the scene as the user wrote it (null for scenes built in code).
+Json givenBlock(const Scene& s, const char* key) {
+    return s.json.is_object() && s.json.contains(key) ? s.json.at(key) : Json();
+}
+}  // namespace
+
 Json resolvedSceneJson(const Scene& s) {
     Json methods = Json::array();
     for (const auto& m : s.methods) methods.push_back(toJson(m));
@@ -297,7 +303,8 @@ Json resolvedSceneJson(const Scene& s) {
                   {"fov", s.camera.fov}};
     } else {
         camera = {{"type", "orthographic"}, {"theta", s.camera.theta}, {"phi", s.camera.phi},
-                  {"frame", s.camera.frame}};
+                  {"frame", s.camera.frame},
+                  {"target", {s.camera.target.x, s.camera.target.y, s.camera.target.z}}};
         if (s.camera.frame == "fill") camera["fill_size"] = s.camera.fillSize;
         if (s.camera.frame == "view") camera["view_height"] = s.camera.viewHeight;
     }
@@ -305,10 +312,16 @@ Json resolvedSceneJson(const Scene& s) {
     camera["samples"] = s.camera.jitter ? "jittered" : "centre";
     if (s.camera.jitter) camera["seed"] = s.camera.jitterSeed;
     return {
-        {"heightmap", {{"source", s.heightSource}, {"size", {s.height.width, s.height.height}}}},
+        // The block as written (every generator parameter) and the file's content hash.
+        {"heightmap", {{"source", s.heightSource},
+                       {"size", {s.height.width, s.height.height}},
+                       {"given", givenBlock(s, "heightmap")},
+                       {"sha1", s.heightSha1}}},
         {"address", toString(s.height.address)},
         {"base", s.isMesh ? Json{{"type", "mesh"},
                                  {"source", s.mesh.source},
+                                 {"sha1", s.mesh.sourceSha1},
+                                 {"given", givenBlock(s, "base")},
                                  {"scheme", toString(s.mesh.scheme)},
                                  {"refine", s.mesh.refine},
                                  {"truth_surface", s.mesh.truthSurface},
