@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "scene/scene.h"
 #include "study/fit.h"
 #include "study/outputs.h"
@@ -76,12 +77,32 @@ int main(int argc, char** argv) {
     for (CLI::App* sub : {render, sweep, stress})
         sub->add_option("--gl-device", glDevice,
                          "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
-    CLI11_PARSE(app, argc, argv);
+    uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
+    for (CLI::App* sub : {render, sweep, fit, stress})
+        sub->add_option("--memory-limit", memoryLimitMb,
+                        "Refuse inputs estimated to need more memory than this (MB)")
+            ->check(CLI::Range(uint64_t(64), uint64_t(1) << 30))
+            ->default_val(memoryLimitMb);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Command-line mistakes are bad input like any other: exit 2, one line.
+        std::cerr << "pgt: error: command line: " << pgt::printable(e.what(), 480) << "\n";
+        return 2;
+    }
 
     try {
+        pgt::setMemoryLimitMb(memoryLimitMb);
         if (!glDevice.empty()) pgt::setGlDevice(glDevice);
         if (*render) {
             pgt::Scene scene = pgt::loadScene(scenePath);
+            pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
+                                 scene.methods.size(), true, true, "camera.resolution");
+            pgt::prepareOutputDir(outDir);  // before the work, so a bad --out fails at once
             pgt::RenderResult result = pgt::renderFrame(scene, {repeats});
             pgt::writeRenderOutputs(scene, result, outDir);
             printSummary(result);
@@ -92,6 +113,7 @@ int main(int argc, char** argv) {
             pgt::Study study = pgt::parseStudy(scene);
             std::printf("study: %zu cases x %zu method configurations at %dx%d\n",
                         study.cases.size(), study.configs.size(), study.width, study.height);
+            sweepOpt.report = !noReport;
             pgt::SweepSummary sum = pgt::runSweep(scene, study, sweepOpt);
             std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n",
                         sum.done, sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
@@ -103,20 +125,16 @@ int main(int argc, char** argv) {
             }
             if (!sum.finished) {
                 std::printf("stopped early; run the same command again to resume\n");
-            } else if (!noReport) {
-                std::string why;
-                std::string report = pgt::writeStudyReport(sweepOpt.outDir, &why);
-                if (report.empty()) std::printf("report not written: %s\n", why.c_str());
-                else std::printf("report: %s\n", report.c_str());
+            } else if (sum.reportTried) {
+                if (sum.reportPath.empty()) std::printf("report not written: %s\n", sum.reportWhy.c_str());
+                else std::printf("report: %s\n", sum.reportPath.c_str());
             }
         } else if (*stress) {
             int n = pgt::runStress(stressPaths, stressOpt);
             std::printf("%d scenes: %s/stress.csv\n", n, stressOpt.outDir.c_str());
         } else if (*fit) {
             pgt::Scene scene = pgt::loadScene(scenePath);
-            std::error_code ec;  // before the search, so a bad --out fails at once
-            std::filesystem::create_directories(outDir, ec);
-            if (ec) throw pgt::OutputError("cannot create output directory " + outDir);
+            pgt::prepareOutputDir(outDir);  // before the search, so a bad --out fails at once
             pgt::FitReport rep = pgt::runFit(scene, true);
             pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
             std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale",

@@ -1,0 +1,47 @@
+// The process-wide memory budget and the one refusal message for estimates over it.
+#include "core/memory.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace pgt {
+
+namespace {
+std::atomic<uint64_t> gLimitMb{0};  // 0: not set, use the default
+}
+
+uint64_t defaultMemoryLimitMb() {
+    long pages = ::sysconf(_SC_PHYS_PAGES), pageSize = ::sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || pageSize <= 0) return kDefaultMemoryLimitMb;
+    uint64_t physicalMb = uint64_t(pages) * uint64_t(pageSize) >> 20;
+    return std::min(kDefaultMemoryLimitMb, physicalMb / 4 * 3);
+}
+
+void setMemoryLimitMb(uint64_t mb) { gLimitMb = mb; }
+
+uint64_t memoryLimitMb() {
+    uint64_t mb = gLimitMb;
+    return mb ? mb : defaultMemoryLimitMb();
+}
+
+void checkMemory(double bytes, const std::string& file, const std::string& field,
+                 const std::string& value, const std::string& what) {
+    const double limit = double(memoryLimitMb()) * 1024 * 1024;
+    if (!(bytes <= limit)) {  // also refuses a NaN estimate
+        double mb = std::isfinite(bytes) ? std::ceil(bytes / (1024 * 1024)) : HUGE_VAL;
+        char buf[64];
+        std::snprintf(buf, sizeof buf, std::isfinite(mb) ? "%.0f MB" : "more than 2^64 bytes",
+                      mb);
+        throw InputError(file, field, value,
+                         what + " needs about " + buf + ", more than the memory limit of " +
+                             std::to_string(memoryLimitMb()) +
+                             " MB (raise it with --memory-limit MB)");
+    }
+}
+
+}  // namespace pgt

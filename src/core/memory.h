@@ -1,0 +1,25 @@
+// The memory budget for inputs that are valid but too large for the machine: every stage
+// that allocates in proportion to an input (a map, a lattice, a refined mesh, a frame, a
+// study's case list) estimates its need first and refuses, as bad input, past the limit.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace pgt {
+
+// Default limit: 8192 MiB, or three quarters of the machine's physical memory when that is
+// less (`--memory-limit MB` sets another).
+constexpr uint64_t kDefaultMemoryLimitMb = 8192;
+uint64_t defaultMemoryLimitMb();
+
+// The process's limit in MiB (set once by the CLI, before any work).
+void setMemoryLimitMb(uint64_t mb);
+uint64_t memoryLimitMb();
+
+// Throws InputError(file, field, value) saying that `what` needs about `bytes` and what the
+// limit is, when `bytes` exceeds it.
+void checkMemory(double bytes, const std::string& file, const std::string& field,
+                 const std::string& value, const std::string& what);
+
+}  // namespace pgt
