@@ -311,6 +311,29 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
 // (MODEL.md §1: texel centres at (i + 0.5) / W, as GL samples).
 std::map<std::tuple<uint64_t, int, int, int, bool, int>, GLuint> gMaps;
 
+void checkGl(const std::string& what) {
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        std::ostringstream os;
+        os << "OpenGL error 0x" << std::hex << e << " in " << what;
+        throw std::runtime_error(os.str());
+    }
+}
+
+// GL_MAX_TEXTURE_SIZE of the current context (texels per side).
+int maxTextureSide() {
+    GLint side = 0;
+    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &side);
+    return int(side);
+}
+
+// Any GL error left by an earlier call is reported there; start each step clean so that a
+// later check blames only its own calls.
+void drainGlErrors() {
+    for (int k = 0; k < 16 && glGetError() != GL_NO_ERROR; ++k) {
+    }
+}
+
 GLuint mapTexture(const Texture& t, bool depth) {
     uint64_t hash = 1469598103934665603ull;  // FNV-1a over the texel bits
     for (float x : t.texels) {
@@ -335,6 +358,20 @@ GLuint mapTexture(const Texture& t, bool depth) {
     return id;
 }
 
+// A map the GL cannot hold is bad input, named before any upload, not a GL error that a
+// later call would report.
+void checkMapFits(const GlslSpec& spec, const std::string& field, const std::string& name,
+                  const Texture* t) {
+    if (name.empty() || !t) return;
+    const int maxSide = maxTextureSide();
+    if (t->width > maxSide || t->height > maxSide)
+        throw InputError(spec.path, field, name,
+                         "the map it samples is " + std::to_string(t->width) + "x" +
+                             std::to_string(t->height) + " texels, more than this GL's "
+                             "GL_MAX_TEXTURE_SIZE " + std::to_string(maxSide) + " (" +
+                             gInfo.renderer + "); use a smaller height map or no GLSL method");
+}
+
 void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
                  const std::string& name, int unit, const Texture* t, bool depth) {
     if (name.empty()) return;
@@ -347,16 +384,9 @@ void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
     glBindTexture(GL_TEXTURE_2D, mapTexture(*t, depth));
     glUniform1i(loc, unit);
+    checkGl("uploading the map of " + field + " " + name);
 }
 
-void checkGl(const std::string& what) {
-    GLenum e = glGetError();
-    if (e != GL_NO_ERROR) {
-        std::ostringstream os;
-        os << "OpenGL error 0x" << std::hex << e << " in " << what;
-        throw std::runtime_error(os.str());
-    }
-}
 
 }  // namespace
 
@@ -375,13 +405,13 @@ const GlInfo& glContext(const std::string& device) {
     return gInfo;
 }
 
-GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias,
-                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                int timingRepeats) {
-    PGT_CHECK_EQ(uv0.size(), view.size());
-    std::lock_guard<std::mutex> lock(gMutex);
-    ensureContext();
+namespace {
+
+// One draw over at most kChunkFragments fragments (runGlsl splits longer lists).
+GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                     const Texture* parallax, double scale, double bias,
+                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                     int timingRepeats) {
     GlslRun run;
     const int n = int(uv0.size());
     if (n == 0) return run;
@@ -433,6 +463,7 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
                              "is not an active uniform of the shader (misspelt, or unused by " +
                                  spec.function + ")");
         std::vector<float> f(un.values.begin(), un.values.end());
+        drainGlErrors();  // only this uniform's own error may be blamed on it
         if (un.bind == "scale") f = {float(scale)};
         if (un.bind == "bias") f = {float(bias)};
         if (un.isInt) glUniform1i(u, int(un.values[0]));
@@ -497,6 +528,41 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
     GLuint textures[4] = {uvTex, viewTex, outUv, outFetch};
     glDeleteTextures(4, textures);
     checkGl("cleaning up after " + spec.path);
+    return run;
+}
+
+// Fragments per draw: the input and output images are 2048 wide, so this keeps them at most
+// 2048 x 4096, within the 8192-texel minimum that GL 4.3 guarantees for GL_MAX_TEXTURE_SIZE.
+constexpr size_t kChunkFragments = size_t(2048) * 4096;
+
+}  // namespace
+
+GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                const Texture* parallax, double scale, double bias,
+                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                int timingRepeats) {
+    PGT_CHECK_EQ(uv0.size(), view.size());
+    std::lock_guard<std::mutex> lock(gMutex);
+    ensureContext();
+    drainGlErrors();
+    checkMapFits(spec, "sampler", spec.sampler, &height);
+    checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
+    checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
+    if (uv0.size() <= kChunkFragments)
+        return runGlslChunk(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats);
+    GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
+    for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
+        size_t last = std::min(uv0.size(), first + kChunkFragments);
+        std::vector<Vec2f> u(uv0.begin() + long(first), uv0.begin() + long(last));
+        std::vector<Vec3f> v(view.begin() + long(first), view.begin() + long(last));
+        GlslRun part =
+            runGlslChunk(spec, height, normal, parallax, scale, bias, u, v, timingRepeats);
+        double weight = double(last - first) / double(uv0.size());
+        run.gpuNsPerPixel += part.gpuNsPerPixel * weight;
+        run.wallNsPerPixel += part.wallNsPerPixel * weight;
+        run.uv.insert(run.uv.end(), part.uv.begin(), part.uv.end());
+        run.fetches.insert(run.fetches.end(), part.fetches.begin(), part.fetches.end());
+    }
     return run;
 }
 

@@ -2,6 +2,10 @@
 #include "heightfield/heightfield.h"
 
 #include <OpenImageIO/imageio.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +15,8 @@
 
 #include "core/error.h"
 #include "core/json_fields.h"
+#include "core/json_read.h"
+#include "core/memory.h"
 
 namespace pgt {
 
@@ -30,26 +36,106 @@ void checkSize(const std::string& file, const std::string& field, int w, int h) 
 
 }  // namespace
 
-Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
-                        const std::string& field, bool channelGiven) {
-    using namespace OIIO;
-    auto in = ImageInput::open(path);
+namespace {
+
+// Image libraries (libpng through OpenImageIO) print warnings and errors to stderr on their
+// own; pgt's promise is one error line. While a decoder runs, fd 2 goes to a temporary file
+// whose text is folded into pgt's own message when the decode fails.
+class StderrCapture {
+public:
+    StderrCapture() {
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = ::dup(2);
+        if (file_ && saved_ >= 0) ::dup2(::fileno(file_), 2);
+    }
+    ~StderrCapture() { restore(); }
+    // Restores fd 2 and returns what was written meanwhile, on one line.
+    std::string restore() {
+        if (saved_ < 0) return text_;
+        std::fflush(stderr);
+        ::dup2(saved_, 2);
+        ::close(saved_);
+        saved_ = -1;
+        if (file_) {
+            std::rewind(file_);
+            char buf[512];
+            size_t n;
+            while ((n = std::fread(buf, 1, sizeof buf, file_)) > 0 && text_.size() < 2000)
+                text_.append(buf, n);
+            std::fclose(file_);
+            file_ = nullptr;
+        }
+        for (char& c : text_)
+            if (c == '\n' || c == '\r') c = ' ';
+        while (!text_.empty() && text_.back() == ' ') text_.pop_back();
+        return text_;
+    }
+
+private:
+    std::FILE* file_ = nullptr;
+    int saved_ = -1;
+    std::string text_;
+};
+
+// One line of why an image could not be read: OIIO's error and what the decoder printed.
+std::string whyUnreadable(std::string why, const std::string& printed) {
+    for (char& c : why)
+        if (c == '\n' || c == '\r') c = ' ';
+    if (!printed.empty() && why.find(printed) == std::string::npos)
+        why += (why.empty() ? "" : "; ") + printed;
+    return why;
+}
+
+std::unique_ptr<OIIO::ImageInput> openHeightImage(const std::string& path, int channel,
+                                                  const std::string& sceneFile,
+                                                  const std::string& field) {
+    requireRegularFile(path, sceneFile, field + ".file", "height map image");
+    std::unique_ptr<OIIO::ImageInput> in;
+    std::string printed;
+    {
+        StderrCapture capture;
+        in = OIIO::ImageInput::open(path);
+        printed = capture.restore();
+    }
     if (!in) {
-        std::string why = OIIO::geterror();
+        std::string why = whyUnreadable(OIIO::geterror(), printed);
         throw InputError(sceneFile, field + ".file", path,
                          "cannot read image" + (why.empty() ? std::string() : ": " + why));
     }
+    const OIIO::ImageSpec& spec = in->spec();
+    checkSize(sceneFile, field + ".file", spec.width, spec.height);
+    if (channel < 0 || channel >= spec.nchannels)
+        throw InputError(sceneFile, field + ".channel", std::to_string(channel),
+                         "image " + path + " has " + std::to_string(spec.nchannels) +
+                             " channel(s)");
+    // Decoding holds every channel as read and as doubles, then the float texture.
+    double texels = double(spec.width) * spec.height;
+    checkMemory(texels * spec.nchannels * (8.0 + double(spec.format.size())) + texels * 4,
+                sceneFile, field + ".file", path, "decoding this image");
+    return in;
+}
+
+}  // namespace
+
+HeightImageHeader probeHeightImage(const std::string& path, int channel,
+                                   const std::string& sceneFile, const std::string& field) {
+    auto in = openHeightImage(path, channel, sceneFile, field);
+    return {in->spec().width, in->spec().height, in->spec().nchannels};
+}
+
+Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
+                        const std::string& field, bool channelGiven) {
+    using namespace OIIO;
+    auto in = openHeightImage(path, channel, sceneFile, field);
     const ImageSpec& spec = in->spec();
     int w = spec.width, h = spec.height, nc = spec.nchannels;
-    checkSize(sceneFile, field + ".file", w, h);
-    if (channel < 0 || channel >= nc)
-        throw InputError(sceneFile, field + ".channel", std::to_string(channel),
-                         "image " + path + " has " + std::to_string(nc) + " channel(s)");
 
     // Normalise as MODEL.md §1 says: 8-bit / 255, 16-bit / 65535, float as is. Reading the
     // native integer type and dividing here keeps the exact quotient (no table lookup).
     std::vector<double> values(size_t(w) * h * nc);
     bool ok = false;
+    StderrCapture capture;
     if (spec.format == TypeDesc::UINT8) {
         std::vector<uint8_t> raw(values.size());
         ok = in->read_image(0, 0, 0, nc, TypeDesc::UINT8, raw.data());
@@ -63,8 +149,10 @@ Texture loadHeightImage(const std::string& path, int channel, const std::string&
         ok = in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, raw.data());
         for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k];
     }
+    std::string printed = capture.restore();
     if (!ok)
-        throw InputError(sceneFile, field + ".file", path, "cannot decode image: " + in->geterror());
+        throw InputError(sceneFile, field + ".file", path,
+                         "cannot decode image: " + whyUnreadable(in->geterror(), printed));
 
     // A colour image without an explicit channel is accepted only when its colour channels
     // agree (a grey image saved as RGB); otherwise the choice is ambiguous.
@@ -219,6 +307,12 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
         int cells = f.integer("frequency", 4, 1, 4096);
         int octaves = f.integer("octaves", 4, 1, 12);
         double gain = f.number("gain", 0.5, 0.0, 1.0);
+        // The lattices hold (frequency * 2^octave)^2 doubles each: refuse before allocating.
+        double latticeBytes = 0;
+        for (int o = 0; o < octaves; ++o) latticeBytes += std::pow(double(cells) * (1 << o), 2) * 8;
+        checkMemory(latticeBytes, sceneFile, field + ".octaves", std::to_string(octaves),
+                    "noise with frequency " + std::to_string(cells) + " and " +
+                        std::to_string(octaves) + " octaves (its value lattices)");
         std::mt19937 rng(seed);
         std::uniform_real_distribution<double> uni(0.0, 1.0);
         std::vector<std::vector<double>> lattices;

@@ -16,6 +16,15 @@ namespace pgt {
 Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
                         const std::string& field, bool channelGiven);
 
+// The image's header only (no pixels decoded): size and channel count, after the same
+// checks as loadHeightImage (a regular file, a readable header, the size limits, the
+// channel, the memory its decoding needs). Lets a scene refuse a huge map before decoding.
+struct HeightImageHeader {
+    int width = 0, height = 0, channels = 0;
+};
+HeightImageHeader probeHeightImage(const std::string& path, int channel,
+                                   const std::string& sceneFile, const std::string& field);
+
 // Procedural height maps. `params` holds the generator's own fields (validated here);
 // `field` is the JSON path used in error messages.
 Texture makeProceduralHeight(const nlohmann::json& params, const std::string& sceneFile,

@@ -4,9 +4,12 @@
 #include <tiny_obj_loader.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/json_read.h"
 
 namespace pgt {
 
@@ -76,12 +79,46 @@ ControlMesh makeTorusCage(double majorRadius, double minorRadius, int segU, int 
     return m;
 }
 
+namespace {
+
+// tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999") as 0 without a
+// word; pgt refuses it, naming the line. Only "v" and "vt" records feed the mesh.
+void checkObjNumbers(const std::string& text, const std::string& path,
+                     const std::string& sceneFile, const std::string& field) {
+    size_t lineNo = 0;
+    for (size_t pos = 0; pos < text.size();) {
+        size_t end = text.find('\n', pos);
+        if (end == std::string::npos) end = text.size();
+        std::string line = text.substr(pos, end - pos);
+        pos = end + 1;
+        ++lineNo;
+        std::istringstream words(line);
+        std::string tag, word;
+        words >> tag;
+        if (tag != "v" && tag != "vt") continue;
+        while (words >> word) {
+            if (word[0] == '#') break;
+            char* stop = nullptr;
+            double x = std::strtod(word.c_str(), &stop);
+            if (*stop != '\0' || !std::isfinite(x))
+                throw InputError(sceneFile, field, path + " line " + std::to_string(lineNo),
+                                 "\"" + tag + "\" has a coordinate that is not a finite number: " +
+                                     word.substr(0, 40));
+        }
+    }
+}
+
+}  // namespace
+
 ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
                         const std::string& field) {
+    // An OBJ of 2^20 quads (the cage limit) is about 100 MB of text; 1 GiB bounds the read.
+    const std::string text = readTextFile(path, sceneFile, field, "OBJ file", std::uintmax_t(1) << 30);
+    checkObjNumbers(text, path, sceneFile, field);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;  // keep quads: the subdivision schemes want the cage as drawn
     tinyobj::ObjReader reader;
-    if (!reader.ParseFromFile(path, config))
+    if (!reader.ParseFromString(text, "", config))
         throw InputError(sceneFile, field, path, "cannot read OBJ: " + reader.Error());
     const auto& attrib = reader.GetAttrib();
     ControlMesh m;
@@ -89,6 +126,17 @@ ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
         m.positions.push_back({attrib.vertices[k], attrib.vertices[k + 1], attrib.vertices[k + 2]});
     for (size_t k = 0; k + 1 < attrib.texcoords.size(); k += 2)
         m.uvs.push_back({attrib.texcoords[k], attrib.texcoords[k + 1]});
+    // Every face corner must name an existing position and texture coordinate: OpenSubdiv
+    // and the UV lookups index with them unchecked. Relative (negative) indices were already
+    // resolved by tinyobjloader and are out of range here if they pointed before the start.
+    auto checkIndex = [&](int index, size_t count, const char* what, size_t face,
+                          const std::string& shape) {
+        if (index < 0 || size_t(index) >= count)
+            throw InputError(sceneFile, field, path,
+                             "face " + std::to_string(face) + " of shape \"" + shape +
+                                 "\" refers to " + what + " " + std::to_string(index + 1) +
+                                 " of " + std::to_string(count) + " (OBJ counts from 1)");
+    };
     for (const auto& shape : reader.GetShapes()) {
         size_t offset = 0;
         for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
@@ -98,11 +146,13 @@ ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
                                  "face " + std::to_string(f) + " has fewer than 3 vertices");
             m.faceSizes.push_back(n);
             for (int c = 0; c < n; ++c) {
-                const auto& idx = shape.mesh.indices[offset + c];
-                if (idx.texcoord_index < 0)
+                const auto& idx = shape.mesh.indices[offset + size_t(c)];
+                if (idx.texcoord_index == -1)
                     throw InputError(sceneFile, field, path,
                                      "face " + std::to_string(f) + " of shape \"" + shape.name +
                                          "\" has no texture coordinates (vt)");
+                checkIndex(idx.vertex_index, m.positions.size(), "vertex", f, shape.name);
+                checkIndex(idx.texcoord_index, m.uvs.size(), "texture coordinate", f, shape.name);
                 m.faceVerts.push_back(idx.vertex_index);
                 m.faceUvs.push_back(idx.texcoord_index);
             }

@@ -6,10 +6,13 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <cctype>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "core/json_fields.h"
+#include "core/json_read.h"
 #include "gl/glsl_method.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
@@ -57,18 +60,15 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     MethodConfig cfg;
     cfg.kind = MethodKind::Glsl;
     cfg.name = f.string("name", "");
-    if (cfg.name.empty() || cfg.name.find_first_of(" ./\\") != std::string::npos)
-        f.fail("name", "a GLSL method needs a name without spaces, dots or slashes");
+    checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
     auto spec = std::make_shared<GlslSpec>();
     std::string rel = f.string("glsl", "");
     std::filesystem::path p(rel);
     if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
     spec->path = p.lexically_normal().string();
-    std::ifstream in(spec->path);
-    if (rel.empty() || !in) f.fail("glsl", "cannot read the shader file " + spec->path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    spec->source = text.str();
+    if (rel.empty()) f.fail("glsl", "cannot read the shader file " + spec->path);
+    // A shader is a few KB; 16 MiB bounds a stray file.
+    spec->source = readTextFile(spec->path, file, f.fieldPath("glsl"), "shader file", 16u << 20);
     spec->function = f.string("function", "ParallaxMapping");
     spec->sampler = f.string("sampler", "depthMap");
     // 003's derived maps for shaders that read them (iterative, tangent_plane): the unit
@@ -166,6 +166,7 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
         for (const auto& p : methodPresets()) names.push_back(p.name);
         std::string name = pf.choice("preset", names, "");
         std::string label = pf.string("label", name);
+        checkLabel(label, file, pf.fieldPath("label"));
         pf.finish();
         for (const auto& p : methodPresets()) {
             if (p.name != name) continue;
@@ -183,8 +184,7 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
     JsonFields f(object, file, path);
     if (object.contains("glsl")) {
         MethodConfig cfg = parseGlslMethod(f, file);
-        if (!cfg.label.empty() && cfg.label.find_first_of(" ./\\") != std::string::npos)
-            f.fail("label", "must be non-empty without spaces, dots or slashes");
+        if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
         return cfg;
     }
     MethodConfig cfg;
@@ -216,9 +216,7 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
     cfg.bias = f.number("bias", NAN, -1e3, 1e3);
     cfg.doublePrecision = f.choice("precision", {"float", "double"}, "float") == "double";
     cfg.label = f.string("label", "");
-    if (f.has("label") && (cfg.label.empty() || cfg.label.find_first_of(" ./\\") !=
-                                                    std::string::npos))
-        f.fail("label", "must be non-empty without spaces, dots or slashes");
+    if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
     f.finish();
     return cfg;
 }
@@ -268,19 +266,39 @@ std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file
         out.push_back(parseMethod(list[i], file, path + "[" + std::to_string(i) + "]"));
         nameCount[out.back().name]++;
     }
-    std::map<std::string, int> labelCount;
-    for (auto& m : out) {
-        if (m.label.empty()) {
-            m.label = m.name;
-            std::string suffix = parameterSuffix(m);
-            if (nameCount[m.name] > 1 && !suffix.empty()) m.label += "_" + suffix;
-        }
-    }
+    // Labels name CSV rows, EXR channels and PNG files: user labels are checked where they
+    // are written (checkLabel) and must be unique; generated ones are made unique with a
+    // counter that skips every label already taken.
+    std::set<std::string> taken;
     for (size_t i = 0; i < out.size(); ++i) {
-        int seen = labelCount[out[i].label]++;
-        if (seen > 0) out[i].label += "_" + std::to_string(seen + 1);
+        if (out[i].label.empty()) continue;
+        if (!taken.insert(out[i].label).second)
+            throw InputError(file, path + "[" + std::to_string(i) + "].label", out[i].label,
+                             "two methods have this label; labels name the rows and files of "
+                             "each method and must differ");
+    }
+    for (auto& m : out) {
+        if (!m.label.empty()) continue;
+        std::string label = m.name;
+        std::string suffix = parameterSuffix(m);
+        if (nameCount[m.name] > 1 && !suffix.empty()) label += "_" + suffix;
+        std::string unique = label;
+        for (int k = 2; taken.count(unique); ++k) unique = label + "_" + std::to_string(k);
+        m.label = unique;
+        taken.insert(unique);
     }
     return out;
+}
+
+void checkLabel(const std::string& label, const std::string& file, const std::string& field) {
+    bool ok = !label.empty() && label.size() <= kMaxLabelLength;
+    for (char c : label)
+        ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+');
+    if (!ok)
+        throw InputError(file, field, label,
+                         "a label is 1 to " + std::to_string(kMaxLabelLength) +
+                             " characters of A-Z a-z 0-9 _ - + (it names CSV rows, EXR channels "
+                             "and files)");
 }
 
 Json toJson(const MethodConfig& c) {
@@ -298,7 +316,7 @@ Json toJson(const MethodConfig& c) {
                                                  : Json(un.values);
         j["uniforms"] = u;
         // The shader's text is part of the identity: an edited file is another method.
-        j["source_hash"] = std::to_string(std::hash<std::string>{}(c.glsl->source));
+        j["source_sha1"] = textSha1(c.glsl->source);
     }
     switch (c.kind) {
         case MethodKind::Steep:

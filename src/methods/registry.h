@@ -17,6 +17,11 @@ MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
                          const std::string& path);
 nlohmann::json toJson(const MethodConfig& cfg);
 
+// A label a user writes (or a GLSL method's name): 1..kMaxLabelLength characters of
+// A-Z a-z 0-9 _ - +, since it names CSV rows, EXR channels and files. Throws InputError.
+constexpr size_t kMaxLabelLength = 64;
+void checkLabel(const std::string& label, const std::string& file, const std::string& field);
+
 // Named configurations: engine defaults and the source documents' settings (issue 7), used
 // as {"preset": NAME} in a method list. `entry` is the method entry it stands for.
 struct MethodPreset {

@@ -27,6 +27,7 @@ struct PlaneBase {
 // A curved base (issue 4): a control mesh refined by OpenSubdiv.
 struct MeshBase {
     std::string source;            // "cube", "cylinder", "torus" or the OBJ path
+    std::string sourceSha1;        // SHA-1 of the OBJ file ("" for built-in cages)
     Scheme scheme = Scheme::Catmark;
     int refine = 2;                // levels for the mesh the rasteriser draws
     // "polygonal": the drawn mesh displaced along its vertex normals (the method's own error);
@@ -76,6 +77,7 @@ struct Scene {
     nlohmann::json json;  // as written by the user
     Texture height;       // address mode set from the scene
     std::string heightSource;  // file path or procedural name, for the summary
+    std::string heightSha1;    // SHA-1 of the height image file ("" for procedural maps)
     PlaneBase plane;
     bool isMesh = false;  // base.type "mesh": `mesh` holds it, `plane` is unused
     MeshBase mesh;

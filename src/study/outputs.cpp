@@ -5,9 +5,17 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
 #include <array>
+#include <cerrno>
+#include <cstring>
+#include <regex>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -24,53 +32,123 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A temporary sibling of `path` with the same extension (OIIO picks the format by it).
-std::string tempSibling(const std::string& path) {
-    fs::path p(path);
+// Temporaries are hidden siblings named ".NAME.pgt-tmp.PID.RANDOM": the PID tells a later
+// run whether the writer is still alive (kill(pid, 0)), so a killed run's leftovers are
+// removed and a running one's are not.
+constexpr const char* kTempTag = ".pgt-tmp.";
+
+std::string tempName(const std::string& name) {
     static std::mt19937_64 rng(std::random_device{}());
     std::ostringstream os;
-    os << p.stem().string() << ".tmp" << std::hex << (rng() & 0xffffff) << p.extension().string();
-    return (p.parent_path() / os.str()).string();
+    os << "." << name << kTempTag << ::getpid() << "." << std::hex << (rng() & 0xffffff);
+    return os.str();
 }
 
-void commitTemp(const std::string& tmp, const std::string& path) {
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw OutputError("cannot write " + path + ": " + ec.message());
+// Writes all of `bytes` to a new file `path` and flushes it to the disk; errors name `shown`
+// (the final path the user asked for).
+void writeNewFile(const std::string& path, const std::string& bytes, const std::string& shown) {
+    int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) throw OutputError("cannot create " + shown + ": " + std::strerror(errno));
+    size_t off = 0;
+    int err = 0;
+    while (off < bytes.size() && !err) {
+        ssize_t n = ::write(fd, bytes.data() + off, bytes.size() - off);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) err = n < 0 ? errno : EIO;
+        else off += size_t(n);
     }
-}
-
-void writeImage(const std::string& path, const OIIO::ImageBuf& buf) {
-    std::string tmp = tempSibling(path);
-    if (!buf.write(tmp)) {
+    if (!err && ::fsync(fd) != 0) err = errno;
+    if (::close(fd) != 0 && !err) err = errno;
+    if (err) {
         std::error_code ec;
-        fs::remove(tmp, ec);
-        throw OutputError("cannot write " + path + ": " + buf.geterror());
+        fs::remove(path, ec);
+        throw OutputError("cannot write " + shown + ": " + std::strerror(err));
     }
-    commitTemp(tmp, path);
+}
+
+// Removes temporaries of pgt processes that no longer run (killed mid-write), and the
+// "NAME.tmpHEX.EXT" temporaries of earlier pgt versions.
+void removeStaleTemporaries(const std::string& dir) {
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        bool stale = false;
+        auto tag = name.find(kTempTag);
+        if (!name.empty() && name[0] == '.' && tag != std::string::npos) {
+            long pid = std::strtol(name.c_str() + tag + std::strlen(kTempTag), nullptr, 10);
+            stale = pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+        } else {
+            static const std::regex legacy(R"(.+\.tmp[0-9a-f]{1,6}\.(exr|png|json|csv))");
+            stale = std::regex_match(name, legacy);
+        }
+        std::error_code rm;
+        if (stale && it->is_regular_file(rm)) fs::remove(it->path(), rm);
+    }
 }
 
 }  // namespace
 
-void writeTextFile(const std::string& path, const std::string& text) {
-    std::string tmp = tempSibling(path);
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out) {
-            std::error_code ec;
-            fs::remove(tmp, ec);
-            throw OutputError("cannot write " + path);
-        }
-    }
-    commitTemp(tmp, path);
+StagedFiles::StagedFiles(std::string dir) : dir_(std::move(dir)) {}
+
+StagedFiles::~StagedFiles() {
+    std::error_code ec;
+    for (const auto& [tmp, path] : staged_) fs::remove(tmp, ec);
 }
 
-void writeExr(const std::string& path, const std::vector<std::string>& names,
-              const std::vector<const Image2D<float>*>& channels) {
+void StagedFiles::add(const std::string& name, const std::string& bytes) {
+    const std::string tmp = (fs::path(dir_) / tempName(name)).string();
+    const std::string path = (fs::path(dir_) / name).string();
+    writeNewFile(tmp, bytes, path);
+    staged_.push_back({tmp, path});
+}
+
+void StagedFiles::commit() {
+    for (size_t k = 0; k < staged_.size(); ++k) {
+        std::error_code ec;
+        fs::rename(staged_[k].first, staged_[k].second, ec);
+        if (ec) {
+            staged_.erase(staged_.begin(), staged_.begin() + long(k));  // renamed ones stay
+            throw OutputError("cannot write " + staged_.front().second + ": " + ec.message());
+        }
+    }
+    staged_.clear();
+}
+
+void prepareOutputDir(const std::string& dir) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+        throw OutputError("cannot create output directory " + dir +
+                          (ec ? ": " + ec.message() : std::string()));
+    removeStaleTemporaries(dir);
+    StagedFiles probe(dir);  // a file can be created there (removed again, uncommitted)
+    probe.add("probe", "");
+}
+
+std::string encodeImage(const std::string& name, const OIIO::ImageBuf& buf) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput memory(bytes);
+    auto out = OIIO::ImageOutput::create(name, &memory);
+    bool ok = out && out->supports("ioproxy") && out->open(name, buf.spec()) &&
+              buf.write(out.get()) && out->close();
+    if (!ok) {
+        std::string why = out ? out->geterror() : OIIO::geterror();
+        throw OutputError("cannot encode " + name + ": " + (why.empty() ? "no writer" : why));
+    }
+    return std::string(bytes.begin(), bytes.end());
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    fs::path p(path);
+    StagedFiles files(p.parent_path().empty() ? "." : p.parent_path().string());
+    files.add(p.filename().string(), text);
+    files.commit();
+}
+
+namespace {
+
+std::string encodeExr(const std::vector<std::string>& names,
+                      const std::vector<const Image2D<float>*>& channels) {
     PGT_CHECK_EQ(names.size(), channels.size());
     PGT_CHECK(!channels.empty());
     const int W = channels[0]->width, H = channels[0]->height, nc = int(channels.size());
@@ -81,11 +159,23 @@ void writeExr(const std::string& path, const std::vector<std::string>& names,
     for (int c = 0; c < nc; ++c)
         for (size_t k = 0; k < size_t(W) * H; ++k) interleaved[k * nc + c] = channels[c]->data[k];
     OIIO::ImageBuf buf(spec, interleaved.data());
-    writeImage(path, buf);
+    return encodeImage("frame.exr", buf);
 }
 
+}  // namespace
+
+void writeExr(const std::string& path, const std::vector<std::string>& names,
+              const std::vector<const Image2D<float>*>& channels) {
+    writeTextFile(path, encodeExr(names, channels));
+}
+
+namespace {
+// JSON has no NaN: a statistic that was not measured is null.
+Json finiteOrNull(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
+}  // namespace
+
 Json toJson(const FrameStats& s) {
-    auto num = [](double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); };
+    auto num = finiteOrNull;
     return {
         {"pixels", s.error.count},
         {"error_texels",
@@ -149,9 +239,9 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
                                 {"rate_fine", u.rateFine},
                                 {"pixels_compared", u.pixelsCompared},
                                 {"hit_mismatch", u.hitMismatch},
-                                {"p50_texels", u.p50Texels},
-                                {"p99_texels", u.p99Texels},
-                                {"max_texels", u.maxTexels}};
+                                {"p50_texels", finiteOrNull(u.p50Texels)},
+                                {"p99_texels", finiteOrNull(u.p99Texels)},
+                                {"max_texels", finiteOrNull(u.maxTexels)}};
         truth["build_fine"] = build(r.truthBuildFine);
     }
     Json methods = Json::array();
@@ -225,8 +315,9 @@ std::string fmt(double v) {
     return os.str();
 }
 
-void writeErrorPng(const std::string& path, const MethodFrame& m,
-                   const Image2D<TruthSample>& truth, double scale) {
+// The error map of one method as PNG bytes.
+std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& truth,
+                           double scale) {
     const int W = m.errTexels.width, H = m.errTexels.height;
     const int legendH = 70, canvasW = std::max(W, 560);
     OIIO::ImageSpec spec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8);
@@ -268,17 +359,14 @@ void writeErrorPng(const std::string& path, const MethodFrame& m,
     text(barX + barW - 10, barY + barH + 14, fmt(scale));
     text(barX + barW + 12, barY + barH - 2, ">= top: texels");
     for (int s = 0; s < 3; ++s) text(swX + 16, H + 18 + s * 20, swatches[s].first);
-    writeImage(path, buf);
+    return encodeImage("error.png", buf);
 }
 
 }  // namespace
 
 void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::string& dir) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    if (ec || !fs::is_directory(dir))
-        throw OutputError("cannot create output directory " + dir +
-                          (ec ? ": " + ec.message() : std::string()));
+    prepareOutputDir(dir);
+    StagedFiles files(dir);
     const int W = r.camera.width(), H = r.camera.height();
 
     // frame.exr: truth, base (rasterised uv0) and each method's uv' and error.
@@ -304,18 +392,21 @@ void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::st
     }
     std::vector<const Image2D<float>*> ptrs;
     for (const auto& p : planes) ptrs.push_back(&p);
-    writeExr((fs::path(dir) / "frame.exr").string(), names, ptrs);
+    files.add("frame.exr", encodeExr(names, ptrs));
+    planes.clear();
 
     Json summary = summaryJson(scene, r);
     for (size_t i = 0; i < r.methods.size(); ++i) {
         const MethodFrame& m = r.methods[i];
         double p99 = std::isfinite(m.stats.error.p99) ? m.stats.error.p99 : 0.0;
         double scale = errorScaleTexels(p99);
-        writeErrorPng((fs::path(dir) / (m.config.label + "_error.png")).string(), m, r.truth, scale);
+        files.add(m.config.label + "_error.png", encodeErrorPng(m, r.truth, scale));
         summary["methods"][i]["error_map"] = {{"file", m.config.label + "_error.png"},
                                               {"scale_top_texels", scale}};
     }
-    writeTextFile((fs::path(dir) / "summary.json").string(), summary.dump(2) + "\n");
+    // summary.json last: its presence means the whole output is there.
+    files.add("summary.json", summary.dump(2) + "\n");
+    files.commit();
 }
 
 }  // namespace pgt

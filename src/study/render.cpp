@@ -1,6 +1,8 @@
 // The frame pipeline: truth -> raster -> methods -> comparison, with stage timings.
 #include "study/render.h"
 
+#include "core/memory.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -413,6 +415,35 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
 }
 
 }  // namespace
+
+double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
+                         bool writesImages, bool truthInBlocks) {
+    const double pixels = double(width) * height;
+    // Per pixel: truth at two rates, the raster's fragment and depth, the fragment list
+    // (FragmentList: 100 bytes per covered pixel), per method its pixels, error and the
+    // comparison's sorted copy, twice on meshes (the exact-frame pass).
+    double perPixel = 2.0 * sizeof(TruthSample) + sizeof(Fragment) + sizeof(double) + 100;
+    perPixel += double(methods) * (sizeof(MethodPixel) + sizeof(float) + sizeof(double)) *
+                (scene.isMesh ? 2 : 1);
+    // Outputs: the EXR planes (6 + 3 per method floats), their interleaved copy, the
+    // encoded file (at most as large), and one error map's canvas.
+    if (writesImages) perPixel += (6.0 + 3.0 * double(methods)) * sizeof(float) * 3 + 3;
+    double truth = 0;
+    if (!scene.isMesh) {
+        TruthWindow whole;  // not limited: the whole base
+        truth = truthVertices(scene, whole) * kTruthBytesPerGridVertex;
+        if (truthInBlocks) truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
+    }
+    return pixels * perPixel + truth;
+}
+
+void checkViewMemory(const Scene& scene, int width, int height, size_t methods,
+                     bool writesImages, bool truthInBlocks, const std::string& field) {
+    checkMemory(estimateViewBytes(scene, width, height, methods, writesImages, truthInBlocks),
+                scene.file, field, std::to_string(width) + "x" + std::to_string(height),
+                "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with " +
+                    std::to_string(methods) + " method(s) and its truth");
+}
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);

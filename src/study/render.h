@@ -155,6 +155,16 @@ struct RenderOptions {
 // The whole `pgt render`: builds the truth for the scene's (s, b) and renders its view.
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options = {});
 
+// Memory one view needs, estimated before anything is allocated (bytes): the truth frames
+// (two rates), the rasteriser's frame, the fragment list, each method's images and, when
+// `writesImages`, the EXR and PNG being encoded; plus the truth geometry (a plane's lattice
+// at the scene's rate and 2x, capped by truth.memory_mb when the frame may be traced in
+// blocks). Throws InputError naming `field` when it exceeds the memory limit (core/memory.h).
+double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
+                         bool writesImages, bool truthInBlocks);
+void checkViewMemory(const Scene& scene, int width, int height, size_t methods,
+                     bool writesImages, bool truthInBlocks, const std::string& field);
+
 // The base mesh the rasteriser draws for a scene and camera (an infinite plane is extended
 // by whole tiles to cover the view).
 BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera);

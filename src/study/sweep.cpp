@@ -2,7 +2,11 @@
 #include "study/sweep.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <chrono>
 #include <cmath>
@@ -15,7 +19,9 @@
 #include <sstream>
 
 #include "core/format.h"
+#include "core/process.h"
 #include "core/json_fields.h"
+#include "core/json_read.h"
 #include "methods/registry.h"
 #include "study/outputs.h"
 
@@ -159,6 +165,10 @@ Study parseStudy(const Scene& scene) {
             if (!lists.count(prefix) || (prefix == m.label && m.label == m.name && varied))
                 continue;
             for (const auto& [param, values] : lists.at(prefix)) {
+                if (double(entries.size()) * double(values.size()) > double(kMaxStudyConfigs))
+                    f.fail(prefix + "." + param,
+                           "the parameter lists of \"" + prefix + "\" make more than " +
+                               std::to_string(kMaxStudyConfigs) + " configurations");
                 std::vector<Json> next;
                 for (const auto& e : entries)
                     for (const auto& v : values) {
@@ -179,6 +189,13 @@ Study parseStudy(const Scene& scene) {
     }
     st.configs = parseMethods(expanded, file, "methods");
 
+    // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
+    double caseCount = double(scales.size()) * double(biases.size()) * double(thetas.size()) *
+                       double(phis.size());
+    if (caseCount > double(kMaxStudyCases))
+        throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
+                         "a study has at most " + std::to_string(kMaxStudyCases) +
+                             " cases (theta x phi x scale x bias); split it into several");
     int index = 0;
     for (double s : scales)
         for (double bv : biases)
@@ -192,9 +209,17 @@ Study parseStudy(const Scene& scene) {
                     st.cases.push_back(c);
                 }
 
+    checkViewMemory(scene, st.width, st.height, st.configs.size(), false, false,
+                    f.has("resolution") ? "sweep.resolution" : "camera.resolution");
     Json cfgs = Json::array();
     for (const auto& c : st.configs) cfgs.push_back(toJson(c));
+    // Everything the user wrote that can change a number (not the description, not the
+    // fit block) beside the resolved scene, which adds the content hashes of its files.
+    Json given = scene.json;
+    given.erase("description");
+    given.erase("fit");
     st.resolved = {{"scene", resolvedSceneJson(scene)},
+                   {"given", given},
                    {"sweep", scene.sweep},
                    {"configurations", cfgs},
                    {"cases", st.cases.size()},
@@ -211,13 +236,18 @@ std::string csvQuote(const std::string& s) {
     return out + "\"";
 }
 
+// RFC 4180: a field is quoted when it holds a comma, a quote or a line break.
+std::string csvField(const std::string& s) {
+    return s.find_first_of(",\"\r\n") == std::string::npos ? s : csvQuote(s);
+}
+
 std::string csvRows(const StudyCase& c, const RenderResult& r) {
     std::ostringstream os;
     for (const MethodFrame& m : r.methods) {
         const FrameStats& s = m.stats;
         os << c.index << ',' << num(c.theta) << ',' << num(c.phi) << ',' << num(c.scale) << ','
-           << num(c.bias) << ',' << num(c.biasRatio) << ',' << m.config.name << ','
-           << m.config.label << ',' << csvQuote(methodParams(m.config).dump()) << ','
+           << num(c.bias) << ',' << num(c.biasRatio) << ',' << csvField(m.config.name) << ','
+           << csvField(m.config.label) << ',' << csvQuote(methodParams(m.config).dump()) << ','
            << s.error.count << ',' << num(s.error.mean) << ',' << num(s.error.rms) << ','
            << num(s.error.p50) << ',' << num(s.error.p90) << ',' << num(s.error.p99) << ','
            << num(s.error.max) << ',' << num(s.fracAbove1Texel) << ',' << s.coverage.truthOnly
@@ -228,10 +258,7 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
            << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << ','
-           << (m.timingBackend.find_first_of(",\"") == std::string::npos
-                   ? m.timingBackend
-                   : csvQuote(m.timingBackend))
-           << '\n';
+           << csvField(m.timingBackend) << '\n';
     }
     return os.str();
 }
@@ -242,55 +269,64 @@ std::string header() {
     return h + "\n";
 }
 
-// Splits one CSV line (our own output: quoted fields only where we quote).
-std::vector<std::string> splitCsv(const std::string& line) {
-    std::vector<std::string> out;
+// Splits CSV text (RFC 4180: quoted fields may hold commas, quotes and line breaks) into
+// records of fields. `torn` is set when the text does not end with a complete record.
+std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, size_t from,
+                                                      bool* torn) {
+    std::vector<std::vector<std::string>> records;
+    std::vector<std::string> fields;
     std::string cur;
     bool quoted = false;
-    for (size_t i = 0; i < line.size(); ++i) {
-        char ch = line[i];
+    for (size_t i = from; i < text.size(); ++i) {
+        char ch = text[i];
         if (quoted) {
-            if (ch == '"' && i + 1 < line.size() && line[i + 1] == '"') cur += '"', ++i;
+            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"') cur += '"', ++i;
             else if (ch == '"') quoted = false;
             else cur += ch;
         } else if (ch == '"') {
             quoted = true;
         } else if (ch == ',') {
-            out.push_back(cur), cur.clear();
+            fields.push_back(std::move(cur)), cur.clear();
+        } else if (ch == '\n') {
+            fields.push_back(std::move(cur)), cur.clear();
+            records.push_back(std::move(fields)), fields.clear();
         } else {
             cur += ch;
         }
     }
-    out.push_back(cur);
-    return out;
+    *torn = quoted || !cur.empty() || !fields.empty();
+    return records;
+}
+
+std::string csvRecord(const std::vector<std::string>& fields) {
+    std::string line;
+    for (size_t k = 0; k < fields.size(); ++k) {
+        // params (column 8) is always quoted JSON; the rest as csvField decides.
+        line += (k ? "," : "") + (k == 8 ? csvQuote(fields[k]) : csvField(fields[k]));
+    }
+    return line + "\n";
 }
 
 // Reads results.csv, keeps only the rows of complete cases (every configuration present),
 // rewrites the file when anything was dropped (a torn last line, a half-written case), and
-// returns the keys of the complete cases.
+// returns the keys of the complete cases. An empty (0-byte) file is given its header.
 std::set<std::string> loadFinished(const std::string& path, const Study& study) {
     std::set<std::string> finished;
     std::ifstream in(path, std::ios::binary);
     if (!in) return finished;
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (text.empty()) return finished;
+    if (text.empty()) {
+        writeTextFile(path, header());
+        return finished;
+    }
     if (text.compare(0, header().size(), header()) != 0)
-        throw InputError(path, "header", text.substr(0, text.find('\n')),
+        throw InputError(path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
                          "results.csv has other columns (an older pgt?): use --fresh or another --out");
     std::map<std::string, std::vector<std::string>> rowsByKey;
     std::map<std::string, std::set<std::string>> labelsByKey;
     std::vector<std::string> order;
-    size_t pos = header().size();
     bool dropped = false;
-    while (pos < text.size()) {
-        size_t nl = text.find('\n', pos);
-        if (nl == std::string::npos) {  // torn last line
-            dropped = true;
-            break;
-        }
-        std::string line = text.substr(pos, nl - pos);
-        pos = nl + 1;
-        auto f = splitCsv(line);
+    for (const auto& f : splitCsvRecords(text, header().size(), &dropped)) {
         if (f.size() != resultColumns().size()) {
             dropped = true;
             continue;
@@ -305,7 +341,7 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         }
         std::string key = c.key();
         if (!rowsByKey.count(key)) order.push_back(key);
-        rowsByKey[key].push_back(line);
+        rowsByKey[key].push_back(csvRecord(f));
         labelsByKey[key].insert(f[7]);
     }
     std::set<std::string> wantLabels;
@@ -314,7 +350,7 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
     for (const auto& key : order) {
         if (labelsByKey[key] == wantLabels && rowsByKey[key].size() == wantLabels.size()) {
             finished.insert(key);
-            for (const auto& l : rowsByKey[key]) kept += l + "\n";
+            for (const auto& l : rowsByKey[key]) kept += l;
         } else {
             dropped = true;
         }
@@ -332,6 +368,40 @@ void appendAll(int fd, const std::string& text, const std::string& path) {
     }
 }
 
+// An advisory lock (flock) on DIR/.pgt-lock, held while a sweep writes DIR. The kernel
+// drops it when the process ends, killed or not, so a stale lock cannot block a resume.
+class StudyLock {
+public:
+    explicit StudyLock(const std::string& dir) {
+        path_ = (fs::path(dir) / ".pgt-lock").string();
+        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        if (fd_ < 0) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+            char owner[32] = {0};
+            ssize_t n = ::pread(fd_, owner, sizeof owner - 1, 0);
+            ::close(fd_);
+            std::string pid = n > 0 ? std::string(owner, size_t(n)) : std::string("?");
+            while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
+            throw OutputError(dir + " is in use by another pgt sweep (process " + pid +
+                              "); wait for it to finish or use another --out");
+        }
+        std::string me = std::to_string(::getpid()) + "\n";
+        if (::ftruncate(fd_, 0) == 0) {
+            ssize_t ignored = ::pwrite(fd_, me.data(), me.size(), 0);
+            (void)ignored;  // the pid is only for the message above
+        }
+    }
+    ~StudyLock() {
+        if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+    }
+    StudyLock(const StudyLock&) = delete;
+    StudyLock& operator=(const StudyLock&) = delete;
+
+private:
+    std::string path_;
+    int fd_ = -1;
+};
+
 std::string hms(double seconds) {
     int s = int(std::lround(seconds));
     char buf[32];
@@ -345,23 +415,25 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     using Clock = std::chrono::steady_clock;
     auto start = Clock::now();
     std::error_code ec;
-    fs::create_directories(opt.outDir, ec);
-    if (ec || !fs::is_directory(opt.outDir))
-        throw OutputError("cannot create output directory " + opt.outDir);
+    prepareOutputDir(opt.outDir);
+    // One run per directory at a time: two runs would both append every case.
+    StudyLock lock(opt.outDir);
     const std::string csvPath = (fs::path(opt.outDir) / "results.csv").string();
     const std::string studyPath = (fs::path(opt.outDir) / "study.json").string();
+    for (const std::string& path : {csvPath, studyPath})
+        if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
+            throw OutputError("cannot use " + path + ": it is not a regular file");
     if (opt.fresh) {
         fs::remove(csvPath, ec);
         fs::remove(studyPath, ec);
     }
     // A directory holds one study: resuming a different one would mix incomparable rows.
     if (fs::exists(studyPath)) {
-        std::ifstream in(studyPath);
         Json old;
         try {
-            old = Json::parse(in);
-        } catch (const std::exception&) {
-            old = nullptr;
+            old = readJsonFile(studyPath);
+        } catch (const InputError&) {
+            old = nullptr;  // unreadable or hostile: not this study
         }
         if (old != study.resolved)
             throw InputError(studyPath, "", "",
@@ -439,6 +511,10 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     sum.finished = sum.resumed + sum.done == sum.total;
     if (!todo.empty()) progress(true);
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (sum.finished && opt.report) {  // still under the lock: the rows cannot change
+        sum.reportPath = writeStudyReport(opt.outDir, &sum.reportWhy);
+        sum.reportTried = true;
+    }
     return sum;
 }
 
@@ -450,14 +526,14 @@ std::string writeStudyReport(const std::string& outDir, std::string* why) {
         *why = "report script " + script + " not found (set PGT_ANALYSIS_DIR)";
         return "";
     }
-    if (std::system("/usr/bin/python3 -c 'import matplotlib, pandas, numpy' >/dev/null 2>&1") != 0) {
+    const std::string python = "/usr/bin/python3";
+    if (runProgram({python, "-c", "import matplotlib, pandas, numpy"}, true) != 0) {
         *why = "/usr/bin/python3 with matplotlib, pandas and numpy is needed for the report "
                "(apt-get install python3-matplotlib python3-pandas python3-numpy)";
         return "";
     }
-    std::string cmd = "/usr/bin/python3 '" + script + "' '" + outDir + "'";
-    if (std::system(cmd.c_str()) != 0) {
-        *why = "the report script failed: " + cmd;
+    if (runProgram({python, script, outDir}) != 0) {
+        *why = "the report script failed: " + python + " " + script + " " + outDir;
         return "";
     }
     return (fs::path(outDir) / "report.md").string();

@@ -38,13 +38,20 @@ struct SweepOptions {
     bool fresh = false;   // discard earlier results in outDir instead of resuming
     int maxCases = -1;    // stop after this many new cases (tests; -1 = all)
     bool progress = true; // progress on stderr
+    bool report = false;  // run analysis/report.py when every case is done (still locked)
 };
+
+// Bounds that keep a study's plan small (its lists are allocated whole).
+constexpr int64_t kMaxStudyCases = 1000000;
+constexpr int64_t kMaxStudyConfigs = 10000;
 
 struct SweepSummary {
     int total = 0, resumed = 0, done = 0;
     bool finished = false;  // every case has its rows
     double wallSeconds = 0;
     std::map<std::string, double> stageMs;  // summed over the cases run: build, trace, ...
+    bool reportTried = false;  // options.report and finished
+    std::string reportPath, reportWhy;  // the report, or why it was not written
 };
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);
@@ -52,6 +59,8 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
 // results.csv columns, in order (README "Studies").
 const std::vector<std::string>& resultColumns();
 
+// The study directory is locked for the run (flock on DIR/.pgt-lock): a second run into the
+// same directory is refused with OutputError while the first one runs.
 // Runs analysis/report.py on a study directory when /usr/bin/python3 has matplotlib, pandas
 // and numpy; returns the report's path, or "" with `why` set when it could not run.
 std::string writeStudyReport(const std::string& outDir, std::string* why);

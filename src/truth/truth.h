@@ -207,7 +207,8 @@ struct TruthUncertainty {
     int rate = 0, rateFine = 0;
     int64_t pixelsCompared = 0;  // hit in both frames
     int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
-    double p50Texels = 0, p99Texels = 0, maxTexels = 0;
+    // NaN when no pixel was compared: nothing was measured (written as null / nan).
+    double p50Texels = NAN, p99Texels = NAN, maxTexels = NAN;
 };
 
 TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
