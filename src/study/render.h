@@ -46,6 +46,9 @@ class MethodTextureCache {
 public:
     MethodTextureCache(const Texture& height, double tiling) : height_(height), tiling_(tiling) {}
     const MethodTextures& get(double scale, double bias, bool needDerived);
+    // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
+    // bytes each, so keeping every (s, b) would grow with the study).
+    void clear() { cache_.clear(); }
 
 private:
     const Texture& height_;

@@ -481,6 +481,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
                 auto tb = Clock::now();
                 truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
                 built = {c->scale, c->bias};
+                textures.clear();
                 sum.stageMs["truth_build"] +=
                     std::chrono::duration<double, std::milli>(Clock::now() - tb).count();
             }

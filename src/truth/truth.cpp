@@ -155,8 +155,12 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     m.invNv = 1.0 / m.nv;
     int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
     // Bfr's pattern for these rates is the regular lattice the grid indexes (checked where
-    // its int count can hold it; windows of larger lattices use the same formula).
-    if (int64_t(m.nu + 1) * (m.nv + 1) < (int64_t(1) << 30)) {
+    // its int count can hold it; windows of larger lattices use the same formula). Bfr
+    // clamps an edge rate to kBfrMaxRate (measured: rates 40000 x 4 gave 32768 x 5
+    // coordinates), so wider lattices, e.g. a 20000-texel map at 2x rate, are not compared.
+    constexpr int kBfrMaxRate = 32767;
+    if (int64_t(m.nu + 1) * (m.nv + 1) < (int64_t(1) << 30) && m.nu <= kBfrMaxRate &&
+        m.nv <= kBfrMaxRate) {
         Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
                                Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
         PGT_CHECK(tess.IsValid());

@@ -1,0 +1,498 @@
+#!/usr/bin/python3
+"""ctest: hostile, broken and concurrent input through the real CLI, one class per ctest
+(README "What pgt promises"). Each class holds the cases an outside tester found: pgt must
+exit with the documented status (2 bad input, 3 output not writable), print one error line
+naming the file and field, never crash or hang, and never mix, duplicate or half-write
+results. Arguments: PGT_BINARY SOURCE_DIR CLASS."""
+import csv
+import json
+import os
+import resource
+import signal
+import struct
+import subprocess
+import sys
+import tempfile
+import time
+import zlib
+
+PGT, SRC, CLASS = sys.argv[1], sys.argv[2], sys.argv[3]
+GOOD = {"heightmap": {"procedural": "sine", "size": [8, 8]}, "base": {"type": "plane"},
+        "camera": {"type": "orthographic", "theta": 30, "resolution": [8, 8]},
+        "methods": ["parallax"], "truth": {"rate": 1}}
+SWEEP = {"heightmap": {"procedural": "bricks", "size": [16, 16], "jitter": 0.3, "seed": 3},
+         "base": {"type": "plane", "infinite": True},
+         "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [16, 16]},
+         "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8}],
+         "truth": {"rate": 1, "uncertainty": False},
+         "sweep": {"theta": [0, 20, 40, 60], "scale": [0.02, 0.05],
+                   "timing": {"repeats": 1, "fragments": 16}}}
+failures = []
+checks = 0
+
+
+def copy(obj):
+    return json.loads(json.dumps(obj))
+
+
+def run(args, timeout=120, **kw):
+    return subprocess.run([PGT] + args, capture_output=True, text=True, timeout=timeout, **kw)
+
+
+def check(name, ok, detail=""):
+    global checks
+    checks += 1
+    if not ok:
+        failures.append(f"{name}: {detail}")
+
+
+def expect_error(name, r, status, words, out=None):
+    """One stderr line with every word, the status, and no output directory left behind."""
+    lines = [l for l in r.stderr.splitlines() if l.strip()]
+    ok = r.returncode == status and len(lines) == 1 and all(w in lines[0] for w in words)
+    if out is not None:
+        ok = ok and not os.path.exists(out)
+    check(name, ok, f"exit {r.returncode} (want {status}), stderr {r.stderr[:600]!r}")
+
+
+def write(d, name, text):
+    path = os.path.join(d, name)
+    mode = "wb" if isinstance(text, bytes) else "w"
+    with open(path, mode) as f:
+        f.write(text)
+    return path
+
+
+def png(width, height, rows=None, truncate=None):
+    """A grey 8-bit PNG; `rows` None writes only the header chunk (a header-only file)."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(
+            ">I", zlib.crc32(kind + data) & 0xffffffff)
+    out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+    if rows is not None:
+        raw = b"".join(b"\x00" + bytes(r) for r in rows)
+        out += chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+    else:  # a first IDAT (readers stop there for the header), then the end: no pixels
+        out += chunk(b"IDAT", zlib.compress(b"\x00" * 16)) + chunk(b"IEND", b"")
+    return out[:truncate] if truncate else out
+
+
+def rows_of(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def key_rows(path):
+    out = []
+    for r in rows_of(path):
+        r.pop("ns_per_px")
+        out.append(tuple(sorted(r.items())))
+    return sorted(out)
+
+
+def sweep(scene_path, out, *extra, timeout=300):
+    return run(["sweep", scene_path, "--out", out, "--no-report", *extra], timeout=timeout)
+
+
+# ---------------------------------------------------------------------------------------------
+def deep_json(d):
+    """Nesting bounded at parse time (64 levels): never a stack overflow."""
+    deep = "[" * 100000 + "]" * 100000
+    for where, text in [("root", deep),
+                        ("description", json.dumps(GOOD)[:-1] + ', "description": ' + deep + "}"),
+                        ("methods", json.dumps(GOOD).replace('["parallax"]', deep)),
+                        ("sweep list", json.dumps(GOOD)[:-1] + ', "sweep": {"theta": ' + deep + "}}")]:
+        path = write(d, "deep.json", text)
+        out = os.path.join(d, "out")
+        expect_error(f"deep {where}", run(["render", path, "--out", out]), 2,
+                     ["deep.json", "nested deeper than 64"], out)
+    nested = copy(GOOD)
+    nested["description"] = json.loads("[" * 60 + "]" * 60)  # within the bound: parsed,
+    path = write(d, "ok.json", json.dumps(nested))           # then refused by its type
+    expect_error("60 levels parsed", run(["render", path, "--out", os.path.join(d, "ok")]), 2,
+                 ["description", "expected a string"])
+    # A map wide enough that the truth lattice passes OpenSubdiv's largest tessellation rate
+    # (32767) renders: it was an internal check failure.
+    wide = copy(GOOD)
+    wide["heightmap"] = {"procedural": "constant", "size": [20000, 2]}
+    path = write(d, "wide.json", json.dumps(wide))
+    r = run(["render", path, "--out", os.path.join(d, "wide")])
+    check("20000-texel map renders", r.returncode == 0, r.stderr)
+
+
+def obj_indices(d):
+    """Every OBJ index and coordinate is validated: no crash inside OpenSubdiv, no read
+    outside the UV array, no nan read as 0."""
+    head = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+    bad = {"face index 99": head + "f 1/1 2/2 99/3 4/4\n",
+           "relative -50": head + "f -50/1 2/2 3/3 4/4\n",
+           "relative -1e8": head + "f -100000000/1 2/2 3/3 4/4\n",
+           "vt index 2e9": head + "f 1/2000000000 2/2 3/3 4/4\n",
+           "vt index 99": head + "f 1/1 2/2 3/99 4/4\n",
+           "nan position": head.replace("v 1 1 0", "v nan 1 0") + "f 1/1 2/2 3/3 4/4\n",
+           "inf uv": head.replace("vt 1 1", "vt inf 1") + "f 1/1 2/2 3/3 4/4\n"}
+    for name, text in bad.items():
+        write(d, "mesh.obj", text)
+        scene = copy(GOOD)
+        scene["base"] = {"type": "mesh", "file": "mesh.obj", "refine": 1}
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        expect_error(f"OBJ {name}", run(["render", path, "--out", out]), 2,
+                     ["scene.json", "base.file", "mesh.obj"], out)
+    write(d, "mesh.obj", head + "f 1/1 2/2 3/3 4/4\n")  # the same quad, valid: renders
+    r = run(["render", path, "--out", os.path.join(d, "ok")])
+    check("valid OBJ", r.returncode == 0, r.stderr)
+
+
+def shell_injection(d):
+    """The report is started with an argument vector: quotes in --out are a path, not shell."""
+    scene = copy(SWEEP)
+    scene["sweep"] = {"theta": [0, 30], "timing": {"repeats": 1, "fragments": 16}}
+    path = write(d, "scene.json", json.dumps(scene))
+    marker = os.path.join(d, "PWNED")
+    hostile = os.path.join(d, f"x';touch {marker};'")
+    r = run(["sweep", path, "--out", hostile], timeout=300)
+    check("no command ran", not os.path.exists(marker), r.stdout + r.stderr)
+    check("hostile --out works", r.returncode == 0, r.stderr)
+    quoted = os.path.join(d, "it's")
+    r = run(["sweep", path, "--out", quoted], timeout=300)
+    check("--out it's", r.returncode == 0 and os.path.exists(os.path.join(quoted, "results.csv")),
+          r.stderr)
+    has_matplotlib = subprocess.run(["/usr/bin/python3", "-c", "import matplotlib, pandas"],
+                                    capture_output=True).returncode == 0
+    if has_matplotlib:
+        check("report in it's", os.path.exists(os.path.join(quoted, "report.md")), r.stdout)
+
+
+def gl_texture_limit(d):
+    """A map the GL cannot hold is named before any upload (not blamed on a uniform)."""
+    for method in [{"preset": "godot"},
+                   {"name": "mine", "glsl": os.path.join(SRC, "src/shaders/parallax.glsl"),
+                    "function": "ParallaxMapping", "sampler": "heightMap",
+                    "uniforms": {"height_scale": "scale", "height_bias": "bias"}}]:
+        scene = copy(GOOD)
+        scene["heightmap"] = {"procedural": "constant", "size": [20000, 2]}
+        scene["methods"] = [method]
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        r = run(["render", path, "--out", out])
+        if "no GL" in r.stderr or "EGL" in r.stderr:
+            print("skipped GL limit check: no GL here:", r.stderr.strip())
+            return
+        expect_error(f"GL limit {list(method.values())[0]}", r, 2,
+                     ["20000x2", "GL_MAX_TEXTURE_SIZE", "sampler"])
+        check("not blamed on a uniform", "uniforms." not in r.stderr, r.stderr)
+
+
+def concurrent_sweeps(d):
+    """A study directory is locked: a second sweep into it is refused while one runs, so no
+    row is ever written twice."""
+    import fcntl
+    path = write(d, "scene.json", json.dumps(SWEEP))
+    out = os.path.join(d, "held")
+    os.makedirs(out)
+    with open(os.path.join(out, ".pgt-lock"), "w") as held:  # as a running sweep holds it
+        fcntl.flock(held, fcntl.LOCK_EX)
+        expect_error("refused while locked", sweep(path, out), 3, ["in use by another pgt sweep"])
+    r = sweep(path, out)  # released (a killed run's lock goes with its process): runs
+    check("runs once released", r.returncode == 0 and "8 cases run" in r.stdout, r.stderr)
+    # Two real runs started together: one does the study, the other is refused or, if it
+    # started after the first ended, resumes everything; never a row twice.
+    slow = copy(SWEEP)
+    slow["heightmap"]["size"] = [64, 64]
+    slow["camera"]["resolution"] = [128, 128]
+    slow["sweep"]["theta"] = list(range(0, 90, 2))
+    slow["truth"]["rate"] = 4
+    path = write(d, "slow.json", json.dumps(slow))
+    out = os.path.join(d, "study")
+    runs = [subprocess.Popen([PGT, "sweep", path, "--out", out, "--no-report"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            for _ in range(2)]
+    results = [(p.communicate(timeout=600), p.returncode) for p in runs]
+    codes = sorted(code for _, code in results)
+    check("one runs, one refused", codes in ([0, 3], [0, 0]), f"{results}")
+    if codes == [0, 3]:
+        refused = [err for (out_, err), code in results if code == 3][0]
+        check("refusal message", "in use by another pgt sweep" in refused, refused)
+    keys = [(r["case"], r["label"]) for r in rows_of(os.path.join(out, "results.csv"))]
+    check("no duplicate rows", len(keys) == len(set(keys)) == 90 * 2, f"{len(keys)} rows")
+
+
+def study_identity(d):
+    """Every input that changes a number is in the study's identity: an edit is refused,
+    never resumed into the old rows."""
+    write(d, "map.png", png(4, 4, [[0, 64, 128, 255]] * 4))
+    write(d, "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+          "f 1/1 2/2 3/3 4/4\n")
+    edits = {
+        "procedural seed": (SWEEP, lambda s: s["heightmap"].update(seed=4)),
+        "procedural jitter": (SWEEP, lambda s: s["heightmap"].update(jitter=0.5)),
+        "camera target": (SWEEP, lambda s: s["camera"].update(target=[0.1, 0, 0])),
+        "png content": ({**copy(SWEEP), "heightmap": {"file": "map.png"}},
+                        lambda s: write(d, "map.png", png(4, 4, [[0, 64, 128, 254]] * 4))),
+        "obj content": ({**copy(SWEEP), "base": {"type": "mesh", "file": "quad.obj", "refine": 1},
+                         "camera": {"type": "orthographic", "theta": 30, "resolution": [16, 16]}},
+                        lambda s: write(d, "quad.obj", open(os.path.join(d, "quad.obj")).read()
+                                        .replace("v 1 1 0", "v 1 1 0.1"))),
+    }
+    for name, (base, edit) in edits.items():
+        scene = copy(base)
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "study_" + name.replace(" ", "_"))
+        r = sweep(path, out, "--max-cases", "3")
+        check(f"{name}: first part", r.returncode == 0, r.stderr)
+        edit(scene)
+        write(d, "scene.json", json.dumps(scene))
+        expect_error(f"{name}: edited study refused", sweep(path, out), 2,
+                     ["different study"])
+    # A description is not an input: editing it resumes.
+    scene = copy(SWEEP)
+    path = write(d, "scene.json", json.dumps(scene))
+    out = os.path.join(d, "study_description")
+    sweep(path, out, "--max-cases", "3")
+    scene["description"] = "edited"
+    write(d, "scene.json", json.dumps(scene))
+    r = sweep(path, out)
+    check("description edit resumes", r.returncode == 0 and "3 resumed" in r.stdout, r.stderr)
+
+
+def results_csv_state(d):
+    """A 0-byte results.csv gets its header; a results.csv that is a directory is an output
+    error; a resumed study equals a fresh one."""
+    path = write(d, "scene.json", json.dumps(SWEEP))
+    fresh = os.path.join(d, "fresh")
+    check("fresh", sweep(path, fresh).returncode == 0)
+    empty = os.path.join(d, "empty")
+    os.makedirs(empty)
+    write(empty, "results.csv", "")
+    r = sweep(path, empty)
+    check("0-byte results.csv", r.returncode == 0 and
+          key_rows(os.path.join(empty, "results.csv")) == key_rows(os.path.join(fresh, "results.csv")),
+          r.stderr)
+    r = sweep(path, empty)
+    check("then resumes", r.returncode == 0 and "8 resumed" in r.stdout, r.stderr)
+    isdir = os.path.join(d, "isdir")
+    os.makedirs(os.path.join(isdir, "results.csv"))
+    expect_error("results.csv a directory", sweep(path, isdir), 3, ["results.csv", "not a regular file"])
+
+
+def labels(d):
+    """Labels are checked up front (unique, safe characters, length); CSV is quoted."""
+    bad = {"duplicate": [{"name": "parallax", "label": "a"}, {"name": "pom", "label": "a"}],
+           "300 characters": [{"name": "parallax", "label": "x" * 300}],
+           "comma": [{"name": "parallax", "label": "a,b"}],
+           "quote": [{"name": "parallax", "label": 'a"b'}],
+           "newline": [{"name": "parallax", "label": "a\nb"}],
+           "preset label": [{"preset": "godot", "label": "../x"}]}
+    for name, methods in bad.items():
+        scene = copy(GOOD)
+        scene["methods"] = methods
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        expect_error(f"label {name}", run(["render", path, "--out", out]), 2,
+                     ["scene.json", ".label"], out)
+    # A generated label never collides with a user's: "parallax_2" is taken, the second
+    # unlabelled parallax gets another one.
+    scene = copy(GOOD)
+    scene["methods"] = ["parallax", {"name": "parallax", "label": "parallax_2"}, "parallax"]
+    path = write(d, "scene.json", json.dumps(scene))
+    out = os.path.join(d, "gen")
+    r = run(["render", path, "--out", out])
+    got = [m["label"] for m in json.load(open(os.path.join(out, "summary.json")))["methods"]] \
+        if r.returncode == 0 else []
+    check("generated labels unique", r.returncode == 0 and len(set(got)) == 3, f"{got} {r.stderr}")
+    # Resume works with quoted fields (the params column): nothing recomputed.
+    path = write(d, "sweep.json", json.dumps(SWEEP))
+    out = os.path.join(d, "study")
+    sweep(path, out)
+    r = sweep(path, out)
+    check("quoted CSV resumes", r.returncode == 0 and "0 cases run, 8 resumed" in r.stdout, r.stdout)
+
+
+def full_disk(d):
+    """A write that fails (file size limit: EFBIG, as a full disk's ENOSPC) exits 3 and
+    leaves no output file behind, neither empty nor partial."""
+    path = write(d, "scene.json", json.dumps(GOOD))
+
+    def limit(size):
+        def pre():
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+            resource.setrlimit(resource.RLIMIT_FSIZE, (size, size))
+        return pre
+    # 8 x 8 outputs: frame.exr about 1.2 KB, the error map about 5 KB, summary.json 4 KB.
+    for size in [0, 1000, 3000]:
+        out = os.path.join(d, f"out_{size}")
+        os.makedirs(out)
+        r = subprocess.run([PGT, "render", path, "--out", out], capture_output=True, text=True,
+                           preexec_fn=limit(size), timeout=120)
+        left = sorted(os.listdir(out))
+        check(f"limit {size}: exit 3", r.returncode == 3 and "cannot" in r.stderr,
+              f"exit {r.returncode} {r.stderr!r}")
+        check(f"limit {size}: nothing left", left == [], f"left {left}")
+
+
+def render_checks_out_first(d):
+    """An unwritable --out fails before any rendering (not after it)."""
+    scene = copy(GOOD)
+    scene["camera"]["resolution"] = [1024, 1024]
+    scene["truth"] = {"rate": 4}
+    path = write(d, "scene.json", json.dumps(scene))
+    blocker = write(d, "file", "x")
+    r = run(["render", path, "--out", os.path.join(blocker, "sub")])
+    expect_error("unwritable --out", r, 3, ["cannot"])
+    check("no rendering before", "method" not in r.stdout, r.stdout)
+
+
+def memory_estimates(d):
+    """Inputs accepted as valid but too large are refused with the estimate, before any
+    allocation; --memory-limit raises or lowers the limit."""
+    cases = {
+        "8192^2 frame": (["camera", "resolution"], [8192, 8192], "camera.resolution"),
+        "noise 4096 x 12 octaves": (["heightmap"], {"procedural": "noise", "size": [32, 32],
+                                                     "frequency": 4096, "octaves": 12},
+                                    "heightmap.octaves"),
+        "noise 64 x 12 octaves": (["heightmap"], {"procedural": "noise", "size": [32, 32],
+                                                   "frequency": 64, "octaves": 12},
+                                  "heightmap.octaves"),
+    }
+    for name, (keys, value, field) in cases.items():
+        scene = copy(GOOD)
+        node = scene
+        for k in keys[:-1]:
+            node = node[k]
+        node[keys[-1]] = value
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        r = run(["render", path, "--out", out])
+        expect_error(name, r, 2, [field, "needs about", "MB", "--memory-limit"], out)
+    # A 2^20-quad OBJ at refine 2 is estimated from its face count, before refining.
+    scene = copy(GOOD)
+    scene["base"] = {"type": "mesh", "cage": "torus", "segments": [1024, 1024], "refine": 2}
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("1M-quad mesh at refine 2", run(["render", path, "--out", os.path.join(d, "o")]),
+                 2, ["base.refine", "needs about"])
+    # A sweep of 10,001^3 values: refused before the case list is built.
+    scene = copy(SWEEP)
+    scene["sweep"] = {"theta": {"from": 0, "to": 90, "step": 0.009}, "scale": {"from": 0, "to": 1, "step": 0.0001},
+                      "bias": {"from": 0, "to": 1, "step": 0.0001}}
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("10001^3 cases", sweep(path, os.path.join(d, "s")), 2, ["sweep", "cases"])
+    # The limit is an option: a frame within the default is refused under 64 MB.
+    scene = copy(GOOD)
+    scene["camera"]["resolution"] = [2048, 2048]
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("2048^2 under 64 MB", run(["render", path, "--out", os.path.join(d, "m"),
+                                            "--memory-limit", "64"]), 2, ["limit of 64 MB"])
+    expect_error("bad --memory-limit", run(["render", path, "--out", os.path.join(d, "m"),
+                                            "--memory-limit", "lots"]), 2, ["--memory-limit"])
+
+
+def image_header_first(d):
+    """A huge image is refused from its header, before decoding; a broken one in one line;
+    a device or directory is refused, not read (no hang on /dev/zero)."""
+    write(d, "huge.png", png(16384, 16384))  # the header alone: decoding would fail
+    scene = copy(GOOD)
+    scene["heightmap"] = {"file": "huge.png"}
+    scene["truth"] = {"rate": 4}
+    path = write(d, "scene.json", json.dumps(scene))
+    out = os.path.join(d, "out")
+    # The file holds no pixel data: a decode before the check would fail differently.
+    expect_error("16384^2 header refused", run(["render", path, "--out", out]), 2,
+                 ["truth.rate", "2^31"], out)
+    write(d, "cut.png", png(8, 8, [[k * 8 + j for j in range(8)] for k in range(8)], truncate=60))
+    scene["heightmap"] = {"file": "cut.png"}
+    scene["truth"] = {"rate": 1}
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("truncated PNG: one line", run(["render", path, "--out", out]), 2,
+                 ["heightmap.file", "cut.png"], out)
+    for special in ["/dev/zero", d]:
+        scene["heightmap"] = {"file": special}
+        path = write(d, "scene.json", json.dumps(scene))
+        expect_error(f"map {special}", run(["render", path, "--out", out], timeout=20), 2,
+                     ["heightmap.file", "not a regular file"], out)
+    scene = copy(GOOD)
+    scene["base"] = {"type": "mesh", "file": "/dev/zero"}
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("OBJ /dev/zero", run(["render", path, "--out", out], timeout=20), 2,
+                 ["base.file", "not a regular file"], out)
+    expect_error("scene /dev/zero", run(["render", "/dev/zero", "--out", out], timeout=20), 2,
+                 ["/dev/zero", "not a regular file"], out)
+
+
+def messages(d):
+    """Bad values are bad input (exit 2) with one short, printable line naming the field."""
+    text = json.dumps(GOOD)
+    cases = {
+        "1e400": (text.replace('"theta": 30', '"theta": 1e400'), ["camera.theta", "1e400"]),
+        "duplicate key": (text.replace('"theta": 30', '"theta": 30, "theta": 40'),
+                          ["camera.theta", "twice"]),
+        "NUL in key": (text[:-1] + ', "a\\u0000b": 1}', ["a\\u0000b", "unknown key"]),
+        "1 MB key": (text[:-1] + ', "' + "k" * 1000000 + '": 1}', ["unknown key"]),
+    }
+    for name, (scene, words) in cases.items():
+        path = write(d, "scene.json", scene)
+        out = os.path.join(d, "out")
+        r = run(["render", path, "--out", out])
+        expect_error(name, r, 2, ["scene.json"] + words, out)
+        check(f"{name}: short", len(r.stderr) < 1000, f"{len(r.stderr)} characters")
+    path = write(d, "scene.json", text)
+    for args in [["render"], ["render", path], ["render", path, "--out", "x", "--bogus"],
+                 ["render", path, "--out", "x", "--timing-repeats", "0"], ["frobnicate"], []]:
+        r = run(args)
+        expect_error(f"command line {args[:1]}", r, 2, ["pgt: error: command line"])
+    r = run(["--help"])
+    check("--help exits 0", r.returncode == 0 and "render" in r.stdout, r.stderr)
+
+
+def zero_pixel_uncertainty(d):
+    """A frame where no pixel is compared reports nothing measured (null), not a perfect 0."""
+    scene = copy(GOOD)
+    scene["camera"] = {"type": "pinhole", "eye": [0, 0, 5], "target": [0, 5, 10],
+                       "resolution": [8, 8]}  # looking up, away from the plane
+    scene["truth"] = {"rate": 1, "uncertainty": True}
+    path = write(d, "scene.json", json.dumps(scene))
+    out = os.path.join(d, "out")
+    r = run(["render", path, "--out", out])
+    check("renders", r.returncode == 0, r.stderr)
+    if r.returncode == 0:
+        s = json.load(open(os.path.join(out, "summary.json")))
+        u = s["truth"]["uncertainty"]
+        check("uncertainty null", u["pixels_compared"] == 0 and u["p50_texels"] is None and
+              u["p99_texels"] is None and u["max_texels"] is None, json.dumps(u))
+        check("method null", s["methods"][0]["error_texels"]["mean"] is None,
+              json.dumps(s["methods"][0]["error_texels"]))
+
+
+def stale_temporaries(d):
+    """A killed writer's temporaries are removed by the next run into the directory; a live
+    one's are kept."""
+    path = write(d, "scene.json", json.dumps(GOOD))
+    out = os.path.join(d, "out")
+    os.makedirs(out)
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    stale = [f".frame.exr.pgt-tmp.{dead.pid}.abc", "frame.tmp1a2b3c.exr"]
+    live = f".frame.exr.pgt-tmp.{os.getpid()}.abc"
+    for name in stale + [live]:
+        write(out, name, "partial")
+    r = run(["render", path, "--out", out])
+    left = os.listdir(out)
+    check("renders", r.returncode == 0, r.stderr)
+    check("stale removed", not any(n in left for n in stale), f"{left}")
+    check("live kept", live in left, f"{left}")
+
+
+CLASSES = {f.__name__: f for f in [deep_json, obj_indices, shell_injection, gl_texture_limit,
+                                     concurrent_sweeps, study_identity, results_csv_state, labels,
+                                     full_disk, render_checks_out_first, memory_estimates,
+                                     image_header_first, messages, zero_pixel_uncertainty,
+                                     stale_temporaries]}
+if __name__ == "__main__":
+    if CLASS not in CLASSES:
+        sys.exit(f"unknown class {CLASS}; one of {', '.join(CLASSES)}")
+    with tempfile.TemporaryDirectory() as tmp:
+        CLASSES[CLASS](tmp)
+    if failures:
+        print("\n".join(failures))
+    print(f"{CLASS}: {checks - len(failures)} passed, {len(failures)} failed")
+    sys.exit(1 if failures else 0)
