@@ -93,6 +93,11 @@ FitReport runFit(const Scene& scene, bool progress) {
         f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods")
                          : scene.methods;
     f.finish();
+    // Every view's truth frame and fragments are kept for the whole search: estimated as one
+    // frame as tall as all of them, with one method's images at a time.
+    const size_t viewCount = rep.thetas.size() * rep.phis.size();
+    checkViewMemory(scene, res[0], int(std::min<size_t>(viewCount * size_t(res[1]), 1u << 30)),
+                    1, false, false, "fit.resolution");
 
     // The fixed truth, seen from every view once.
     TruthBuilder builder(scene);

@@ -46,10 +46,14 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
     if (files.empty()) throw InputError("", "scenes", "(none)", "no scene files given");
     // Validate everything first: a bad scene fails before any output exists.
     std::vector<Scene> scenes;
-    for (const auto& f : files) scenes.push_back(loadScene(f));
-    std::error_code ec;
-    fs::create_directories(opt.outDir, ec);
-    if (ec) throw OutputError("cannot create output directory " + opt.outDir);
+    for (const auto& f : files) {
+        scenes.push_back(loadScene(f));
+        Scene& s = scenes.back();
+        if (opt.resolution > 0) s.camera.width = s.camera.height = opt.resolution;
+        checkViewMemory(s, s.camera.width, s.camera.height, s.methods.size(), false, false,
+                        "camera.resolution");
+    }
+    prepareOutputDir(opt.outDir);
 
     std::ostringstream csv;
     for (size_t k = 0; k < stressColumns().size(); ++k) csv << (k ? "," : "") << stressColumns()[k];
@@ -58,7 +62,6 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
                 "nonfinite", "diverged", "mean", "truth unc", "truth f32");
     for (size_t i = 0; i < scenes.size(); ++i) {
         Scene& s = scenes[i];
-        if (opt.resolution > 0) s.camera.width = s.camera.height = opt.resolution;
         std::string name = fs::path(files[i]).stem().string();
         TruthBuilder builder(s);
         TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
