@@ -332,15 +332,18 @@ def full_disk(d):
 
 
 def render_checks_out_first(d):
-    """An unwritable --out fails before any rendering (not after it)."""
+    """An unwritable --out fails before any rendering (not after it). The witness: a GL
+    device that does not exist is only found when a GLSL method first runs, so an output
+    error (3) instead of that GL error (2) means nothing was rendered first."""
     scene = copy(GOOD)
-    scene["camera"]["resolution"] = [1024, 1024]
-    scene["truth"] = {"rate": 4}
+    scene["methods"] = [{"preset": "godot"}]
     path = write(d, "scene.json", json.dumps(scene))
     blocker = write(d, "file", "x")
-    r = run(["render", path, "--out", os.path.join(blocker, "sub")])
-    expect_error("unwritable --out", r, 3, ["cannot"])
-    check("no rendering before", "method" not in r.stdout, r.stdout)
+    r = run(["render", path, "--out", os.path.join(blocker, "sub"), "--gl-device", "egl-device:99"])
+    expect_error("unwritable --out, before the render", r, 3, ["cannot"])
+    for command in ["fit"]:
+        r = run([command, path, "--out", os.path.join(blocker, "sub")])
+        expect_error(f"{command}: unwritable --out", r, 3, ["cannot"])
 
 
 def memory_estimates(d):
