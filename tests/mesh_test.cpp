@@ -416,3 +416,36 @@ TEST(MeshRender, BundledMeshScenesSweep) {
 
 }  // namespace
 }  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// discard_outside on a mesh discards against the mesh's own UV extent (the cylinder's
+// [0, 2] x [0, 1] with tiling [2, 1]), not a plane's default [0, 1]^2: a pixel is dropped
+// exactly when the same method without the discard lands outside that extent.
+TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
+    Scene s = loadScene(test::sourceDir() + "/scenes/cylinder.json");
+    s.camera.width = s.camera.height = 128;
+    s.methods = parseMethods(nlohmann::json::parse(
+                                 R"(["parallax", {"name": "parallax", "discard_outside": true}])"),
+                             s.file, "methods");
+    EXPECT_EQ(s.uvExtent.lo, Vec2d(0, 0));
+    EXPECT_EQ(s.uvExtent.hi, Vec2d(2, 1));
+    RenderResult r = renderFrame(s, {1});
+    const MethodFrame &plain = r.methods[0], &discard = r.methods[1];
+    int64_t kept = 0, dropped = 0, beyondU1 = 0;
+    for (size_t k = 0; k < plain.pixels.size(); ++k) {
+        const MethodPixel& p = plain.pixels.data[k];
+        if (!p.covered) continue;
+        bool inside = p.uv.x >= 0 && p.uv.x <= 2 && p.uv.y >= 0 && p.uv.y <= 1;
+        EXPECT_EQ(discard.pixels.data[k].covered, inside) << "pixel " << k << " uv' " << p.uv.x
+                                                         << ", " << p.uv.y;
+        (inside ? kept : dropped)++;
+        beyondU1 += inside && p.uv.x > 1;
+    }
+    EXPECT_GT(beyondU1, 1000) << "the test needs pixels with 1 < u' <= 2 (kept " << kept << ")";
+    EXPECT_LT(dropped, kept / 10) << "only the seam's overshoots leave the extent";
+}
+
+}  // namespace
+}  // namespace pgt

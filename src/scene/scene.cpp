@@ -155,7 +155,15 @@ Scene parseScene(const Json& json, const std::string& file) {
                     f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
             }
         }
-        s.plane.cullBackFaces = f.boolean("cull_back_faces", true);
+        s.cullBackFaces = f.boolean("cull_back_faces", true);
+        if (s.isMesh) {
+            UvExtent box{Vec2d(HUGE_VAL), Vec2d(-HUGE_VAL)};
+            for (const Vec2d& uv : s.mesh.cage->uvs)
+                box.lo = glm::min(box.lo, uv), box.hi = glm::max(box.hi, uv);
+            s.uvExtent = box;
+        } else {
+            s.uvExtent = UvExtent(s.plane.tiling);
+        }
         f.finish();
     }
     if (root.has("displacement")) {
@@ -336,12 +344,12 @@ Json resolvedSceneJson(const Scene& s) {
                                  {"refine", s.mesh.refine},
                                  {"truth_surface", s.mesh.truthSurface},
                                  {"world_per_uv", s.mesh.worldPerUv},
-                                 {"cull_back_faces", s.plane.cullBackFaces}} : Json
+                                 {"cull_back_faces", s.cullBackFaces}} : Json
          {{"type", "plane"},
           {"size", s.plane.size},
           {"tiling", s.plane.tiling},
           {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
-          {"cull_back_faces", s.plane.cullBackFaces},
+          {"cull_back_faces", s.cullBackFaces},
           {"infinite", s.plane.infinite}}},
         {"drawn_mesh", s.isMesh ? Json{{"vertices", s.mesh.drawn->mesh.vertices.size()},
                                        {"triangles", s.mesh.drawn->mesh.indices.size() / 3},

@@ -15,11 +15,23 @@
 
 namespace pgt {
 
+// The UV range a base's texture coordinates span: [0, tiling]^2 for a plane, the bounding
+// box of the cage's UVs for a mesh (a cylinder with tiling [2, 1]: [0, 2] x [0, 1]).
+// LearnOpenGL's `discard_outside` discards uv' outside it.
+struct UvExtent {
+    Vec2d lo{0, 0}, hi{1, 1};
+    UvExtent() = default;
+    UvExtent(double tiling) : hi(tiling, tiling) {}  // a plane's [0, tiling]^2 (implicit)
+    UvExtent(Vec2d lo_, Vec2d hi_) : lo(lo_), hi(hi_) {}
+    bool contains(double u, double v) const {  // NaN is inside: LearnOpenGL's test is x > 1 ...
+        return !(u > hi.x || v > hi.y || u < lo.x || v < lo.y);
+    }
+};
+
 struct PlaneBase {
     double size = 1.0;        // side L in world units
     double tiling = 1.0;      // UV range [0, tiling]^2
     Vec3d center{0, 0, 0};    // plane centre; the plane lies in z = center.z
-    bool cullBackFaces = true;
     bool infinite = false;    // the tile repeats forever in x and y (repeat, integer tiling)
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
 };
@@ -83,6 +95,9 @@ struct Scene {
     MeshBase mesh;
     Displacement displacement;
     double worldPerUv() const { return isMesh ? mesh.worldPerUv : plane.worldPerUv(); }
+    // Read by every stage whatever the base: the UV range and back-face culling.
+    UvExtent uvExtent;
+    bool cullBackFaces = true;
     CameraSpec camera;
     std::vector<MethodConfig> methods;
     TruthSpec truth;

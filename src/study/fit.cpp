@@ -111,11 +111,11 @@ FitReport runFit(const Scene& scene, bool progress) {
             Camera cam = makeCamera(v);
             View view{truths.truth->traceFrame(cam),
                       compactFragments(rasterize(sceneBaseMesh(v, cam), cam,
-                                                 {scene.plane.cullBackFaces})),
+                                                 {scene.cullBackFaces})),
                       res[0], res[1]};
             views.push_back(std::move(view));
         }
-    MethodTextureCache textures(scene.height, scene.plane.tiling);
+    MethodTextureCache textures(scene.height, scene.uvExtent);
     const double s0 = scene.displacement.scale, b0 = scene.displacement.bias;
 
     auto score = [&](const MethodConfig& cfg) {

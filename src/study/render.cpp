@@ -61,12 +61,12 @@ FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) 
 }
 
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
-                                  double tiling, bool needDerived) {
+                                  const UvExtent& uvExtent, bool needDerived) {
     MethodTextures t;
     t.height = &height;
     t.scale = scale;
     t.bias = bias;
-    t.tiling = tiling;
+    t.uvExtent = uvExtent;
     if (needDerived) t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
     return t;
 }
@@ -75,7 +75,7 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
     auto key = std::make_pair(scale, bias);
     auto it = cache_.find(key);
     if (it != cache_.end() && (!needDerived || it->second.derived)) return it->second;
-    cache_[key] = makeMethodTextures(height_, scale, bias, tiling_, needDerived);
+    cache_[key] = makeMethodTextures(height_, scale, bias, uvExtent_, needDerived);
     return cache_[key];
 }
 
@@ -160,10 +160,8 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
     p.fetches = uint32_t(c.fetches);
     p.flags = c.flags;
     // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
-    if (cfg.discardOutside) {
-        Real hi = Real(tex.tiling);
-        if (uv.x > hi || uv.y > hi || uv.x < Real(0) || uv.y < Real(0)) p.covered = false;
-    }
+    if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y)))
+        p.covered = false;
     return p;
 }
 
@@ -203,14 +201,13 @@ Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& f
     GlslRun run = runGlslWith(cfg, tex, frags.uv0, exactFrame ? frags.viewExact : frags.view,
                               nsPerPixel ? repeats : 0);
     if (nsPerPixel) *nsPerPixel = glNsPerPixel(run);
-    const float hi = float(tex.tiling);
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
         p.covered = true;
         p.uv = Vec2d(run.uv[k]);
         p.fetches = run.fetches[k];
         const Vec2f uv = run.uv[k];
-        if (cfg.discardOutside && (uv.x > hi || uv.y > hi || uv.x < 0.0f || uv.y < 0.0f))
+        if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y)))
             p.covered = false;
     }
     return out;
@@ -313,7 +310,7 @@ RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFram
     }
 
     auto t2 = Clock::now();
-    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.plane.cullBackFaces},
+    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces},
                             &r.raster);
     FragmentList frags = compactFragments(r.fragments);
     FragmentList timed = sampleFragments(frags, timing.maxFragments, timing.seed);
@@ -447,7 +444,7 @@ void checkViewMemory(const Scene& scene, int width, int height, size_t methods,
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
-    MethodTextureCache textures(scene.height, scene.plane.tiling);
+    MethodTextureCache textures(scene.height, scene.uvExtent);
     const TimingSpec timing{options.timingRepeats, 0, 1};
     auto t0 = Clock::now();
     const double budget = double(scene.truth.memoryMb) * 1024 * 1024 / kTruthBytesPerGridVertex;

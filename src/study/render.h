@@ -36,15 +36,17 @@ FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed);
 struct MethodTextures {
     const Texture* height = nullptr;
     std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
-    double scale = 0, bias = 0, tiling = 1;
+    double scale = 0, bias = 0;
+    UvExtent uvExtent;  // the base's UV range (discard_outside)
 };
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
-                                  double tiling, bool needDerived);
+                                  const UvExtent& uvExtent, bool needDerived);
 
 // Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
 class MethodTextureCache {
 public:
-    MethodTextureCache(const Texture& height, double tiling) : height_(height), tiling_(tiling) {}
+    MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
+        : height_(height), uvExtent_(uvExtent) {}
     const MethodTextures& get(double scale, double bias, bool needDerived);
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
@@ -52,7 +54,7 @@ public:
 
 private:
     const Texture& height_;
-    double tiling_;
+    UvExtent uvExtent_;
     std::map<std::pair<double, double>, MethodTextures> cache_;
 };
 

@@ -65,7 +65,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         std::string name = fs::path(files[i]).stem().string();
         TruthBuilder builder(s);
         TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
-        MethodTextureCache textures(s.height, s.isMesh ? 1.0 : s.plane.tiling);
+        MethodTextureCache textures(s.height, s.uvExtent);
         Camera cam = makeCamera(s);
         // No method timing: the stress table reports counts and errors, not cost.
         RenderResult r = renderView(s, cam, truths, s.methods, textures, {0, 0, 1}, false);

@@ -470,7 +470,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     progress(todo.empty());
 
     TruthBuilder builder(scene);
-    MethodTextureCache textures(scene.height, scene.plane.tiling);
+    MethodTextureCache textures(scene.height, scene.uvExtent);
     const TruthPair* truths = nullptr;
     std::pair<double, double> built(NAN, NAN);
     try {
