@@ -1,4 +1,4 @@
-// GLSL methods in a real OpenGL (issue 7): every built-in method's GLSL twin under
+// GLSL methods in a real OpenGL: every built-in method's GLSL twin under
 // src/shaders/ against the C++ method on the same float inputs, fetch counting, uniforms
 // bound to the case's (s, b), and the user-facing errors (file and line of a compile error,
 // a missing sampler or uniform). Runs on Mesa llvmpipe through EGL's surfaceless platform

@@ -1,4 +1,4 @@
-// The stiff suite (issue 5): methods where V.z is 0 or negative, POM's 0/0, and every
+// The stiff suite: methods where V.z is 0 or negative, POM's 0/0, and every
 // scenes/stress case through `pgt stress` without a crash or a NaN in a statistic.
 #include <gtest/gtest.h>
 

@@ -160,7 +160,7 @@ TEST(Sweep, BadSweepEntriesNameTheKey) {
     EXPECT_NE(bad("bias", {0.0}).find("either"), std::string::npos);
 }
 
-// A user's GLSL file runs in a sweep like a built-in (issue 7): LearnOpenGL's
+// A user's GLSL file runs in a sweep like a built-in: LearnOpenGL's
 // ParallaxMapping on a depth map with height_scale bound to the case's s is the built-in
 // parallax at b = -s, so at bias ratio -1 the two rows of every case agree; its rows carry
 // the GL renderer as their timing backend.

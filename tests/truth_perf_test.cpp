@@ -1,4 +1,4 @@
-// Issue 6's fast paths against the plain ones: coherent tile tracing vs one ray at a time,
+// The fast paths against the plain ones: coherent tile tracing vs one ray at a time,
 // in-place (s, b) updates (refit and rebuild) vs a fresh build, and the implicit plane grid
 // vs the closed form of the plane.
 #include <gtest/gtest.h>

@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
     stress->add_option("--out", stressOpt.outDir, "Output directory for stress.csv")->required();
     stress->add_option("--resolution", stressOpt.resolution, "Override every scene's resolution")
         ->check(CLI::Range(1, 4096));
-    // GLSL methods (issue 7): the GL they run in. Default: Mesa's EGL surfaceless platform
+    // GLSL methods: the GL they run in. Default: Mesa's EGL surfaceless platform
     // (llvmpipe without a GPU); egl-device:N picks the N-th EGL device (a hardware GPU).
     std::string glDevice;
     for (CLI::App* sub : {render, sweep, stress})

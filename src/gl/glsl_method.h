@@ -1,4 +1,4 @@
-// GLSL methods (issue 7): a user's shader function `vec2 F(vec2 uv, vec3 viewTangent)` run
+// GLSL methods: a user's shader function `vec2 F(vec2 uv, vec3 viewTangent)` run
 // in a real OpenGL (EGL, headless: Mesa llvmpipe on machines without a GPU) over the
 // rasteriser's fragments, with the same float uv0 and tangent-space V the C++ methods get.
 // The only module that includes OpenGL/EGL headers.

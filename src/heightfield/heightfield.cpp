@@ -24,7 +24,7 @@ std::string toString(Address a) { return a == Address::Repeat ? "repeat" : "clam
 
 namespace {
 
-// Largest accepted map side: 65536 texels; 8192^2 is the stress case of issue 5.
+// Largest accepted map side: 65536 texels; 8192^2 is a stress case (scenes/stress/).
 constexpr int kMaxSide = 65536;
 constexpr double kMaxTexels = 1 << 28;
 
@@ -226,7 +226,7 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     int w = size[0], h = size[1];
     unsigned seed = unsigned(f.integer("seed", 1, 0, 2147483647));
     // Store the map as an 8- or 16-bit image would (h rounded to k/255 or k/65535 after
-    // clamping to [0, 1]): the same surface at two quantisations (issue 5).
+    // clamping to [0, 1]): the same surface at two quantisations.
     int quantize = f.integer("quantize", 0, 0, 16);
     if (quantize != 0 && quantize != 8 && quantize != 16)
         f.fail("quantize", "expected 8 or 16 (bits), or 0 for float");

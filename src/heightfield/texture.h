@@ -46,7 +46,7 @@ template <class Real>
     }
     long k = long(fl);
     if (address == Address::Repeat) {
-        // Inside the first period (the common case) no division is needed (issue 6).
+        // Inside the first period (the common case) no division is needed.
         long m = k;
         if (m < 0 || m >= n) {
             m = k % n;

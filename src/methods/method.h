@@ -18,7 +18,7 @@ namespace pgt {
 enum class MethodKind { None, Parallax, OffsetLimited, Steep, Pom, Relief, Iterative, TangentPlane,
                         Glsl };
 
-struct GlslSpec;  // gl/glsl_method.h: a user's shader function run in OpenGL (issue 7)
+struct GlslSpec;  // gl/glsl_method.h: a user's shader function run in OpenGL
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;

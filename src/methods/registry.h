@@ -22,7 +22,7 @@ nlohmann::json toJson(const MethodConfig& cfg);
 constexpr size_t kMaxLabelLength = 64;
 void checkLabel(const std::string& label, const std::string& file, const std::string& field);
 
-// Named configurations: engine defaults and the source documents' settings (issue 7), used
+// Named configurations: engine defaults and the source documents' settings, used
 // as {"preset": NAME} in a method list. `entry` is the method entry it stands for.
 struct MethodPreset {
     std::string name, source, entry;

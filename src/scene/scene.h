@@ -36,7 +36,7 @@ struct PlaneBase {
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
 };
 
-// A curved base (issue 4): a control mesh refined by OpenSubdiv.
+// A curved base: a control mesh refined by OpenSubdiv.
 struct MeshBase {
     std::string source;            // "cube", "cylinder", "torus" or the OBJ path
     std::string sourceSha1;        // SHA-1 of the OBJ file ("" for built-in cages)
@@ -80,7 +80,7 @@ struct TruthSpec {
     TruthGeometry geometry = TruthGeometry::Grid;
     bool uncertainty = true;           // also trace at 2 x rate and report the difference
     // `pgt render` of a plane: when the whole view's truth would need more than this, the
-    // frame is traced in blocks, each over a tessellation of only what it sees (issue 6).
+    // frame is traced in blocks, each over a tessellation of only what it sees.
     int memoryMb = 1536;
 };
 

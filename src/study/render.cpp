@@ -176,7 +176,7 @@ std::string timingBackend(const MethodConfig& cfg) {
 
 namespace {
 
-// A GLSL method's frame: its shader in OpenGL over the same float inputs (issue 7).
+// A GLSL method's frame: its shader in OpenGL over the same float inputs.
 // The GL's time per pixel: timer queries on a GPU; on a software GL the wall clock around
 // the draw, because llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation
 // (measured: 0.2-16 ns/px against 12-80 ns/px between two glFinish).
@@ -370,7 +370,7 @@ double truthVertices(const Scene& scene, const TruthWindow& w) {
 }
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
-// block sees, so peak memory is one block's (issue 6: large maps in a whole-map view).
+// block sees, so peak memory is one block's (large maps in a whole-map view).
 // Returns false (frames untouched) when no n <= 16 brings every block under the budget.
 bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetVertices,
                         TruthFrames& f) {

@@ -89,8 +89,8 @@ public:
     // The builder's own surfaces re-displaced to (s, b) (TruthSurface::setDisplacement: no
     // reallocation, refit where it is faster); built on first use. Valid until the next call.
     const TruthPair& update(const Displacement& disp, bool withUncertainty);
-    // Planes: tessellate only the part of the plane this view can see at (s, b) (issue 6:
-    // large maps framed closely). Call before the first build.
+    // Planes: tessellate only the part of the plane this view can see at (s, b) (large maps
+    // framed closely). Call before the first build.
     void limitToView(const Camera& camera, const Displacement& disp, PixelRect block = {});
     const TruthWindow& window() const { return window_; }
 

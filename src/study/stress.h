@@ -1,4 +1,4 @@
-// `pgt stress`: the stiff suite (issue 5). Renders each scene, counts non-finite and
+// `pgt stress`: the stiff suite. Renders each scene, counts non-finite and
 // diverged pixels per method, and checks the truth's float hits against a double-precision
 // re-intersection, into DIR/stress.csv.
 #pragma once

@@ -35,7 +35,7 @@ struct TruthBuildStats {
 // (i / nu, j / nv) -- exactly what Bfr's bilinear scheme evaluates there (tested) -- with
 // the height sampled from the map when the surface is displaced. Nothing is stored per
 // vertex, so the only per-vertex memory of a plane's truth is Embree's 12-byte vertex
-// (issue 6: a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
+// (a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
 // vertices and triangles.
 struct BaseTessellation {
     int nu = 0, nv = 0;           // grid segments (planes); 0 for meshes
@@ -109,13 +109,13 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                         const PlaneBase& plane, int rate,
                                                         const TruthWindow& window = {});
 
-// The `polygonal` truth of a mesh (issue 4): the very triangles the rasteriser draws, each
+// The `polygonal` truth of a mesh: the very triangles the rasteriser draws, each
 // split uniformly into n^2 sub-triangles (n from the largest UV edge in texels x rate, one n
 // for the whole mesh so shared edges get the same points), displaced along the interpolated
 // vertex normal. Vertices on an edge shared by two drawn triangles are shared, so the sheet
 // is watertight wherever the UVs are continuous (it opens at UV seams, as the real
 // displaced asset does). `maxVertices` bounds the tessellation (n is lowered to fit).
-// The `limit` truth of a mesh (issue 4): the OpenSubdiv limit surface of the control mesh
+// The `limit` truth of a mesh: the OpenSubdiv limit surface of the control mesh
 // (its scheme), tessellated face by face with the Bfr Tessellation API at a rate per cage
 // edge from its UV length in texels x rate, displaced along the exact limit normal. Corners
 // and edge points are shared between faces (evaluated once), split only where the UVs are
@@ -131,7 +131,7 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
                                                             double worldPerUv, int rate,
                                                             int64_t maxVertices = int64_t(1) << 26);
 
-// How far Embree's single precision can be trusted (issue 5): sampled hits re-intersected
+// How far Embree's single precision can be trusted: sampled hits re-intersected
 // in double with the same triangle, the UV difference in texels.
 struct PrecisionCheck {
     int64_t samples = 0;
@@ -149,7 +149,7 @@ enum class TruthUpdate { Auto, Rebuild, Refit, Translate };
 // coherent stream (rtcIntersect1M with RTC_INTERSECT_CONTEXT_FLAG_COHERENT).
 enum class TraceMode { Single, Coherent };
 
-// The same frame's rays traced by nothing but Embree calls (issue 6): the rays are made
+// The same frame's rays traced by nothing but Embree calls: the rays are made
 // before the clock starts, the loop over tiles only calls Embree. Median of the repeats.
 struct BareLoopTiming {
     double bareMs = 0;   // the bare loop
