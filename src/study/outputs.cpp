@@ -15,7 +15,6 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
-#include <regex>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -66,6 +65,20 @@ void writeNewFile(const std::string& path, const std::string& bytes, const std::
     }
 }
 
+// "STEM.tmpHEX.EXT" (1 to 6 hex digits; EXT exr, png, json or csv): what earlier pgt
+// versions named their temporaries. Written out by hand: std::regex draws GCC 12 warnings.
+bool isLegacyTemporary(const std::string& name) {
+    auto dot = name.rfind('.');
+    if (dot == std::string::npos) return false;
+    std::string ext = name.substr(dot + 1), rest = name.substr(0, dot);
+    if (ext != "exr" && ext != "png" && ext != "json" && ext != "csv") return false;
+    auto tag = rest.rfind(".tmp");
+    if (tag == std::string::npos || tag == 0) return false;
+    std::string hex = rest.substr(tag + 4);
+    return !hex.empty() && hex.size() <= 6 &&
+           hex.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
 // Removes temporaries of pgt processes that no longer run (killed mid-write), and the
 // "NAME.tmpHEX.EXT" temporaries of earlier pgt versions.
 void removeStaleTemporaries(const std::string& dir) {
@@ -78,8 +91,7 @@ void removeStaleTemporaries(const std::string& dir) {
             long pid = std::strtol(name.c_str() + tag + std::strlen(kTempTag), nullptr, 10);
             stale = pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
         } else {
-            static const std::regex legacy(R"(.+\.tmp[0-9a-f]{1,6}\.(exr|png|json|csv))");
-            stale = std::regex_match(name, legacy);
+            stale = isLegacyTemporary(name);
         }
         std::error_code rm;
         if (stale && it->is_regular_file(rm)) fs::remove(it->path(), rm);
