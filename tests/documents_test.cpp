@@ -161,7 +161,7 @@ Vec2f ours(const MethodConfig& cfg, const MethodTextures& tex, Case c) {
 }
 
 class Documents : public ::testing::Test {
-protected:
+  protected:
     Texture height = test::makeTexture(48, 48, [](int i, int j) {
         double u = (i + 0.5) / 48, v = (j + 0.5) / 48;
         return 0.5 + 0.3 * std::sin(2 * kPi * 2 * u) * std::cos(2 * kPi * 3 * v) +

@@ -1,8 +1,9 @@
 // Fitting: on known surfaces the search finds the parameters that are right by construction.
+#include "study/fit.h"
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "study/fit.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -13,7 +14,8 @@ Scene fitScene(const std::string& heightmap, const std::string& fit) {
       "base": {"type": "plane", "infinite": true},
       "displacement": {"scale": 0.06, "bias": -0.03},
       "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [8, 8]},
-      "methods": ["parallax"], "truth": {"rate": 2}, "fit": )" + fit + "}";
+      "methods": ["parallax"], "truth": {"rate": 2}, "fit": )" +
+                       fit + "}";
     return parseScene(nlohmann::json::parse(json), "fit.json");
 }
 
@@ -28,7 +30,8 @@ TEST(Fit, ParallaxOnConstantHeightReachesZero) {
     EXPECT_LT(r.methods[0].nativeObjective, 1e-3);
     // Neither grid point lies on the line s'c + b' = sc + b; refinement must approach it.
     EXPECT_LT(r.methods[0].bestObjective, 0.05);
-    double sb = r.methods[0].best["scale"].get<double>() * 0.4 + r.methods[0].best["bias"].get<double>();
+    double sb =
+        r.methods[0].best["scale"].get<double>() * 0.4 + r.methods[0].best["bias"].get<double>();
     EXPECT_NEAR(sb, 0.06 * 0.4 - 0.03, 2e-3);
 }
 
@@ -59,8 +62,9 @@ TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
 }
 
 TEST(Fit, BadFitBlockNamesTheField) {
-    EXPECT_THROW(runFit(fitScene(R"({"procedural": "constant"})", R"({"objectiv": "mean"})"), false),
-                 InputError);
+    EXPECT_THROW(
+        runFit(fitScene(R"({"procedural": "constant"})", R"({"objectiv": "mean"})"), false),
+        InputError);
     EXPECT_THROW(runFit(fitScene(R"({"procedural": "constant"})", R"({"theta": [100]})"), false),
                  InputError);
 }

@@ -5,9 +5,9 @@
 // (CI installs it); a machine without any EGL fails these tests rather than skipping them.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cstdlib>
 #include <random>
 
 #include "compare/statistics.h"
@@ -67,8 +67,8 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
         // Relative to the offset too: tangent_plane divides by dot(n, V), which magnifies
         // the last-bit difference of GL's normalize where the normal tilts towards the eye
         // (offsets of many texels); 1e-5 of the offset is ~100 float ulps.
-        double offset = uvErrorTexels(Vec2d(want), Vec2d(in.uv0[k]), t.width, t.height,
-                                      Address::Clamp);
+        double offset =
+            uvErrorTexels(Vec2d(want), Vec2d(in.uv0[k]), t.width, t.height, Address::Clamp);
         ++a.n;
         if (!(d <= std::max(tolTexels, 1e-5 * offset))) {
             ++a.over;
@@ -76,8 +76,8 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
                 std::printf("  k %zu d %.3g offset %.3g uv0 %.9g %.9g V %.9g %.9g %.9g\n", k, d,
                             offset, in.uv0[k].x, in.uv0[k].y, in.view[k].x, in.view[k].y,
                             in.view[k].z);
-        }
-        else a.maxTexels = std::max(a.maxTexels, d);
+        } else
+            a.maxTexels = std::max(a.maxTexels, d);
         if (run.fetches[k] != uint32_t(c.fetches)) ++a.fetchMismatch;
     }
     return a;
@@ -96,30 +96,53 @@ TEST(Gl, ContextIsHeadlessOpenGl) {
 // offset) everywhere; the
 // marches may flip a layer where a float comparison ties (counted: at most 1% of fragments).
 TEST(Gl, BuiltInShadersMatchTheCppMethods) {
-    Texture bricks = makeProceduralHeight(nlohmann::json::parse(
-        R"({"procedural": "bricks", "size": [128, 128], "bricks": [4, 8], "mortar": 0.12,
-            "bevel": 0.2, "jitter": 0.3, "seed": 7})"), "test", "heightmap");
+    Texture bricks = makeProceduralHeight(
+        nlohmann::json::parse(
+            R"({"procedural": "bricks", "size": [128, 128], "bricks": [4, 8], "mortar": 0.12,
+            "bevel": 0.2, "jitter": 0.3, "seed": 7})"),
+        "test", "heightmap");
     const double s = 0.05, b = -0.025;
     Inputs in = randomInputs(20000, 5);
     const std::string bind = R"("uniforms": {"height_scale": "scale", "height_bias": "bias")";
     std::vector<std::tuple<std::string, std::string, bool>> list = {
-        {R"("none")", R"({"name":"g","glsl":"none.glsl","function":"ParallaxNone","sampler":""})", false},
-        {R"("parallax")", R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping","sampler":"heightMap",)" + bind + "}}", false},
-        {R"("offset_limited")", R"({"name":"g","glsl":"offset_limited.glsl","function":"OffsetLimited","sampler":"heightMap",)" + bind + "}}", false},
-        {R"({"name":"steep","min_layers":8,"max_layers":32})", R"({"name":"g","glsl":"layered.glsl","function":"SteepParallax","sampler":"heightMap",)" + bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})", true},
-        {R"({"name":"pom","min_layers":8,"max_layers":32})", R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion","sampler":"heightMap",)" + bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})", true},
-        {R"({"name":"relief","linear_steps":10,"binary_steps":5})", R"({"name":"g","glsl":"relief.glsl","function":"ReliefMapping","sampler":"heightMap",)" + bind + R"(,"linear_steps":10,"binary_steps":5}})", true},
-        {R"({"name":"iterative","iterations":4})", R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})", false},
-        {R"("tangent_plane")", R"({"name":"g","glsl":"lengyel.glsl","function":"TangentPlaneParallax","sampler":"","normal_sampler":"normalMap","parallax_sampler":"parallaxMap"})", false},
+        {R"("none")", R"({"name":"g","glsl":"none.glsl","function":"ParallaxNone","sampler":""})",
+         false},
+        {R"("parallax")",
+         R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping","sampler":"heightMap",)" +
+             bind + "}}",
+         false},
+        {R"("offset_limited")",
+         R"({"name":"g","glsl":"offset_limited.glsl","function":"OffsetLimited","sampler":"heightMap",)" +
+             bind + "}}",
+         false},
+        {R"({"name":"steep","min_layers":8,"max_layers":32})",
+         R"({"name":"g","glsl":"layered.glsl","function":"SteepParallax","sampler":"heightMap",)" +
+             bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})",
+         true},
+        {R"({"name":"pom","min_layers":8,"max_layers":32})",
+         R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion","sampler":"heightMap",)" +
+             bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})",
+         true},
+        {R"({"name":"relief","linear_steps":10,"binary_steps":5})",
+         R"({"name":"g","glsl":"relief.glsl","function":"ReliefMapping","sampler":"heightMap",)" +
+             bind + R"(,"linear_steps":10,"binary_steps":5}})",
+         true},
+        {R"({"name":"iterative","iterations":4})",
+         R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",
+         false},
+        {R"("tangent_plane")",
+         R"({"name":"g","glsl":"lengyel.glsl","function":"TangentPlaneParallax","sampler":"","normal_sampler":"normalMap","parallax_sampler":"parallaxMap"})",
+         false},
     };
     for (const auto& [cpuJson, glJson, march] : list) {
         MethodConfig cpu = parseMethod(nlohmann::json::parse(cpuJson), "test", "m");
         MethodConfig gl = glslMethod(glJson);
         Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
-        std::printf("%-15s fragments %lld, over the tolerance %lld, max within it %.2e texel, "
-                    "fetch count mismatches %lld\n",
-                    cpu.name.c_str(), (long long)a.n, (long long)a.over, a.maxTexels,
-                    (long long)a.fetchMismatch);
+        std::printf(
+            "%-15s fragments %lld, over the tolerance %lld, max within it %.2e texel, "
+            "fetch count mismatches %lld\n",
+            cpu.name.c_str(), (long long)a.n, (long long)a.over, a.maxTexels,
+            (long long)a.fetchMismatch);
         if (march) {
             EXPECT_LE(a.over, a.n / 100) << cpu.name;
             EXPECT_LE(a.fetchMismatch, a.n / 100) << cpu.name;
@@ -141,7 +164,8 @@ TEST(Gl, HeadOnShadersReturnUv0) {
     Texture t = test::smoothTexture(32, 32);
     Inputs in = randomInputs(500, 9);
     for (auto& v : in.view) v = Vec3f(0, 0, 1);
-    MethodConfig pom = glslMethod(R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion",
+    MethodConfig pom =
+        glslMethod(R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion",
         "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.05,"min_layers":8.0,
         "max_layers":32.0,"max_steps":0}})");
     GlslRun run = runGlsl(*pom.glsl, t, nullptr, nullptr, 0.05, -0.05, in.uv0, in.view);
@@ -163,8 +187,9 @@ TEST(Gl, CompileErrorNamesFileAndLine) {
                                    "vec2 ParallaxMapping(vec2 uv, vec3 v) {\n"
                                    "    return uv + undefined_thing;\n"
                                    "}\n");
-    MethodConfig cfg = parseMethod(nlohmann::json::parse(R"({"name":"mine","glsl":")" + path + R"("})"),
-                                   "scene.json", "methods[0]");
+    MethodConfig cfg =
+        parseMethod(nlohmann::json::parse(R"({"name":"mine","glsl":")" + path + R"("})"),
+                    "scene.json", "methods[0]");
     Inputs in = randomInputs(4, 1);
     Texture t = test::smoothTexture(8, 8);
     try {
@@ -179,10 +204,11 @@ TEST(Gl, CompileErrorNamesFileAndLine) {
 }
 
 TEST(Gl, MissingSamplerOrUniformIsNamed) {
-    std::string path = writeShader("ok.glsl",
-                                   "uniform sampler2D depthMap;\nuniform float height_scale;\n"
-                                   "vec2 ParallaxMapping(vec2 uv, vec3 v) {\n"
-                                   "    return uv - v.xy * texture(depthMap, uv).r * height_scale;\n}\n");
+    std::string path =
+        writeShader("ok.glsl",
+                    "uniform sampler2D depthMap;\nuniform float height_scale;\n"
+                    "vec2 ParallaxMapping(vec2 uv, vec3 v) {\n"
+                    "    return uv - v.xy * texture(depthMap, uv).r * height_scale;\n}\n");
     Inputs in = randomInputs(4, 1);
     Texture t = test::smoothTexture(8, 8);
     auto run = [&](const std::string& extra) {
@@ -224,8 +250,9 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
     Texture t = test::makeTexture(16, 16, [&](int, int) { return h; });
     Inputs in = randomInputs(400, 13);
     auto preset = [&](const char* name) {
-        MethodConfig cfg = parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
-                                       "scene.json", "methods[0]");
+        MethodConfig cfg =
+            parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
+                        "scene.json", "methods[0]");
         EXPECT_EQ(cfg.preset, name);
         return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view);
     };
@@ -239,8 +266,7 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
         EXPECT_LT(glm::length(Vec2d(deep.uv[k]) - g), 2e-6) << k;
         EXPECT_EQ(godot.fetches[k], 1u);
         Vec2d b = uv0 - Vec2d(v.x, v.y) * 0.1 * d / std::fabs(v.z);
-        EXPECT_LT(glm::length(Vec2d(occlusion.uv[k]) - b), 1e-5 * (1 + glm::length(b - uv0)))
-            << k;
+        EXPECT_LT(glm::length(Vec2d(occlusion.uv[k]) - b), 1e-5 * (1 + glm::length(b - uv0))) << k;
         double layers = 16 * (1 - std::fabs(v.z)) + std::fabs(v.z);
         double step = 0.1 / layers * glm::length(Vec2d(v.x, v.y)) / std::fabs(v.z);
         EXPECT_LT(glm::length(Vec2d(relief.uv[k]) - b), step / 32 + 1e-6) << k;

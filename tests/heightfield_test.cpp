@@ -1,10 +1,10 @@
 // Height fields: MODEL.md §1 conventions (texel centres, v up), loading, derived maps.
-#include <gtest/gtest.h>
+#include "heightfield/heightfield.h"
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "heightfield/heightfield.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -17,7 +17,8 @@ TEST(Sampler, ReturnsTexelValuesAtTexelCentres) {
     for (int j = 0; j < 5; ++j)
         for (int i = 0; i < 7; ++i) {
             Vec2d uv((i + 0.5) / 7, (j + 0.5) / 5);
-            EXPECT_NEAR(sampleBilinear<double>(t, uv), t.texel(i, j), 1e-7) << "texel " << i << "," << j;
+            EXPECT_NEAR(sampleBilinear<double>(t, uv), t.texel(i, j), 1e-7)
+                << "texel " << i << "," << j;
         }
 }
 
@@ -156,7 +157,8 @@ TEST(DerivedMaps, NormalOfARampIsClosedForm) {
 
 TEST(Procedural, RampIsLinearAtTexelCentres) {
     Texture t = makeProceduralHeight(
-        nlohmann::json::parse(R"({"procedural":"ramp","size":[8,4],"slope":[0.5,0.25],"offset":0.1})"),
+        nlohmann::json::parse(
+            R"({"procedural":"ramp","size":[8,4],"slope":[0.5,0.25],"offset":0.1})"),
         "s", "heightmap");
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 8; ++i)

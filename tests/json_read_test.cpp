@@ -1,17 +1,20 @@
 // core/json_read.h: the bounded JSON reader's refusals, each at its exact boundary and with
 // the field path an error must name.
+#include "core/json_read.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "core/error.h"
-#include "core/json_read.h"
 #include "methods/registry.h"
 
 namespace pgt {
 namespace {
 
-std::string nested(int depth) { return std::string(size_t(depth), '[') + std::string(size_t(depth), ']'); }
+std::string nested(int depth) {
+    return std::string(size_t(depth), '[') + std::string(size_t(depth), ']');
+}
 
 // The InputError's field for `text`, or "accepted".
 std::string refusalField(const std::string& text) {
@@ -63,14 +66,19 @@ TEST(Errors, EchoedKeysAndValuesArePrintableAndShort) {
 TEST(Labels, UserLabelsAreUniqueAndGeneratedOnesNeverCollide) {
     using Json = nlohmann::json;
     EXPECT_THROW(parseMethods(Json::parse(R"([{"name": "parallax", "label": "a"},
-                                              {"name": "pom", "label": "a"}])"), "f", "methods"),
+                                              {"name": "pom", "label": "a"}])"),
+                              "f", "methods"),
                  InputError);
     for (const char* bad : {"a,b", "a\"b", "a b", "../x", ""})
-        EXPECT_THROW(parseMethods(Json::array({{{"name", "parallax"}, {"label", bad}}}), "f",
-                                  "methods"), InputError) << bad;
-    EXPECT_THROW(parseMethods(Json::array({{{"name", "parallax"},
-                                            {"label", std::string(kMaxLabelLength + 1, 'x')}}}),
-                              "f", "methods"), InputError);
+        EXPECT_THROW(
+            parseMethods(Json::array({{{"name", "parallax"}, {"label", bad}}}), "f", "methods"),
+            InputError)
+            << bad;
+    EXPECT_THROW(
+        parseMethods(
+            Json::array({{{"name", "parallax"}, {"label", std::string(kMaxLabelLength + 1, 'x')}}}),
+            "f", "methods"),
+        InputError);
     auto list = parseMethods(
         Json::parse(R"(["parallax", {"name": "parallax", "label": "parallax_2"}, "parallax"])"),
         "f", "methods");

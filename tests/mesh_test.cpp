@@ -168,12 +168,13 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
             for (int i = 0; i <= n; ++i)
                 obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
         for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i) obj << "vt " << double(i) / n << " " << double(j) / n << "\n";
+            for (int i = 0; i <= n; ++i)
+                obj << "vt " << double(i) / n << " " << double(j) / n << "\n";
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
-                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c
-                    << " " << d << "/" << d << "\n";
+                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c << " "
+                    << d << "/" << d << "\n";
             }
     }
     std::string common = R"("heightmap": {"procedural": "sine", "size": [32, 32]},
@@ -181,12 +182,14 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
         "camera": {"type": "orthographic", "theta": 50, "phi": 30, "resolution": [96, 96],
                    "frame": "plane"},
         "methods": ["parallax", "pom", "relief"], "truth": {"rate": 4, "uncertainty": false})";
-    Scene plane = parseScene(nlohmann::json::parse("{" + common +
-                                 R"(, "base": {"type": "plane"}})"), (dir / "p.json").string());
-    Scene mesh = parseScene(nlohmann::json::parse("{" + common +
-                                R"(, "base": {"type": "mesh", "file": "grid.obj", "scheme": "catmark",
+    Scene plane =
+        parseScene(nlohmann::json::parse("{" + common + R"(, "base": {"type": "plane"}})"),
+                   (dir / "p.json").string());
+    Scene mesh = parseScene(
+        nlohmann::json::parse("{" + common +
+                              R"(, "base": {"type": "mesh", "file": "grid.obj", "scheme": "catmark",
                                    "refine": 2, "world_per_uv": 1.0}})"),
-                            (dir / "m.json").string());
+        (dir / "m.json").string());
     // Same framing: the mesh's box is grown by the relief on every side, the plane's only in
     // z; give both the same explicit view.
     for (Scene* s : {&plane, &mesh}) {
@@ -247,13 +250,13 @@ TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
                 obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
         for (int j = 0; j <= n; ++j)
             for (int i = 0; i <= n; ++i)
-                obj << "vt " << double(i) / n << " "
-                    << double(j) / n + bend * std::sin(kPi * i / n) << "\n";
+                obj << "vt " << double(i) / n << " " << double(j) / n + bend * std::sin(kPi * i / n)
+                    << "\n";
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i) {
                 int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
-                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c
-                    << " " << d << "/" << d << "\n";
+                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c << " "
+                    << d << "/" << d << "\n";
             }
     };
     writeGrid("affine.obj", 0.0);
@@ -261,7 +264,8 @@ TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
     auto share = [&](const std::string& obj) {
         std::string json = R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
             "displacement": {"scale": 0.05, "bias": -0.025},
-            "base": {"type": "mesh", "file": ")" + obj + R"(", "scheme": "bilinear", "refine": 0},
+            "base": {"type": "mesh", "file": ")" +
+                           obj + R"(", "scheme": "bilinear", "refine": 0},
             "camera": {"type": "orthographic", "theta": 60, "phi": 0, "resolution": [64, 64]},
             "methods": ["parallax"], "truth": {"rate": 2, "uncertainty": false}})";
         Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
@@ -308,8 +312,8 @@ TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
     Scene s = parseScene(nlohmann::json::parse(json), "limit.json");
     Camera cam = makeCamera(s);
     auto frame = [&](int rate) {
-        auto base = tessellateLimitSurface(s.height, *s.mesh.cage, s.mesh.scheme, s.worldPerUv(),
-                                           rate);
+        auto base =
+            tessellateLimitSurface(s.height, *s.mesh.cage, s.mesh.scheme, s.worldPerUv(), rate);
         TruthSurface surface(base, s.displacement, TruthGeometry::Triangles, false);
         return surface.traceFrame(cam);
     };
@@ -367,13 +371,13 @@ TEST(MeshRender, LoopSchemeOnATriangleCage) {
                "vt 0 0\nvt 1 0\nvt 0.5 1\n";
         const int f[8][3] = {{1, 3, 5}, {3, 2, 5}, {2, 4, 5}, {4, 1, 5},
                              {3, 1, 6}, {2, 3, 6}, {4, 2, 6}, {1, 4, 6}};
-        for (const auto& t : f)
-            obj << "f " << t[0] << "/1 " << t[1] << "/2 " << t[2] << "/3\n";
+        for (const auto& t : f) obj << "f " << t[0] << "/1 " << t[1] << "/2 " << t[2] << "/3\n";
     }
     for (const char* truth : {"polygonal", "limit"}) {
         std::string json = std::string(R"({"heightmap": {"procedural": "noise", "size": [32, 32]},
             "base": {"type": "mesh", "file": "octa.obj", "scheme": "loop", "refine": 2,
-                     "truth_surface": ")") + truth + R"("},
+                     "truth_surface": ")") +
+                           truth + R"("},
             "displacement": {"scale": 0.03, "bias": -0.015},
             "camera": {"type": "orthographic", "theta": 40, "phi": 20, "resolution": [64, 64]},
             "methods": ["parallax", "pom"], "truth": {"rate": 1}})";
@@ -426,9 +430,9 @@ namespace {
 TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
     Scene s = loadScene(test::sourceDir() + "/scenes/cylinder.json");
     s.camera.width = s.camera.height = 128;
-    s.methods = parseMethods(nlohmann::json::parse(
-                                 R"(["parallax", {"name": "parallax", "discard_outside": true}])"),
-                             s.file, "methods");
+    s.methods = parseMethods(
+        nlohmann::json::parse(R"(["parallax", {"name": "parallax", "discard_outside": true}])"),
+        s.file, "methods");
     EXPECT_EQ(s.uvExtent.lo, Vec2d(0, 0));
     EXPECT_EQ(s.uvExtent.hi, Vec2d(2, 1));
     RenderResult r = renderFrame(s, {1});
@@ -438,8 +442,8 @@ TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
         const MethodPixel& p = plain.pixels.data[k];
         if (!p.covered) continue;
         bool inside = p.uv.x >= 0 && p.uv.x <= 2 && p.uv.y >= 0 && p.uv.y <= 1;
-        EXPECT_EQ(discard.pixels.data[k].covered, inside) << "pixel " << k << " uv' " << p.uv.x
-                                                         << ", " << p.uv.y;
+        EXPECT_EQ(discard.pixels.data[k].covered, inside)
+            << "pixel " << k << " uv' " << p.uv.x << ", " << p.uv.y;
         (inside ? kept : dropped)++;
         beyondU1 += inside && p.uv.x > 1;
     }

@@ -13,10 +13,9 @@ using test::makeTexture;
 using test::method;
 
 const char* kAllMethods[] = {
-    R"({"name":"none"})",           R"({"name":"parallax"})",
-    R"({"name":"offset_limited"})", R"({"name":"steep"})",
-    R"({"name":"pom"})",            R"({"name":"relief"})",
-    R"({"name":"iterative"})",      R"({"name":"tangent_plane"})"};
+    R"({"name":"none"})",      R"({"name":"parallax"})",     R"({"name":"offset_limited"})",
+    R"({"name":"steep"})",     R"({"name":"pom"})",          R"({"name":"relief"})",
+    R"({"name":"iterative"})", R"({"name":"tangent_plane"})"};
 
 struct MethodRun {
     Vec2f uv;
@@ -105,7 +104,7 @@ TEST(Methods, MaxStepsBoundsTheMarchAndIsFlagged) {
     Texture t = makeTexture(8, 8, [&](int, int) { return 0.0; });  // depth 1 everywhere
     MethodTextures tex = makeMethodTextures(t, 0.1, -0.1, 1.0, false);
     MethodRun r = runFloat(method(R"({"name":"steep","layers":32,"max_steps":5})"), tex,
-                     Vec2f(0.5f), Vec3f(viewFromAngles(40, 0)));
+                           Vec2f(0.5f), Vec3f(viewFromAngles(40, 0)));
     EXPECT_EQ(r.ctx.fetches, 6);
     EXPECT_TRUE(r.ctx.flags & kFlagStepLimit);
 }
@@ -114,7 +113,7 @@ TEST(Methods, ReliefFetchesEveryStep) {
     Texture t = test::smoothTexture(16, 16);
     MethodTextures tex = makeMethodTextures(t, 0.05, -0.05, 1.0, false);
     MethodRun r = runFloat(method(R"({"name":"relief","linear_steps":10,"binary_steps":5})"), tex,
-                     Vec2f(0.3f, 0.6f), Vec3f(viewFromAngles(60, 100)));
+                           Vec2f(0.3f, 0.6f), Vec3f(viewFromAngles(60, 100)));
     EXPECT_EQ(r.ctx.fetches, 9 + 5);
 }
 
@@ -125,8 +124,8 @@ TEST(Methods, DoublePrecisionAgreesWithFloatUpToRounding) {
     MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, true);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
-    for (const char* m : {R"({"name":"parallax"})", R"({"name":"iterative"})",
-                          R"({"name":"tangent_plane"})"}) {
+    for (const char* m :
+         {R"({"name":"parallax"})", R"({"name":"iterative"})", R"({"name":"tangent_plane"})"}) {
         MethodConfig cfg = method(m);
         for (int k = 0; k < 100; ++k) {
             Vec2d uv0(uni(rng), uni(rng));
@@ -146,9 +145,9 @@ TEST(Methods, DoublePrecisionAgreesWithFloatUpToRounding) {
 }
 
 TEST(Methods, LabelsAreUniqueAndCarryParameters) {
-    auto list = parseMethods(nlohmann::json::parse(
-                                 R"(["pom", {"name":"pom","max_layers":64}, "steep", "steep"])"),
-                             "s", "methods");
+    auto list = parseMethods(
+        nlohmann::json::parse(R"(["pom", {"name":"pom","max_layers":64}, "steep", "steep"])"), "s",
+        "methods");
     ASSERT_EQ(list.size(), 4u);
     EXPECT_EQ(list[0].label, "pom_8_32");
     EXPECT_EQ(list[1].label, "pom_8_64");

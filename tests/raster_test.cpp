@@ -1,7 +1,8 @@
 // Rasteriser: top-left rule on shared edges, perspective-correct UV, tangent-space V.
+#include "raster/raster.h"
+
 #include <gtest/gtest.h>
 
-#include "raster/raster.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -23,11 +24,10 @@ TEST(Raster, SharedEdgeIsCoveredExactlyOnce) {
     for (int k = 0; k < 20; ++k) {
         // Small resolutions make pixel centres land on the diagonal often.
         int res = 8 + k;
-        Camera cam = k % 2 ? Camera::orthographic(-viewFromAngles(uni(rng) * 60, uni(rng) * 360),
-                                                  Vec3d(0), Vec3d(0, 0, 1) + Vec3d(0.1, 0.2, 0),
-                                                  1.5, res, res)
-                           : Camera::orthographic(Vec3d(0, 0, -1), Vec3d(0), Vec3d(0, 1, 0), 1.0,
-                                                  res, res);
+        Camera cam =
+            k % 2 ? Camera::orthographic(-viewFromAngles(uni(rng) * 60, uni(rng) * 360), Vec3d(0),
+                                         Vec3d(0, 0, 1) + Vec3d(0.1, 0.2, 0), 1.5, res, res)
+                  : Camera::orthographic(Vec3d(0, 0, -1), Vec3d(0), Vec3d(0, 1, 0), 1.0, res, res);
         auto a = rasterize(singleTriangle(plane, 0), cam, {true});
         auto b = rasterize(singleTriangle(plane, 1), cam, {true});
         auto both = rasterize(plane, cam, {true});
@@ -56,8 +56,8 @@ TEST(Raster, HeadOnPixelCentresMapToUv) {
 // Perspective-correct interpolation: uv0 equals the UV where the pixel's ray meets z = 0.
 TEST(Raster, PerspectiveCorrectUvMatchesRayPlaneIntersection) {
     BaseMesh plane = makePlaneMesh(Vec3d(0), 2.0, 3.0);  // l = 2/3 world units per UV
-    Camera cam = Camera::pinhole(Vec3d(0.3, -2.5, 1.2), Vec3d(0, 0.2, 0), Vec3d(0, 0, 1), 50,
-                                 96, 64);
+    Camera cam =
+        Camera::pinhole(Vec3d(0.3, -2.5, 1.2), Vec3d(0, 0.2, 0), Vec3d(0, 0, 1), 50, 96, 64);
     auto f = rasterize(plane, cam, {true});
     int covered = 0;
     for (int y = 0; y < 64; ++y)
@@ -107,7 +107,8 @@ TEST(Raster, BackFacesAreCulledOnRequest) {
 // A pinhole eye just above the plane: triangles crossing the near plane are clipped, not lost.
 TEST(Raster, NearPlaneClippingKeepsTheVisiblePart) {
     BaseMesh plane = makePlaneMesh(Vec3d(0), 1.0, 1.0);
-    Camera cam = Camera::pinhole(Vec3d(0, -0.45, 0.01), Vec3d(0, 0.5, 0), Vec3d(0, 0, 1), 90, 64, 64);
+    Camera cam =
+        Camera::pinhole(Vec3d(0, -0.45, 0.01), Vec3d(0, 0.5, 0), Vec3d(0, 0, 1), 90, 64, 64);
     RasterStats st;
     auto f = rasterize(plane, cam, {true}, &st);
     EXPECT_GT(st.covered, 200);

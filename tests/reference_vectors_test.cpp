@@ -29,7 +29,7 @@ Texture vectorTexture(const nlohmann::json& hm, Address address) {
 }
 
 class ReferenceVectors : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
         vectors = loadVectors();
         if (vectors.is_null())
@@ -59,7 +59,8 @@ TEST_F(ReferenceVectors, MethodsMatchAtNativeSettings) {
             int caseFlips = 0;
             for (size_t k = 0; k < c["uv0"].size(); ++k) {
                 Vec2d uv0(c["uv0"][k][0].get<double>(), c["uv0"][k][1].get<double>());
-                Vec2d want(it.value()["uv"][k][0].get<double>(), it.value()["uv"][k][1].get<double>());
+                Vec2d want(it.value()["uv"][k][0].get<double>(),
+                           it.value()["uv"][k][1].get<double>());
                 int wantFetches = it.value()["fetches"][k];
                 MethodContext<float> ctx;
                 ctx.height = &tex;

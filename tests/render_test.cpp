@@ -1,14 +1,14 @@
 // The frame pipeline end to end: head-on symmetry, closed-form error, convergence with layers,
 // frame.exr and summary.json round trips.
-#include <gtest/gtest.h>
+#include "study/render.h"
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <fstream>
 
 #include "core/error.h"
 #include "study/outputs.h"
-#include "study/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -16,7 +16,8 @@ namespace {
 
 std::vector<MethodConfig> allMethods() {
     return parseMethods(nlohmann::json::parse(R"(["none","parallax","offset_limited","steep",
-        "pom","relief","iterative","tangent_plane"])"), "test", "methods");
+        "pom","relief","iterative","tangent_plane"])"),
+                        "test", "methods");
 }
 
 // Head-on: truth = uv0 and every method returns uv0, so every error is ~0.
@@ -62,9 +63,9 @@ TEST(Render, JitteredSamplesStayConsistent) {
 TEST(Render, OffsetLimitedErrorIsTheClosedForm) {
     const double c = 0.7, s = 0.06, b = -0.03, theta = 55;
     Texture t = test::makeTexture(64, 64, [&](int, int) { return c; });
-    Scene sc = test::planeScene(std::move(t), s, b, theta, 70, 128,
-                                parseMethods(nlohmann::json::parse(R"(["parallax","offset_limited"])"),
-                                             "t", "methods"));
+    Scene sc = test::planeScene(
+        std::move(t), s, b, theta, 70, 128,
+        parseMethods(nlohmann::json::parse(R"(["parallax","offset_limited"])"), "t", "methods"));
     sc.truth.uncertainty = false;
     RenderResult r = renderFrame(sc, {1});
     Vec3d v = viewFromAngles(theta, 70);
@@ -81,9 +82,9 @@ TEST(Render, OffsetLimitedErrorIsTheClosedForm) {
 TEST(Render, PinholeParallaxIsExactOnConstantHeight) {
     const double c = 0.6, s = 0.05, b = -0.04;
     Texture t = test::makeTexture(64, 64, [&](int, int) { return c; });
-    Scene sc = test::planeScene(std::move(t), s, b, 0, 0, 128,
-                                parseMethods(nlohmann::json::parse(R"(["parallax","pom","none"])"),
-                                             "t", "methods"));
+    Scene sc = test::planeScene(
+        std::move(t), s, b, 0, 0, 128,
+        parseMethods(nlohmann::json::parse(R"(["parallax","pom","none"])"), "t", "methods"));
     sc.camera.type = "pinhole";
     sc.camera.eye = Vec3d(0.3, -1.1, 0.7);
     sc.camera.target = Vec3d(0, 0.1, 0);
@@ -137,10 +138,10 @@ TEST(Render, OutputsRoundTrip) {
     auto in = OIIO::ImageInput::open((dir / "frame.exr").string());
     ASSERT_TRUE(in);
     const OIIO::ImageSpec& spec = in->spec();
-    std::vector<std::string> want = {"truth.u", "truth.v", "truth.hit", "base.u", "base.v",
-                                     "base.hit", "parallax.u", "parallax.v", "parallax.err",
-                                     "pom_8_16.u", "pom_8_16.v", "pom_8_16.err", "pom_8_32.u",
-                                     "pom_8_32.v", "pom_8_32.err"};
+    std::vector<std::string> want = {"truth.u",      "truth.v",    "truth.hit",   "base.u",
+                                     "base.v",       "base.hit",   "parallax.u",  "parallax.v",
+                                     "parallax.err", "pom_8_16.u", "pom_8_16.v",  "pom_8_16.err",
+                                     "pom_8_32.u",   "pom_8_32.v", "pom_8_32.err"};
     ASSERT_EQ(spec.nchannels, int(want.size()));
     std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
     ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
@@ -197,8 +198,9 @@ TEST(Render, UnwritableOutputIsAnOutputError) {
 // the plane: the same truth frames (up to float ray starts), the same uncertainty, the same
 // method statistics, with the peak of one block.
 TEST(Render, TruthInBlocksMatchesTheWholeView) {
-    Scene s = test::planeScene(test::smoothTexture(128, 128), 0.08, -0.04, 55, 20, 96,
-                               parseMethods(nlohmann::json::parse(R"(["parallax","pom"])"), "t", "m"));
+    Scene s =
+        test::planeScene(test::smoothTexture(128, 128), 0.08, -0.04, 55, 20, 96,
+                         parseMethods(nlohmann::json::parse(R"(["parallax","pom"])"), "t", "m"));
     s.truth.rate = 2;
     RenderResult whole = renderFrame(s, {0});
     ASSERT_EQ(whole.truthBlocks, 1);
@@ -210,8 +212,10 @@ TEST(Render, TruthInBlocksMatchesTheWholeView) {
     double maxDiff = 0;
     for (size_t k = 0; k < whole.truth.size(); ++k) {
         const auto &a = whole.truth.data[k], &b = blocks.truth.data[k];
-        if (a.hit != b.hit) ++mismatch;
-        else if (a.hit) maxDiff = std::max(maxDiff, uvErrorTexels(a.uv, b.uv, 128, 128, Address::Repeat));
+        if (a.hit != b.hit)
+            ++mismatch;
+        else if (a.hit)
+            maxDiff = std::max(maxDiff, uvErrorTexels(a.uv, b.uv, 128, 128, Address::Repeat));
     }
     EXPECT_EQ(mismatch, 0);
     EXPECT_LT(maxDiff, 1e-4);

@@ -1,11 +1,12 @@
 // Scene files: the bundled scenes parse; bad input names file, field and value.
+#include "scene/scene.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "core/error.h"
-#include "scene/scene.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -84,8 +85,11 @@ TEST(Scene, OutOfRangeValuesNameTheField) {
         EXPECT_NE(e.find(c.field), std::string::npos) << c.pointer << ": " << e;
     }
     auto j = nlohmann::json::parse(kValid);
-    j["camera"] = {{"type", "pinhole"}, {"eye", {0, -2, 1}}, {"target", {0, 0, 0}},
-                   {"fov", 180}, {"resolution", {8, 8}}};
+    j["camera"] = {{"type", "pinhole"},
+                   {"eye", {0, -2, 1}},
+                   {"target", {0, 0, 0}},
+                   {"fov", 180},
+                   {"resolution", {8, 8}}};
     EXPECT_NE(errorOf(j.dump()).find("camera.fov"), std::string::npos);
 }
 

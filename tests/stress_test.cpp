@@ -1,5 +1,7 @@
 // The stiff suite: methods where V.z is 0 or negative, POM's 0/0, and every
 // scenes/stress case through `pgt stress` without a crash or a NaN in a statistic.
+#include "study/stress.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -7,16 +9,19 @@
 
 #include "methods/registry.h"
 #include "study/render.h"
-#include "study/stress.h"
 #include "test_util.h"
 
 namespace pgt {
 namespace {
 
-const char* kAll[] = {R"({"name":"none"})",  R"({"name":"parallax"})",
-                      R"({"name":"offset_limited"})", R"({"name":"steep"})",
-                      R"({"name":"pom"})",   R"({"name":"relief"})",
-                      R"({"name":"relief","binary_steps":0})", R"({"name":"iterative"})",
+const char* kAll[] = {R"({"name":"none"})",
+                      R"({"name":"parallax"})",
+                      R"({"name":"offset_limited"})",
+                      R"({"name":"steep"})",
+                      R"({"name":"pom"})",
+                      R"({"name":"relief"})",
+                      R"({"name":"relief","binary_steps":0})",
+                      R"({"name":"iterative"})",
                       R"({"name":"tangent_plane"})"};
 
 // V in the tangent plane (V.z = 0 exactly) and below it: every method terminates, and its
@@ -46,8 +51,8 @@ TEST(Stress, MethodsTerminateWhenVzIsZeroOrNegative) {
 // POM's bracketing depths equal: with one layer and depths 0.5 then 1.5 (a float map may
 // leave [0, 1]), after = before = 0.5, so w = 0.5 / 0. Flagged, non-finite, counted.
 TEST(Stress, PomZeroDenominatorIsFlaggedAndCounted) {
-    Texture t = test::makeTexture(2, 1, [](int i, int) { return i == 0 ? 0.5 : -0.5; },
-                                  Address::Clamp);
+    Texture t = test::makeTexture(
+        2, 1, [](int i, int) { return i == 0 ? 0.5 : -0.5; }, Address::Clamp);
     MethodTextures tex = makeMethodTextures(t, 0.5, -0.5, 1.0, false);
     MethodConfig cfg = test::method(R"({"name":"pom","layers":1,"max_steps":1})");
     MethodContext<float> c;

@@ -1,4 +1,6 @@
 // Studies: CSV columns and rows, resume after an interruption, study identity, parsing.
+#include "study/sweep.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,7 +10,6 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "study/sweep.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -62,12 +63,36 @@ std::multiset<std::string> rowsWithoutTiming(const std::filesystem::path& p) {
 
 // The documented columns (README "Studies"), in order.
 TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
-    const std::vector<std::string> documented = {
-        "case", "theta", "phi", "scale", "bias", "bias_ratio", "method", "label", "params",
-        "pixels", "mean", "rms", "p50", "p90", "p99", "max", "frac_gt_1texel", "truth_only",
-        "raster_only", "nonfinite", "zero_divide", "step_limit", "fetches_mean", "fetches_max",
-        "ns_per_px", "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame",
-        "p90_exact_frame", "timing_backend"};
+    const std::vector<std::string> documented = {"case",
+                                                 "theta",
+                                                 "phi",
+                                                 "scale",
+                                                 "bias",
+                                                 "bias_ratio",
+                                                 "method",
+                                                 "label",
+                                                 "params",
+                                                 "pixels",
+                                                 "mean",
+                                                 "rms",
+                                                 "p50",
+                                                 "p90",
+                                                 "p99",
+                                                 "max",
+                                                 "frac_gt_1texel",
+                                                 "truth_only",
+                                                 "raster_only",
+                                                 "nonfinite",
+                                                 "zero_divide",
+                                                 "step_limit",
+                                                 "fetches_mean",
+                                                 "fetches_max",
+                                                 "ns_per_px",
+                                                 "truth_uncertainty_p99",
+                                                 "truth_uncertainty_max",
+                                                 "mean_exact_frame",
+                                                 "p90_exact_frame",
+                                                 "timing_backend"};
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);
@@ -166,14 +191,15 @@ TEST(Sweep, BadSweepEntriesNameTheKey) {
 // the GL renderer as their timing backend.
 TEST(Sweep, UserGlslMethodAppearsInTheResults) {
     auto dir = test::tempDir("glsl_sweep");
-    std::ofstream(dir / "mine.glsl") << "#version 330 core\n"
-                                        "uniform sampler2D depthMap;\n"
-                                        "uniform float height_scale;\n"
-                                        "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n"
-                                        "    float height = texture(depthMap, texCoords).r;\n"
-                                        "    vec2 p = viewDir.xy / viewDir.z * (height * height_scale);\n"
-                                        "    return texCoords - p;\n"
-                                        "}\n";
+    std::ofstream(dir / "mine.glsl")
+        << "#version 330 core\n"
+           "uniform sampler2D depthMap;\n"
+           "uniform float height_scale;\n"
+           "vec2 ParallaxMapping(vec2 texCoords, vec3 viewDir) {\n"
+           "    float height = texture(depthMap, texCoords).r;\n"
+           "    vec2 p = viewDir.xy / viewDir.z * (height * height_scale);\n"
+           "    return texCoords - p;\n"
+           "}\n";
     nlohmann::json j = nlohmann::json::parse(kStudyScene);
     j["methods"] = nlohmann::json::parse(
         R"(["parallax", {"name": "mine", "glsl": "mine.glsl", "texture": "depth",

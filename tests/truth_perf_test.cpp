@@ -12,9 +12,8 @@ namespace pgt {
 namespace {
 
 Texture wavyMap(int n) {
-    return test::makeTexture(n, n, [&](int i, int j) {
-        return 0.5 + 0.4 * std::sin(0.37 * i) * std::cos(0.23 * j);
-    });
+    return test::makeTexture(
+        n, n, [&](int i, int j) { return 0.5 + 0.4 * std::sin(0.37 * i) * std::cos(0.23 * j); });
 }
 
 Camera viewOf(double theta, double phi, int pixels, bool infinite) {

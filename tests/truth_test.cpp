@@ -1,10 +1,11 @@
 // Truth: closed forms (constant and ramp height), convergence with rate, geometry variants.
+#include "truth/truth.h"
+
 #include <gtest/gtest.h>
 
 #include "compare/statistics.h"
 #include "scene/scene.h"
 #include "test_util.h"
-#include "truth/truth.h"
 
 namespace pgt {
 namespace {
@@ -43,8 +44,8 @@ TEST_P(TruthGeometries, ExactOnConstantHeight) {
 TEST_P(TruthGeometries, ExactOnRamp) {
     const int w = 64;
     const double a = 0.8, c0 = 0.1, s = 0.1, b = -0.05;
-    Texture t = test::makeTexture(w, 16, [&](int i, int) { return c0 + a * (i + 0.5) / w; },
-                                  Address::Clamp);
+    Texture t = test::makeTexture(
+        w, 16, [&](int i, int) { return c0 + a * (i + 0.5) / w; }, Address::Clamp);
     TruthSurface surface(t, PlaneBase{}, Displacement{s, b}, 2, GetParam());
     std::mt19937 rng(22);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -87,8 +88,8 @@ TEST(Truth, UncertaintyShrinksWhenRateDoubles) {
     std::vector<double> p99;
     for (int rate : {1, 2, 4}) {
         Scene a = smoothScene(rate), b = smoothScene(2 * rate);
-        TruthUncertainty u = compareTruthFrames(truthFrame(a), truthFrame(b), a.height,
-                                                a.height.address);
+        TruthUncertainty u =
+            compareTruthFrames(truthFrame(a), truthFrame(b), a.height, a.height.address);
         p99.push_back(u.p99Texels);
         EXPECT_GT(u.pixelsCompared, 3000);
     }
@@ -104,8 +105,8 @@ TEST(Truth, GridAndTrianglesAgree) {
     for (size_t k = 0; k < a.size(); ++k) {
         if (a.data[k].hit != b.data[k].hit) ++mismatch;
         if (a.data[k].hit && b.data[k].hit)
-            worst = std::max(worst, uvErrorTexels(a.data[k].uv, b.data[k].uv, 32, 32,
-                                                  Address::Repeat));
+            worst =
+                std::max(worst, uvErrorTexels(a.data[k].uv, b.data[k].uv, 32, 32, Address::Repeat));
     }
     // Same vertices and the same cell diagonal: only float rounding inside Embree differs.
     EXPECT_LT(worst, 1e-3);

@@ -7,10 +7,10 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "gl/glsl_method.h"
 #include "scene/scene.h"
 #include "study/fit.h"
 #include "study/outputs.h"
-#include "gl/glsl_method.h"
 #include "study/render.h"
 #include "study/stress.h"
 #include "study/sweep.h"
@@ -18,8 +18,8 @@
 namespace {
 
 void printSummary(const pgt::RenderResult& r) {
-    std::printf("%-20s %9s %9s %9s %9s %9s %8s %9s\n", "method", "mean", "p50", "p90", "p99",
-                "max", "fetch/px", "ns/px");
+    std::printf("%-20s %9s %9s %9s %9s %9s %8s %9s\n", "method", "mean", "p50", "p90", "p99", "max",
+                "fetch/px", "ns/px");
     for (const auto& m : r.methods) {
         const auto& e = m.stats.error;
         std::printf("%-20s %9.4f %9.4f %9.4f %9.4f %9.4f %8.2f %9.1f", m.config.label.c_str(),
@@ -32,8 +32,10 @@ void printSummary(const pgt::RenderResult& r) {
                     r.uncertainty.rate, r.uncertainty.rateFine, r.uncertainty.p99Texels,
                     r.uncertainty.maxTexels);
     if (r.truthBlocks > 1)
-        std::printf("truth traced in %d blocks, each over the part of the plane it sees "
-                    "(truth.memory_mb)\n", r.truthBlocks);
+        std::printf(
+            "truth traced in %d blocks, each over the part of the plane it sees "
+            "(truth.memory_mb)\n",
+            r.truthBlocks);
 }
 
 }  // namespace
@@ -61,7 +63,8 @@ int main(int argc, char** argv) {
     sweep->add_flag("--no-report", noReport, "Do not run analysis/report.py at the end");
     sweep->add_option("--max-cases", sweepOpt.maxCases, "Stop after this many new cases");
 
-    auto* fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
+    auto* fit =
+        app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     fit->add_option("scene", scenePath, "Scene file (JSON), optional \"fit\" block")->required();
     fit->add_option("--out", outDir, "Output directory for fit.json")->required();
     std::vector<std::string> stressPaths;
@@ -76,7 +79,7 @@ int main(int argc, char** argv) {
     std::string glDevice;
     for (CLI::App* sub : {render, sweep, stress})
         sub->add_option("--gl-device", glDevice,
-                         "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
+                        "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
     uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
     for (CLI::App* sub : {render, sweep, fit, stress})
         sub->add_option("--memory-limit", memoryLimitMb,
@@ -106,8 +109,8 @@ int main(int argc, char** argv) {
             pgt::RenderResult result = pgt::renderFrame(scene, {repeats});
             pgt::writeRenderOutputs(scene, result, outDir);
             printSummary(result);
-            std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n",
-                        outDir.c_str(), outDir.c_str(), result.methods.size());
+            std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n", outDir.c_str(),
+                        outDir.c_str(), result.methods.size());
         } else if (*sweep) {
             pgt::Scene scene = pgt::loadScene(scenePath);
             pgt::Study study = pgt::parseStudy(scene);
@@ -120,14 +123,17 @@ int main(int argc, char** argv) {
                         sweepOpt.outDir.c_str());
             if (!sum.stageMs.empty()) {
                 std::printf("stage totals (s):");
-                for (const auto& [stage, ms] : sum.stageMs) std::printf(" %s %.2f", stage.c_str(), ms / 1000);
+                for (const auto& [stage, ms] : sum.stageMs)
+                    std::printf(" %s %.2f", stage.c_str(), ms / 1000);
                 std::printf("\n");
             }
             if (!sum.finished) {
                 std::printf("stopped early; run the same command again to resume\n");
             } else if (sum.reportTried) {
-                if (sum.reportPath.empty()) std::printf("report not written: %s\n", sum.reportWhy.c_str());
-                else std::printf("report: %s\n", sum.reportPath.c_str());
+                if (sum.reportPath.empty())
+                    std::printf("report not written: %s\n", sum.reportWhy.c_str());
+                else
+                    std::printf("report: %s\n", sum.reportPath.c_str());
             }
         } else if (*stress) {
             int n = pgt::runStress(stressPaths, stressOpt);
@@ -137,17 +143,18 @@ int main(int argc, char** argv) {
             pgt::prepareOutputDir(outDir);  // before the search, so a bad --out fails at once
             pgt::FitReport rep = pgt::runFit(scene, true);
             pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
-            std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale",
-                        "bias", rep.objective.c_str(), "p90", "as listed");
+            std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale", "bias",
+                        rep.objective.c_str(), "p90", "as listed");
             for (const auto& m : rep.methods) {
                 double sc = m.best.value("scale", scene.displacement.scale);
                 double bi = m.best.value("bias", scene.displacement.bias);
                 std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(),
                             m.steps, sc, bi, m.bestObjective, m.bestP90, m.nativeObjective);
             }
-            std::printf("objective: %s UV error in texels averaged over %zu view angles; "
-                        "'as listed' = the scene's own (s, b)\n",
-                        rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
+            std::printf(
+                "objective: %s UV error in texels averaged over %zu view angles; "
+                "'as listed' = the scene's own (s, b)\n",
+                rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
             std::printf("wrote %s/fit.json\n", outDir.c_str());
         }
     } catch (const pgt::InputError& e) {

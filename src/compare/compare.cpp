@@ -53,10 +53,14 @@ FrameStats compareWithTruth(const Image2D<TruthSample>& truth, const Image2D<Met
                     if (m.flags & kFlagStepLimit) ++acc.stepLimit;
                     if (m.flags) ++acc.diverged;
                 }
-                if (t.hit && m.covered) ++acc.both;
-                else if (t.hit) ++acc.truthOnly;
-                else if (m.covered) ++acc.rasterOnly;
-                else ++acc.neither;
+                if (t.hit && m.covered)
+                    ++acc.both;
+                else if (t.hit)
+                    ++acc.truthOnly;
+                else if (m.covered)
+                    ++acc.rasterOnly;
+                else
+                    ++acc.neither;
                 if (!m.covered) continue;
                 if (!std::isfinite(m.uv.x) || !std::isfinite(m.uv.y)) {
                     ++acc.nonfinite;

@@ -16,13 +16,13 @@ struct CoverageCounts {
 };
 
 struct FrameStats {
-    Summary error;                // over pixels covered by both with finite uv' (texels)
-    double fracAbove1Texel = NAN; // share of those pixels with e > 1 texel
+    Summary error;                 // over pixels covered by both with finite uv' (texels)
+    double fracAbove1Texel = NAN;  // share of those pixels with e > 1 texel
     CoverageCounts coverage;
-    int64_t nonfinite = 0;        // covered pixels whose uv' is not finite
+    int64_t nonfinite = 0;                  // covered pixels whose uv' is not finite
     int64_t zeroDivide = 0, stepLimit = 0;  // stiff-case flags raised
-    int64_t diverged = 0;         // covered pixels marked by any stiff-case flag
-    double fetchesMean = 0;       // over raster-covered pixels
+    int64_t diverged = 0;                   // covered pixels marked by any stiff-case flag
+    double fetchesMean = 0;                 // over raster-covered pixels
     uint32_t fetchesMax = 0;
 };
 

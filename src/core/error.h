@@ -16,7 +16,7 @@ std::string printable(const std::string& text, size_t maxChars, bool keepNewline
 
 // Bad input: names the file, the field (JSON pointer-like path or image texel) and the value.
 class InputError : public std::runtime_error {
-public:
+  public:
     InputError(std::string file, std::string field, std::string value, const std::string& message)
         : std::runtime_error(format(file, field, value, message)),
           file_(std::move(file)),
@@ -27,7 +27,7 @@ public:
     const std::string& field() const { return field_; }
     const std::string& value() const { return value_; }
 
-private:
+  private:
     static std::string format(const std::string& file, const std::string& field,
                               const std::string& value, const std::string& message) {
         // Long enough for any real field path or value, short enough for one line.
@@ -44,31 +44,31 @@ private:
 
 // An output could not be written (exit status differs from bad input).
 class OutputError : public std::runtime_error {
-public:
+  public:
     using std::runtime_error::runtime_error;
 };
 
 namespace detail {
-[[noreturn]] void checkFailed(const char* expr, const char* file, int line, const std::string& values);
+[[noreturn]] void checkFailed(const char* expr, const char* file, int line,
+                              const std::string& values);
 }
 
 }  // namespace pgt
 
 // Programmer-error checks that print both operands (pbrt-style).
-#define PGT_CHECK(cond)                                                             \
-    do {                                                                            \
-        if (!(cond)) ::pgt::detail::checkFailed(#cond, __FILE__, __LINE__, "");     \
+#define PGT_CHECK(cond)                                                         \
+    do {                                                                        \
+        if (!(cond)) ::pgt::detail::checkFailed(#cond, __FILE__, __LINE__, ""); \
     } while (0)
-#define PGT_CHECK_OP(a, op, b)                                                      \
-    do {                                                                            \
-        auto pgt_a_ = (a);                                                          \
-        auto pgt_b_ = (b);                                                          \
-        if (!(pgt_a_ op pgt_b_)) {                                                  \
-            std::ostringstream pgt_os_;                                             \
-            pgt_os_ << #a " = " << pgt_a_ << ", " #b " = " << pgt_b_;               \
-            ::pgt::detail::checkFailed(#a " " #op " " #b, __FILE__, __LINE__,       \
-                                       pgt_os_.str());                              \
-        }                                                                           \
+#define PGT_CHECK_OP(a, op, b)                                                                \
+    do {                                                                                      \
+        auto pgt_a_ = (a);                                                                    \
+        auto pgt_b_ = (b);                                                                    \
+        if (!(pgt_a_ op pgt_b_)) {                                                            \
+            std::ostringstream pgt_os_;                                                       \
+            pgt_os_ << #a " = " << pgt_a_ << ", " #b " = " << pgt_b_;                         \
+            ::pgt::detail::checkFailed(#a " " #op " " #b, __FILE__, __LINE__, pgt_os_.str()); \
+        }                                                                                     \
     } while (0)
 #define PGT_CHECK_EQ(a, b) PGT_CHECK_OP(a, ==, b)
 #define PGT_CHECK_LT(a, b) PGT_CHECK_OP(a, <, b)

@@ -104,8 +104,8 @@ int JsonFields::integer(const std::string& key, int fallback, int lo, int hi) {
 
 int JsonFields::integer(const std::string& key, int lo, int hi) {
     const Json& v = raw(key);
-    if (!v.is_number_integer() && !(v.is_number_float() && std::floor(v.get<double>()) ==
-                                                               v.get<double>()))
+    if (!v.is_number_integer() &&
+        !(v.is_number_float() && std::floor(v.get<double>()) == v.get<double>()))
         failValue(key, v, "expected an integer");
     return int(toNumber(key, v, lo, hi));
 }
@@ -165,9 +165,9 @@ void JsonFields::finish(const std::vector<std::string>& alsoAllowed) const {
     for (auto it = object_.begin(); it != object_.end(); ++it) {
         if (std::find(known.begin(), known.end(), it.key()) != known.end()) continue;
         std::string hint = nearestName(it.key(), known);
-        throw InputError(file_, fieldPath(it.key()), shortDump(it.value()),
-                         "unknown key" + (hint.empty() ? std::string()
-                                                       : " (did you mean \"" + hint + "\"?)"));
+        throw InputError(
+            file_, fieldPath(it.key()), shortDump(it.value()),
+            "unknown key" + (hint.empty() ? std::string() : " (did you mean \"" + hint + "\"?)"));
     }
 }
 

@@ -22,7 +22,7 @@ std::string joinNames(const std::vector<std::string>& names);
 std::string shortDump(const Json& j);
 
 class JsonFields {
-public:
+  public:
     // `path` is this object's field path ("camera", "methods[2]"); "" for the root.
     JsonFields(const Json& object, std::string file, std::string path);
 
@@ -52,7 +52,7 @@ public:
     const std::string& file() const { return file_; }
     const std::string& path() const { return path_; }
 
-private:
+  private:
     double toNumber(const std::string& key, const Json& v, double lo, double hi) const;
     const Json& object_;
     std::string file_, path_;

@@ -23,7 +23,7 @@ namespace {
 // Builds the DOM like nlohmann's own SAX DOM parser, and keeps the path of the value being
 // read so that every refusal names its field ("camera.theta", "methods[2]").
 class BoundedDomBuilder {
-public:
+  public:
     using Json = nlohmann::json;
 
     explicit BoundedDomBuilder(std::string file) : file_(std::move(file)) {}
@@ -78,7 +78,7 @@ public:
     std::size_t position() const { return position_; }
     Json take() { return std::move(root_); }
 
-private:
+  private:
     struct Level {
         Json* node;
         std::string key;  // objects: the member being read
@@ -107,8 +107,7 @@ private:
             std::string path = pathOfNext();
             fail_ = [this, path] {
                 throw InputError(file_, path.empty() ? "(root)" : path, "",
-                                 "nested deeper than " + std::to_string(kMaxJsonDepth) +
-                                     " levels");
+                                 "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
             };
             return false;
         }
@@ -159,24 +158,26 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& file) {
     size_t offset = std::min<size_t>(builder.position(), text.size());
     int line = 1, column = 1;
     for (size_t i = 0; i + 1 < offset; ++i) {
-        if (text[i] == '\n') ++line, column = 1;
-        else ++column;
+        if (text[i] == '\n')
+            ++line, column = 1;
+        else
+            ++column;
     }
     throw InputError(file, "line " + std::to_string(line) + ", column " + std::to_string(column),
                      "", "malformed JSON: " + builder.parseMessage());
 }
 
-void requireRegularFile(const std::string& path, const std::string& owner,
-                        const std::string& field, const std::string& what) {
+void requireRegularFile(const std::string& path, const std::string& owner, const std::string& field,
+                        const std::string& what) {
     std::error_code ec;
     auto status = fs::status(path, ec);
     const std::string value = owner == path ? "" : path;  // the file itself: named once
     if (ec || !fs::exists(status))
         throw InputError(owner, field, value, "cannot open " + what + ": no such file");
     if (!fs::is_regular_file(status))
-        throw InputError(owner, field, value,
-                         "is not a regular file (a directory, device or pipe); a " + what +
-                             " must be a file");
+        throw InputError(
+            owner, field, value,
+            "is not a regular file (a directory, device or pipe); a " + what + " must be a file");
 }
 
 std::string readTextFile(const std::string& path, const std::string& owner,

@@ -27,8 +27,8 @@ nlohmann::json readJsonFile(const std::string& path);
 // Throws InputError(file = `owner`, field, value = path) unless `path` names a regular file
 // (not a directory, FIFO or device such as /dev/zero, which readers would block on).
 // `what` says what the file is for ("image", "OBJ", "shader").
-void requireRegularFile(const std::string& path, const std::string& owner,
-                        const std::string& field, const std::string& what);
+void requireRegularFile(const std::string& path, const std::string& owner, const std::string& field,
+                        const std::string& what);
 
 // Reads a whole regular file (requireRegularFile first); `maxBytes` bounds it.
 std::string readTextFile(const std::string& path, const std::string& owner,

@@ -35,8 +35,7 @@ void checkMemory(double bytes, const std::string& file, const std::string& field
     if (!(bytes <= limit)) {  // also refuses a NaN estimate
         double mb = std::isfinite(bytes) ? std::ceil(bytes / (1024 * 1024)) : HUGE_VAL;
         char buf[64];
-        std::snprintf(buf, sizeof buf, std::isfinite(mb) ? "%.0f MB" : "more than 2^64 bytes",
-                      mb);
+        std::snprintf(buf, sizeof buf, std::isfinite(mb) ? "%.0f MB" : "more than 2^64 bytes", mb);
         throw InputError(file, field, value,
                          what + " needs about " + buf + ", more than the memory limit of " +
                              std::to_string(memoryLimitMb()) +

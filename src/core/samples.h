@@ -17,7 +17,7 @@ struct MethodPixel {
     bool covered = false;  // rasterised and not discarded
     Vec2d uv{NAN};         // uv' (may be non-finite: counted, never averaged)
     uint32_t fetches = 0;
-    uint32_t flags = 0;    // MethodFlag bits
+    uint32_t flags = 0;  // MethodFlag bits
 };
 
 }  // namespace pgt

@@ -53,8 +53,10 @@ EGLDisplay openDisplay(const std::string& device) {
     if (device.empty())
         return eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     const int index = deviceIndex(device);
-    auto query = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-    if (!query) throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
+    auto query =
+        reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+    if (!query)
+        throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
     EGLDeviceEXT devices[16];
     EGLint n = 0;
     if (!query(16, devices, &n) || index < 0 || index >= n)
@@ -78,9 +80,13 @@ void createContext() {
     EGLint count = 0;
     if (!eglChooseConfig(dpy, configAttribs, &config, 1, &count) || count < 1)
         throw std::runtime_error("no EGL config for desktop OpenGL: " + eglErrorString());
-    const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+    const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                 4,
+                                 EGL_CONTEXT_MINOR_VERSION,
+                                 5,
                                  EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                 EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+                                 EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                 EGL_NONE};
     EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctxAttribs);
     if (ctx == EGL_NO_CONTEXT)
         throw std::runtime_error("cannot create an OpenGL 4.5 core context: " + eglErrorString());
@@ -248,8 +254,9 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file, int
     if (!ok) {
         std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
         glDeleteShader(s);
-        throw InputError(file, "glsl", "", "the shader does not compile:\n" +
-                                               translateLog(log, file, userFirst, userCount));
+        throw InputError(
+            file, "glsl", "",
+            "the shader does not compile:\n" + translateLog(log, file, userFirst, userCount));
     }
     return s;
 }
@@ -270,8 +277,8 @@ GLuint programFor(const GlslSpec& spec) {
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     const std::string user = stripVersion(spec.source);
     const int first = countLines(kPrelude), count = countLines(user);
-    std::string fs = std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function +
-                     "\n" + kMain;
+    std::string fs =
+        std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
     GLuint prog = glCreateProgram();
@@ -285,8 +292,9 @@ GLuint programFor(const GlslSpec& spec) {
     if (!ok) {
         std::string log = infoLog(prog, glGetProgramiv, glGetProgramInfoLog);
         glDeleteProgram(prog);
-        throw InputError(spec.path, "glsl", "", "the shader does not link:\n" +
-                                                    translateLog(log, spec.path, first, count));
+        throw InputError(
+            spec.path, "glsl", "",
+            "the shader does not link:\n" + translateLog(log, spec.path, first, count));
     }
     gPrograms[key] = {prog};
     return prog;
@@ -367,9 +375,11 @@ void checkMapFits(const GlslSpec& spec, const std::string& field, const std::str
     if (t->width > maxSide || t->height > maxSide)
         throw InputError(spec.path, field, name,
                          "the map it samples is " + std::to_string(t->width) + "x" +
-                             std::to_string(t->height) + " texels, more than this GL's "
-                             "GL_MAX_TEXTURE_SIZE " + std::to_string(maxSide) + " (" +
-                             gInfo.renderer + "); use a smaller height map or no GLSL method");
+                             std::to_string(t->height) +
+                             " texels, more than this GL's "
+                             "GL_MAX_TEXTURE_SIZE " +
+                             std::to_string(maxSide) + " (" + gInfo.renderer +
+                             "); use a smaller height map or no GLSL method");
 }
 
 void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
@@ -379,14 +389,14 @@ void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
     if (loc < 0)
         throw InputError(spec.path, field, name,
                          "is not an active sampler2D uniform of the shader (declare it and "
-                         "sample it in " + spec.function + ")");
+                         "sample it in " +
+                             spec.function + ")");
     PGT_CHECK(t != nullptr);
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
     glBindTexture(GL_TEXTURE_2D, mapTexture(*t, depth));
     glUniform1i(loc, unit);
     checkGl("uploading the map of " + field + " " + name);
 }
-
 
 }  // namespace
 
@@ -466,11 +476,16 @@ GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture*
         drainGlErrors();  // only this uniform's own error may be blamed on it
         if (un.bind == "scale") f = {float(scale)};
         if (un.bind == "bias") f = {float(bias)};
-        if (un.isInt) glUniform1i(u, int(un.values[0]));
-        else if (f.size() == 1) glUniform1f(u, f[0]);
-        else if (f.size() == 2) glUniform2f(u, f[0], f[1]);
-        else if (f.size() == 3) glUniform3f(u, f[0], f[1], f[2]);
-        else glUniform4f(u, f[0], f[1], f[2], f[3]);
+        if (un.isInt)
+            glUniform1i(u, int(un.values[0]));
+        else if (f.size() == 1)
+            glUniform1f(u, f[0]);
+        else if (f.size() == 2)
+            glUniform2f(u, f[0], f[1]);
+        else if (f.size() == 3)
+            glUniform3f(u, f[0], f[1], f[2]);
+        else
+            glUniform4f(u, f[0], f[1], f[2], f[3]);
         if (glGetError() != GL_NO_ERROR)
             throw InputError(spec.path, "uniforms." + un.name, "",
                              "does not match the uniform's type in the shader");
@@ -494,8 +509,10 @@ GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture*
         if (!query) break;
         glEndQuery(GL_TIME_ELAPSED);
         glFinish();
-        wallNs.push_back(std::chrono::duration<double, std::nano>(
-                             std::chrono::steady_clock::now() - t0).count() / n);
+        wallNs.push_back(
+            std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0)
+                .count() /
+            n);
         GLuint64 t = 0;
         glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
         gpuNs.push_back(double(t) / n);
@@ -538,9 +555,8 @@ constexpr size_t kChunkFragments = size_t(2048) * 4096;
 }  // namespace
 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias,
-                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                int timingRepeats) {
+                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
+                const std::vector<Vec3f>& view, int timingRepeats) {
     PGT_CHECK_EQ(uv0.size(), view.size());
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();

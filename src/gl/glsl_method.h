@@ -16,10 +16,10 @@ namespace pgt {
 
 // What a scene's `{"name": ..., "glsl": FILE, ...}` method entry says (parsed in methods/).
 struct GlslSpec {
-    std::string path;      // as resolved from the scene file's folder
-    std::string source;    // the file's text (read when the scene is parsed)
+    std::string path;    // as resolved from the scene file's folder
+    std::string source;  // the file's text (read when the scene is parsed)
     std::string function = "ParallaxMapping";
-    std::string sampler = "depthMap";  // "" = the function samples no height map
+    std::string sampler = "depthMap";            // "" = the function samples no height map
     std::string normalSampler, parallaxSampler;  // optional: 003's derived maps
     bool depthTexture = false;  // "texture": "depth" -> the sampler holds d = 1 - h
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
@@ -49,10 +49,10 @@ void setGlDevice(const std::string& device);
 
 // One run of a GLSL method over a list of fragments.
 struct GlslRun {
-    std::vector<Vec2f> uv;        // uv' per fragment
+    std::vector<Vec2f> uv;          // uv' per fragment
     std::vector<uint32_t> fetches;  // texture() calls per fragment
-    double gpuNsPerPixel = 0;     // GL_TIME_ELAPSED of the draw, median of the repeats
-    double wallNsPerPixel = 0;    // the same draw between two glFinish, wall clock
+    double gpuNsPerPixel = 0;       // GL_TIME_ELAPSED of the draw, median of the repeats
+    double wallNsPerPixel = 0;      // the same draw between two glFinish, wall clock
 };
 
 // Compiles the spec's shader (cached per source, function and sampler) and runs it over the
@@ -61,8 +61,7 @@ struct GlslRun {
 // `normal` and `parallax` are 003's derived maps (needed when the spec names their samplers).
 // `scale`, `bias`: the (s, b) of the case, for uniforms bound to them.
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias,
-                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                int timingRepeats = 0);
+                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
+                const std::vector<Vec3f>& view, int timingRepeats = 0);
 
 }  // namespace pgt

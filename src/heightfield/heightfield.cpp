@@ -4,12 +4,11 @@
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
-#include <cstdio>
-#include <memory>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -42,7 +41,7 @@ namespace {
 // own; pgt's promise is one error line. While a decoder runs, fd 2 goes to a temporary file
 // whose text is folded into pgt's own message when the decode fails.
 class StderrCapture {
-public:
+  public:
     StderrCapture() {
         std::fflush(stderr);
         file_ = std::tmpfile();
@@ -72,7 +71,7 @@ public:
         return text_;
     }
 
-private:
+  private:
     std::FILE* file_ = nullptr;
     int saved_ = -1;
     std::string text_;
@@ -106,9 +105,9 @@ std::unique_ptr<OIIO::ImageInput> openHeightImage(const std::string& path, int c
     const OIIO::ImageSpec& spec = in->spec();
     checkSize(sceneFile, field + ".file", spec.width, spec.height);
     if (channel < 0 || channel >= spec.nchannels)
-        throw InputError(sceneFile, field + ".channel", std::to_string(channel),
-                         "image " + path + " has " + std::to_string(spec.nchannels) +
-                             " channel(s)");
+        throw InputError(
+            sceneFile, field + ".channel", std::to_string(channel),
+            "image " + path + " has " + std::to_string(spec.nchannels) + " channel(s)");
     // Decoding holds every channel as read and as doubles, then the float texture.
     double texels = double(spec.width) * spec.height;
     checkMemory(texels * spec.nchannels * (8.0 + double(spec.format.size())) + texels * 4,
@@ -217,11 +216,11 @@ double smoothstep01(double t) {
 Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
                              const std::string& field) {
     JsonFields f(params, sceneFile, field);
-    const std::vector<std::string> kinds = {"constant", "ramp",  "sine",   "bricks",
+    const std::vector<std::string> kinds = {"constant", "ramp",    "sine",  "bricks",
                                             "steps",    "checker", "noise", "spike"};
     std::string kind = f.choice("procedural", kinds, "");
-    std::vector<int> size = f.has("size") ? f.integers("size", 2, 1, kMaxSide)
-                                          : std::vector<int>{256, 256};
+    std::vector<int> size =
+        f.has("size") ? f.integers("size", 2, 1, kMaxSide) : std::vector<int>{256, 256};
     checkSize(sceneFile, field + ".size", size[0], size[1]);
     int w = size[0], h = size[1];
     unsigned seed = unsigned(f.integer("seed", 1, 0, 2147483647));
@@ -285,9 +284,7 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     } else if (kind == "steps") {
         // A staircase along u: `levels` flat treads from 0 to 1 with jumps between them.
         int levels = f.integer("levels", 4, 2, 65536);
-        fn = [=](double u, double) {
-            return std::floor(u * levels) / (levels - 1);
-        };
+        fn = [=](double u, double) { return std::floor(u * levels) / (levels - 1); };
     } else if (kind == "checker") {
         std::vector<int> cells =
             f.has("cells") ? f.integers("cells", 2, 1, kMaxSide) : std::vector<int>{8, 8};

@@ -35,7 +35,8 @@ namespace detail {
 // already subtracted). Returns the two neighbours and the fraction. Non-finite or huge
 // coordinates are reduced first so that the integer conversion is always defined.
 template <class Real>
-[[gnu::always_inline]] inline void texelPair(Real x, int n, Address address, int& i0, int& i1, Real& f) {
+[[gnu::always_inline]] inline void texelPair(Real x, int n, Address address, int& i0, int& i1,
+                                             Real& f) {
     Real fl = std::floor(x);
     f = x - fl;
     // Beyond 2^30 texels the float position has no fractional precision left; reduce so

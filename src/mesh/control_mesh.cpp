@@ -39,7 +39,8 @@ ControlMesh makeCylinderCage(double radius, double height, int segments, double 
     for (int ring = 0; ring < 2; ++ring)
         for (int i = 0; i < segments; ++i) {
             double a = 2 * kPi * i / segments;
-            m.positions.push_back({radius * std::cos(a), radius * std::sin(a), (ring - 0.5) * height});
+            m.positions.push_back(
+                {radius * std::cos(a), radius * std::sin(a), (ring - 0.5) * height});
         }
     // UV columns 0..segments: column `segments` duplicates column 0 at u = tilingU (the seam).
     for (int ring = 0; ring < 2; ++ring)
@@ -73,8 +74,8 @@ ControlMesh makeTorusCage(double majorRadius, double minorRadius, int segU, int 
             m.faceVerts.insert(m.faceVerts.end(),
                                {j * segU + i, j * segU + i1, j1 * segU + i1, j1 * segU + i});
             int row = segU + 1;
-            m.faceUvs.insert(m.faceUvs.end(), {j * row + i, j * row + i + 1,
-                                               (j + 1) * row + i + 1, (j + 1) * row + i});
+            m.faceUvs.insert(m.faceUvs.end(), {j * row + i, j * row + i + 1, (j + 1) * row + i + 1,
+                                               (j + 1) * row + i});
         }
     return m;
 }
@@ -83,8 +84,8 @@ namespace {
 
 // tinyobjloader reads a coordinate it cannot parse ("nan", "inf", "1e999") as 0 without a
 // word; pgt refuses it, naming the line. Only "v" and "vt" records feed the mesh.
-void checkObjNumbers(const std::string& text, const std::string& path,
-                     const std::string& sceneFile, const std::string& field) {
+void checkObjNumbers(const std::string& text, const std::string& path, const std::string& sceneFile,
+                     const std::string& field) {
     size_t lineNo = 0;
     for (size_t pos = 0; pos < text.size();) {
         size_t end = text.find('\n', pos);
@@ -113,7 +114,8 @@ void checkObjNumbers(const std::string& text, const std::string& path,
 ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
                         const std::string& field) {
     // An OBJ of 2^20 quads (the cage limit) is about 100 MB of text; 1 GiB bounds the read.
-    const std::string text = readTextFile(path, sceneFile, field, "OBJ file", std::uintmax_t(1) << 30);
+    const std::string text =
+        readTextFile(path, sceneFile, field, "OBJ file", std::uintmax_t(1) << 30);
     checkObjNumbers(text, path, sceneFile, field);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false;  // keep quads: the subdivision schemes want the cage as drawn
@@ -134,8 +136,8 @@ ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
         if (index < 0 || size_t(index) >= count)
             throw InputError(sceneFile, field, path,
                              "face " + std::to_string(face) + " of shape \"" + shape +
-                                 "\" refers to " + what + " " + std::to_string(index + 1) +
-                                 " of " + std::to_string(count) + " (OBJ counts from 1)");
+                                 "\" refers to " + what + " " + std::to_string(index + 1) + " of " +
+                                 std::to_string(count) + " (OBJ counts from 1)");
     };
     for (const auto& shape : reader.GetShapes()) {
         size_t offset = 0;
@@ -163,7 +165,8 @@ ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
     for (const auto& p : m.positions)
         if (!allFinite(p)) throw InputError(sceneFile, field, path, "non-finite vertex position");
     for (const auto& t : m.uvs)
-        if (!allFinite(t)) throw InputError(sceneFile, field, path, "non-finite texture coordinate");
+        if (!allFinite(t))
+            throw InputError(sceneFile, field, path, "non-finite texture coordinate");
     return m;
 }
 

@@ -2,8 +2,6 @@
 // Listing 7.4 tangent frames of that mesh.
 #include "mesh/refine.h"
 
-#include "mesh/osd_refiner.h"
-
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -12,6 +10,8 @@
 #include <map>
 #include <memory>
 #include <stdexcept>
+
+#include "mesh/osd_refiner.h"
 
 namespace pgt {
 
@@ -153,8 +153,8 @@ RefinedMesh refineToTriangles(const ControlMesh& cage, Scheme scheme, int levels
     RefinedMesh out;
     BaseMesh& m = out.mesh;
     std::map<std::pair<int, int>, uint32_t> vertexOf;  // (position, uv) -> output vertex
-    std::vector<Vec3d> areaNormal;                      // per output vertex (bilinear)
-    std::vector<Vec3d> positionNormal(nv, Vec3d(0));    // per position: orientation reference
+    std::vector<Vec3d> areaNormal;                     // per output vertex (bilinear)
+    std::vector<Vec3d> positionNormal(nv, Vec3d(0));   // per position: orientation reference
     for (int f = 0; f < last.GetNumFaces(); ++f) {
         auto fv = last.GetFaceVertices(f);
         auto ft = last.GetFaceFVarValues(f, 0);

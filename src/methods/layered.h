@@ -20,11 +20,11 @@ inline Vec2<Real> reliefTopEntry(Vec2<Real> uv0, Vec3<Real> v, Real s, Real b) {
 // State of a finished steep march, shared by steep and pom.
 template <class Real>
 struct SteepMarch {
-    Vec2<Real> uv;       // currentTexCoords
-    Vec2<Real> delta;    // deltaTexCoords
-    Real depthValue;     // currentDepthMapValue
-    Real layer;          // currentLayerDepth
-    Real layerDepth;     // 1 / numLayers
+    Vec2<Real> uv;     // currentTexCoords
+    Vec2<Real> delta;  // deltaTexCoords
+    Real depthValue;   // currentDepthMapValue
+    Real layer;        // currentLayerDepth
+    Real layerDepth;   // 1 / numLayers
 };
 
 // 002 steep listing: numLayers = mix(maxLayers, minLayers, |V.z|) (004 takes abs, 002

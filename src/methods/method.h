@@ -15,20 +15,29 @@
 
 namespace pgt {
 
-enum class MethodKind { None, Parallax, OffsetLimited, Steep, Pom, Relief, Iterative, TangentPlane,
-                        Glsl };
+enum class MethodKind {
+    None,
+    Parallax,
+    OffsetLimited,
+    Steep,
+    Pom,
+    Relief,
+    Iterative,
+    TangentPlane,
+    Glsl
+};
 
 struct GlslSpec;  // gl/glsl_method.h: a user's shader function run in OpenGL
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
-    std::string name;   // "pom"
-    std::string label;  // unique within a scene: "pom" or "pom_32"
-    int minLayers = 8, maxLayers = 32;  // steep, pom (LearnOpenGL's defaults)
-    int maxSteps = 0;                   // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
+    std::string name;                       // "pom"
+    std::string label;                      // unique within a scene: "pom" or "pom_32"
+    int minLayers = 8, maxLayers = 32;      // steep, pom (LearnOpenGL's defaults)
+    int maxSteps = 0;                       // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
     int iterations = 4;                     // iterative (003 Listing 7.9)
-    bool discardOutside = false;  // LearnOpenGL: discard when uv' leaves [0, tiling]^2
+    bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (MODEL.md §3).

@@ -1,12 +1,12 @@
 // Method registry: names, scene parsing, labels, dispatch.
 #include "methods/registry.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <cctype>
 #include <map>
 #include <set>
 #include <sstream>
@@ -26,10 +26,14 @@ struct NamedKind {
     MethodKind kind;
 };
 constexpr NamedKind kMethods[] = {
-    {"none", MethodKind::None},         {"parallax", MethodKind::Parallax},
-    {"offset_limited", MethodKind::OffsetLimited}, {"steep", MethodKind::Steep},
-    {"pom", MethodKind::Pom},           {"relief", MethodKind::Relief},
-    {"iterative", MethodKind::Iterative}, {"tangent_plane", MethodKind::TangentPlane},
+    {"none", MethodKind::None},
+    {"parallax", MethodKind::Parallax},
+    {"offset_limited", MethodKind::OffsetLimited},
+    {"steep", MethodKind::Steep},
+    {"pom", MethodKind::Pom},
+    {"relief", MethodKind::Relief},
+    {"iterative", MethodKind::Iterative},
+    {"tangent_plane", MethodKind::TangentPlane},
 };
 }  // namespace
 
@@ -129,7 +133,8 @@ const std::vector<MethodPreset>& methodPresets() {
     static const std::vector<MethodPreset> presets = {
         {"welsh", "000 (Welsh 2004): parallax mapping at its own s 0.04, b -0.02",
          R"({"name": "parallax", "scale": 0.04, "bias": -0.02})"},
-        {"learnopengl_parallax", "002 (LearnOpenGL): ParallaxMapping, height_scale 0.1 on a depth map",
+        {"learnopengl_parallax",
+         "002 (LearnOpenGL): ParallaxMapping, height_scale 0.1 on a depth map",
          R"({"name": "parallax", "scale": 0.1, "bias": -0.1})"},
         {"learnopengl_steep", "002 (LearnOpenGL): steep parallax, 8-32 layers, height_scale 0.1",
          R"({"name": "steep", "min_layers": 8, "max_layers": 32, "scale": 0.1, "bias": -0.1})"},
@@ -227,9 +232,9 @@ std::string parameterSuffix(const MethodConfig& c) {
     switch (c.kind) {
         case MethodKind::Steep:
         case MethodKind::Pom:
-            s = c.minLayers == c.maxLayers ? std::to_string(c.maxLayers)
-                                           : std::to_string(c.minLayers) + "_" +
-                                                 std::to_string(c.maxLayers);
+            s = c.minLayers == c.maxLayers
+                    ? std::to_string(c.maxLayers)
+                    : std::to_string(c.minLayers) + "_" + std::to_string(c.maxLayers);
             if (c.maxSteps) s += "_s" + std::to_string(c.maxSteps);
             break;
         case MethodKind::Relief:
@@ -293,7 +298,8 @@ std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file
 void checkLabel(const std::string& label, const std::string& file, const std::string& field) {
     bool ok = !label.empty() && label.size() <= kMaxLabelLength;
     for (char c : label)
-        ok = ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+');
+        ok =
+            ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+');
     if (!ok)
         throw InputError(file, field, label,
                          "a label is 1 to " + std::to_string(kMaxLabelLength) +
@@ -311,7 +317,7 @@ Json toJson(const MethodConfig& c) {
         j["texture"] = c.glsl->depthTexture ? "depth" : "height";
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
-            u[un.name] = !un.bind.empty()         ? Json(un.bind)
+            u[un.name] = !un.bind.empty()        ? Json(un.bind)
                          : un.values.size() == 1 ? Json(un.values[0])
                                                  : Json(un.values);
         j["uniforms"] = u;
@@ -346,22 +352,31 @@ template <class Real>
 Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Real> uv0,
                      Vec3<Real> v) {
     switch (cfg.kind) {
-        case MethodKind::None: return methodNone(ctx, uv0, v, cfg);
-        case MethodKind::Parallax: return methodParallax(ctx, uv0, v, cfg);
-        case MethodKind::OffsetLimited: return methodOffsetLimited(ctx, uv0, v, cfg);
-        case MethodKind::Steep: return methodSteep(ctx, uv0, v, cfg);
-        case MethodKind::Pom: return methodPom(ctx, uv0, v, cfg);
-        case MethodKind::Relief: return methodRelief(ctx, uv0, v, cfg);
-        case MethodKind::Iterative: return methodIterative(ctx, uv0, v, cfg);
-        case MethodKind::TangentPlane: return methodTangentPlane(ctx, uv0, v, cfg);
-        case MethodKind::Glsl: break;  // runs in OpenGL (study/render.cpp), never here
+        case MethodKind::None:
+            return methodNone(ctx, uv0, v, cfg);
+        case MethodKind::Parallax:
+            return methodParallax(ctx, uv0, v, cfg);
+        case MethodKind::OffsetLimited:
+            return methodOffsetLimited(ctx, uv0, v, cfg);
+        case MethodKind::Steep:
+            return methodSteep(ctx, uv0, v, cfg);
+        case MethodKind::Pom:
+            return methodPom(ctx, uv0, v, cfg);
+        case MethodKind::Relief:
+            return methodRelief(ctx, uv0, v, cfg);
+        case MethodKind::Iterative:
+            return methodIterative(ctx, uv0, v, cfg);
+        case MethodKind::TangentPlane:
+            return methodTangentPlane(ctx, uv0, v, cfg);
+        case MethodKind::Glsl:
+            break;  // runs in OpenGL (study/render.cpp), never here
     }
     return uv0;
 }
 
 template Vec2<float> runMethod<float>(const MethodConfig&, MethodContext<float>&, Vec2<float>,
                                       Vec3<float>);
-template Vec2<double> runMethod<double>(const MethodConfig&, MethodContext<double>&,
-                                        Vec2<double>, Vec3<double>);
+template Vec2<double> runMethod<double>(const MethodConfig&, MethodContext<double>&, Vec2<double>,
+                                        Vec3<double>);
 
 }  // namespace pgt

@@ -97,8 +97,7 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                                               &mesh.vertices[mesh.indices[tri + 1]],
                                               &mesh.vertices[mesh.indices[tri + 2]]};
         // Facing: the geometric normal against the direction to the eye.
-        Vec3d faceN = glm::cross(v[1]->position - v[0]->position,
-                                 v[2]->position - v[0]->position);
+        Vec3d faceN = glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position);
         Vec3d toEye = ortho ? -camera.forward() : camera.eye() - v[0]->position;
         bool front = glm::dot(faceN, toEye) > 0;
         if (!front && options.cullBackFaces) {
@@ -144,8 +143,8 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                 s[i] = camera.toScreen(c[i]->cam);
                 invW[i] = ortho ? 1.0 : 1.0 / c[i]->cam.z;
             }
-            double area = (s[1].x - s[0].x) * (s[2].y - s[0].y) -
-                          (s[1].y - s[0].y) * (s[2].x - s[0].x);
+            double area =
+                (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[1].y - s[0].y) * (s[2].x - s[0].x);
             if (area == 0 || !std::isfinite(area)) continue;
             // Normalise orientation so that all edge functions are positive inside.
             if (area < 0) {

@@ -10,8 +10,8 @@ Vec3d viewFromAngles(double thetaDegrees, double phiDegrees) {
     return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
-Camera Camera::make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight,
-                    int width, int height) {
+Camera Camera::make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight, int width,
+                    int height) {
     Camera c;
     c.ortho_ = ortho;
     c.width_ = width;
@@ -27,8 +27,8 @@ Camera Camera::make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double ha
 
 Camera Camera::pinhole(Vec3d eye, Vec3d target, Vec3d up, double fovDegrees, int width,
                        int height) {
-    Camera c = make(false, target - eye, target, up, std::tan(radians(fovDegrees) / 2), width,
-                    height);
+    Camera c =
+        make(false, target - eye, target, up, std::tan(radians(fovDegrees) / 2), width, height);
     c.eye_ = eye;
     c.fovDegrees_ = fovDegrees;
     return c;
@@ -49,7 +49,8 @@ Ray Camera::ray(double sx, double sy) const {
 Vec2d Camera::samplePosition(int px, int py) const {
     if (!jitter_) return {px + 0.5, py + 0.5};
     // A 64-bit mix (splitmix64 finaliser) of pixel and seed -> two uniforms in (0, 1).
-    uint64_t z = (uint64_t(uint32_t(px)) << 32 | uint32_t(py)) ^ (uint64_t(jitterSeed_) * 0x9E3779B97F4A7C15ull);
+    uint64_t z = (uint64_t(uint32_t(px)) << 32 | uint32_t(py)) ^
+                 (uint64_t(jitterSeed_) * 0x9E3779B97F4A7C15ull);
     auto next = [&z]() {
         z += 0x9E3779B97F4A7C15ull;
         uint64_t x = z;

@@ -16,7 +16,7 @@ struct Ray {
 };
 
 class Camera {
-public:
+  public:
     // Pinhole: vertical field of view in degrees.
     static Camera pinhole(Vec3d eye, Vec3d target, Vec3d up, double fovDegrees, int width,
                           int height);
@@ -54,15 +54,15 @@ public:
     // Unit vector from a world point toward the eye (MODEL.md §4's V before the TBN).
     Vec3d viewVector(Vec3d world) const;
 
-    Vec3d eye() const { return eye_; }            // pinhole
-    Vec3d forward() const { return forward_; }    // viewing direction
+    Vec3d eye() const { return eye_; }          // pinhole
+    Vec3d forward() const { return forward_; }  // viewing direction
     Vec3d right() const { return right_; }
     Vec3d up() const { return up_; }
     double fovDegrees() const { return fovDegrees_; }
     double viewHeight() const { return 2 * halfHeight_; }
     Vec3d target() const { return target_; }
 
-private:
+  private:
     static Camera make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight,
                        int width, int height);
     bool ortho_ = false;

@@ -16,9 +16,7 @@ namespace pgt {
 
 namespace fs = std::filesystem;
 
-Scene loadScene(const std::string& path) {
-    return parseScene(readJsonFile(path), path);
-}
+Scene loadScene(const std::string& path) { return parseScene(readJsonFile(path), path); }
 
 namespace {
 
@@ -46,8 +44,8 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
         bool channelGiven = f.has("channel");
         int channel = f.integer("channel", 0, 0, 1023);
         f.finish();
-        fs::path p = fs::path(rel).is_absolute() ? fs::path(rel)
-                                                 : fs::path(s.file).parent_path() / rel;
+        fs::path p =
+            fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
         HeightImageHeader header = probeHeightImage(p.string(), channel, s.file, "heightmap");
         s.height.width = header.width;
         s.height.height = header.height;
@@ -63,7 +61,9 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
 void parseMeshBase(Scene& s, JsonFields& f) {
     MeshBase& m = s.mesh;
     if (f.has("cage") == f.has("file"))
-        f.fail("cage", "a mesh base needs exactly one of \"cage\" (cube, cylinder, torus) or \"file\" (OBJ)");
+        f.fail(
+            "cage",
+            "a mesh base needs exactly one of \"cage\" (cube, cylinder, torus) or \"file\" (OBJ)");
     ControlMesh cage;
     std::vector<double> tiling =
         f.has("tiling") ? f.numbers("tiling", 2, 1e-6, 1e6) : std::vector<double>{1.0, 1.0};
@@ -76,15 +76,16 @@ void parseMeshBase(Scene& s, JsonFields& f) {
                                     f.number("height", 1.0, 1e-6, 1e9),
                                     f.integer("segments", 16, 3, 4096), tiling[0], tiling[1]);
         } else {
-            std::vector<int> seg = f.has("segments") ? f.integers("segments", 2, 3, 4096)
-                                                     : std::vector<int>{16, 8};
+            std::vector<int> seg =
+                f.has("segments") ? f.integers("segments", 2, 3, 4096) : std::vector<int>{16, 8};
             cage = makeTorusCage(f.number("major_radius", 0.5, 1e-6, 1e9),
                                  f.number("minor_radius", 0.2, 1e-6, 1e9), seg[0], seg[1],
                                  tiling[0], tiling[1]);
         }
     } else {
         std::string rel = f.string("file");
-        fs::path p = fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
+        fs::path p =
+            fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
         cage = loadObjMesh(p.string(), s.file, "base.file");
         m.source = rel;
         m.sourceSha1 = fileSha1(p.string());
@@ -94,7 +95,9 @@ void parseMeshBase(Scene& s, JsonFields& f) {
     if (cage.numFaces() > (1 << 20))
         f.fail(f.has("file") ? "file" : "segments", "the control mesh has more than 2^20 faces");
     std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "catmark");
-    m.scheme = scheme == "bilinear" ? Scheme::Bilinear : scheme == "loop" ? Scheme::Loop : Scheme::Catmark;
+    m.scheme = scheme == "bilinear" ? Scheme::Bilinear
+               : scheme == "loop"   ? Scheme::Loop
+                                    : Scheme::Catmark;
     m.refine = f.integer("refine", 2, 0, 6);
     int maxFaceSize = *std::max_element(cage.faceSizes.begin(), cage.faceSizes.end());
     double refinedFaces = double(cage.numFaces()) * (m.refine > 0 ? maxFaceSize : 1) *
@@ -106,8 +109,7 @@ void parseMeshBase(Scene& s, JsonFields& f) {
     // drawn face (measured: a 256 x 256-quad OBJ at refine 2, 2^20 faces, 1.14 GB above the
     // process's base); 1200 bytes a face estimates it before anything is refined.
     constexpr double kBytesPerDrawnFace = 1200;
-    checkMemory(refinedFaces * kBytesPerDrawnFace, s.file, "base.refine",
-                std::to_string(m.refine),
+    checkMemory(refinedFaces * kBytesPerDrawnFace, s.file, "base.refine", std::to_string(m.refine),
                 "a mesh of " + std::to_string(cage.numFaces()) + " faces refined " +
                     std::to_string(m.refine) + " times (about " +
                     std::to_string(int64_t(refinedFaces)) + " drawn faces)");
@@ -115,8 +117,8 @@ void parseMeshBase(Scene& s, JsonFields& f) {
     try {
         m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));
         m.cage = std::make_shared<ControlMesh>(cage);
-        m.worldPerUv = f.has("world_per_uv") ? f.number("world_per_uv", 1e-9, 1e9)
-                                             : worldPerUvFromAreas(cage);
+        m.worldPerUv =
+            f.has("world_per_uv") ? f.number("world_per_uv", 1e-9, 1e9) : worldPerUvFromAreas(cage);
     } catch (const std::invalid_argument& e) {
         f.fail(f.has("file") ? "file" : "cage", e.what());
     }
@@ -133,9 +135,9 @@ Scene parseScene(const Json& json, const std::string& file) {
 
     PendingImage pending;
     parseHeightmap(s, root, pending);
-    s.height.address =
-        root.choice("address", {"repeat", "clamp"}, "repeat") == "clamp" ? Address::Clamp
-                                                                         : Address::Repeat;
+    s.height.address = root.choice("address", {"repeat", "clamp"}, "repeat") == "clamp"
+                           ? Address::Clamp
+                           : Address::Repeat;
 
     {
         JsonFields f(root.raw("base"), file, "base");
@@ -150,7 +152,8 @@ Scene parseScene(const Json& json, const std::string& file) {
             s.plane.infinite = f.boolean("infinite", false);
             if (s.plane.infinite) {
                 if (s.height.address != Address::Repeat)
-                    f.fail("infinite", "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
+                    f.fail("infinite",
+                           "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
                 if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
                     f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
             }
@@ -192,7 +195,8 @@ Scene parseScene(const Json& json, const std::string& file) {
             c.fillSize = f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2,
                                   1e-9, 1e9);
             if (f.has("view_height")) {
-                if (f.has("frame")) f.fail("view_height", "give either \"frame\" or \"view_height\"");
+                if (f.has("frame"))
+                    f.fail("view_height", "give either \"frame\" or \"view_height\"");
                 c.frame = "view";
                 c.viewHeight = f.number("view_height", 1e-9, 1e9);
             }
@@ -235,8 +239,8 @@ Scene parseScene(const Json& json, const std::string& file) {
     root.finish();
     if (!pending.path.empty()) {
         Address address = s.height.address;
-        s.height = loadHeightImage(pending.path, pending.channel, file, "heightmap",
-                                   pending.channelGiven);
+        s.height =
+            loadHeightImage(pending.path, pending.channel, file, "heightmap", pending.channelGiven);
         s.height.address = address;
     }
     return s;
@@ -289,7 +293,8 @@ Camera makeCameraUnjittered(const Scene& s) {
     Camera probe = Camera::orthographic(-v, middle, up, 1.0, c.width, c.height);
     Vec2d lo(1e300), hi(-1e300);
     for (int k = 0; k < 8; ++k) {
-        Vec3d corner(k & 1 ? boxHi.x : boxLo.x, k & 2 ? boxHi.y : boxLo.y, k & 4 ? boxHi.z : boxLo.z);
+        Vec3d corner(k & 1 ? boxHi.x : boxLo.x, k & 2 ? boxHi.y : boxLo.y,
+                     k & 4 ? boxHi.z : boxLo.z);
         Vec3d q = probe.toCamera(corner);
         lo = glm::min(lo, Vec2d(q.x, q.y));
         hi = glm::max(hi, Vec2d(q.x, q.y));
@@ -320,7 +325,9 @@ Json resolvedSceneJson(const Scene& s) {
                   {"up", {s.camera.up.x, s.camera.up.y, s.camera.up.z}},
                   {"fov", s.camera.fov}};
     } else {
-        camera = {{"type", "orthographic"}, {"theta", s.camera.theta}, {"phi", s.camera.phi},
+        camera = {{"type", "orthographic"},
+                  {"theta", s.camera.theta},
+                  {"phi", s.camera.phi},
                   {"frame", s.camera.frame},
                   {"target", {s.camera.target.x, s.camera.target.y, s.camera.target.z}}};
         if (s.camera.frame == "fill") camera["fill_size"] = s.camera.fillSize;
@@ -331,10 +338,11 @@ Json resolvedSceneJson(const Scene& s) {
     if (s.camera.jitter) camera["seed"] = s.camera.jitterSeed;
     return {
         // The block as written (every generator parameter) and the file's content hash.
-        {"heightmap", {{"source", s.heightSource},
-                       {"size", {s.height.width, s.height.height}},
-                       {"given", givenBlock(s, "heightmap")},
-                       {"sha1", s.heightSha1}}},
+        {"heightmap",
+         {{"source", s.heightSource},
+          {"size", {s.height.width, s.height.height}},
+          {"given", givenBlock(s, "heightmap")},
+          {"sha1", s.heightSha1}}},
         {"address", toString(s.height.address)},
         {"base", s.isMesh ? Json{{"type", "mesh"},
                                  {"source", s.mesh.source},
@@ -344,19 +352,20 @@ Json resolvedSceneJson(const Scene& s) {
                                  {"refine", s.mesh.refine},
                                  {"truth_surface", s.mesh.truthSurface},
                                  {"world_per_uv", s.mesh.worldPerUv},
-                                 {"cull_back_faces", s.cullBackFaces}} : Json
-         {{"type", "plane"},
-          {"size", s.plane.size},
-          {"tiling", s.plane.tiling},
-          {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
-          {"cull_back_faces", s.cullBackFaces},
-          {"infinite", s.plane.infinite}}},
-        {"drawn_mesh", s.isMesh ? Json{{"vertices", s.mesh.drawn->mesh.vertices.size()},
-                                       {"triangles", s.mesh.drawn->mesh.indices.size() / 3},
-                                       {"degenerate_uv_triangles", s.mesh.drawn->frames.degenerateUvTriangles},
-                                       {"fallback_tangents", s.mesh.drawn->frames.fallbackTangents},
-                                       {"mirrored_vertices", s.mesh.drawn->frames.mirroredVertices}}
-                                : Json(nullptr)},
+                                 {"cull_back_faces", s.cullBackFaces}}
+                          : Json{{"type", "plane"},
+                                 {"size", s.plane.size},
+                                 {"tiling", s.plane.tiling},
+                                 {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
+                                 {"cull_back_faces", s.cullBackFaces},
+                                 {"infinite", s.plane.infinite}}},
+        {"drawn_mesh",
+         s.isMesh ? Json{{"vertices", s.mesh.drawn->mesh.vertices.size()},
+                         {"triangles", s.mesh.drawn->mesh.indices.size() / 3},
+                         {"degenerate_uv_triangles", s.mesh.drawn->frames.degenerateUvTriangles},
+                         {"fallback_tangents", s.mesh.drawn->frames.fallbackTangents},
+                         {"mirrored_vertices", s.mesh.drawn->frames.mirroredVertices}}
+                  : Json(nullptr)},
         {"displacement", {{"scale", s.displacement.scale}, {"bias", s.displacement.bias}}},
         {"camera", camera},
         {"methods", methods},

@@ -29,24 +29,24 @@ struct UvExtent {
 };
 
 struct PlaneBase {
-    double size = 1.0;        // side L in world units
-    double tiling = 1.0;      // UV range [0, tiling]^2
-    Vec3d center{0, 0, 0};    // plane centre; the plane lies in z = center.z
-    bool infinite = false;    // the tile repeats forever in x and y (repeat, integer tiling)
+    double size = 1.0;      // side L in world units
+    double tiling = 1.0;    // UV range [0, tiling]^2
+    Vec3d center{0, 0, 0};  // plane centre; the plane lies in z = center.z
+    bool infinite = false;  // the tile repeats forever in x and y (repeat, integer tiling)
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
 };
 
 // A curved base: a control mesh refined by OpenSubdiv.
 struct MeshBase {
-    std::string source;            // "cube", "cylinder", "torus" or the OBJ path
-    std::string sourceSha1;        // SHA-1 of the OBJ file ("" for built-in cages)
+    std::string source;      // "cube", "cylinder", "torus" or the OBJ path
+    std::string sourceSha1;  // SHA-1 of the OBJ file ("" for built-in cages)
     Scheme scheme = Scheme::Catmark;
-    int refine = 2;                // levels for the mesh the rasteriser draws
+    int refine = 2;  // levels for the mesh the rasteriser draws
     // "polygonal": the drawn mesh displaced along its vertex normals (the method's own error);
     // "limit": the OpenSubdiv limit surface displaced along its exact normal (the asset as
     // meant: adds faceting and frame error).
     std::string truthSurface = "polygonal";
-    double worldPerUv = 0;         // l: from the scene, else sqrt(world area / UV area)
+    double worldPerUv = 0;                     // l: from the scene, else sqrt(world area / UV area)
     std::shared_ptr<const ControlMesh> cage;   // as read
     std::shared_ptr<const RefinedMesh> drawn;  // built at load time
 };
@@ -63,31 +63,31 @@ struct CameraSpec {
     // image with a plane region `fillSize` world units wide (every pixel sees the surface);
     // "view" uses viewHeight as given.
     std::string frame = "plane";
-    double fillSize = 0;         // "fill": default half the plane (the whole tile if infinite)
+    double fillSize = 0;  // "fill": default half the plane (the whole tile if infinite)
     Vec3d target{0};
     double viewHeight = 0;
     Vec3d eye{0, -2, 1.5}, up{0, 0, 1};
     double fov = 45;
     int width = 512, height = 512;
-    bool jitter = false;         // sample each pixel at a seeded random position (studies)
+    bool jitter = false;  // sample each pixel at a seeded random position (studies)
     uint32_t jitterSeed = 1;
 };
 
 enum class TruthGeometry { Grid, Triangles };
 
 struct TruthSpec {
-    int rate = 4;                      // tessellation samples per texel per axis
+    int rate = 4;  // tessellation samples per texel per axis
     TruthGeometry geometry = TruthGeometry::Grid;
-    bool uncertainty = true;           // also trace at 2 x rate and report the difference
+    bool uncertainty = true;  // also trace at 2 x rate and report the difference
     // `pgt render` of a plane: when the whole view's truth would need more than this, the
     // frame is traced in blocks, each over a tessellation of only what it sees.
     int memoryMb = 1536;
 };
 
 struct Scene {
-    std::string file;     // the scene file's path (for messages and relative paths)
-    nlohmann::json json;  // as written by the user
-    Texture height;       // address mode set from the scene
+    std::string file;          // the scene file's path (for messages and relative paths)
+    nlohmann::json json;       // as written by the user
+    Texture height;            // address mode set from the scene
     std::string heightSource;  // file path or procedural name, for the summary
     std::string heightSha1;    // SHA-1 of the height image file ("" for procedural maps)
     PlaneBase plane;

@@ -22,8 +22,9 @@ std::vector<double> listOr(JsonFields& f, const std::string& key, std::vector<do
     std::vector<double> out;
     for (const auto& e : v) {
         if (!e.is_number() || e.get<double>() < lo || e.get<double>() > hi)
-            f.failValue(key, v, "values must be numbers in [" + std::to_string(lo) + ", " +
-                                    std::to_string(hi) + "]");
+            f.failValue(key, v,
+                        "values must be numbers in [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "]");
         out.push_back(e.get<double>());
     }
     return out;
@@ -39,10 +40,14 @@ std::vector<double> range(double from, double to, double step) {
 const char* stepParameter(MethodKind kind) {
     switch (kind) {
         case MethodKind::Steep:
-        case MethodKind::Pom: return "layers";
-        case MethodKind::Relief: return "linear_steps";
-        case MethodKind::Iterative: return "iterations";
-        default: return nullptr;
+        case MethodKind::Pom:
+            return "layers";
+        case MethodKind::Relief:
+            return "linear_steps";
+        case MethodKind::Iterative:
+            return "iterations";
+        default:
+            return nullptr;
     }
 }
 
@@ -87,8 +92,8 @@ FitReport runFit(const Scene& scene, bool progress) {
     std::vector<double> ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.25), -10, 10);
     std::vector<double> steps = listOr(f, "steps", {8, 16, 32, 64}, 1, 4096);
     int refine = f.integer("refine", 4, 0, 12);
-    std::vector<int> res = f.has("resolution") ? f.integers("resolution", 2, 1, 4096)
-                                               : std::vector<int>{128, 128};
+    std::vector<int> res =
+        f.has("resolution") ? f.integers("resolution", 2, 1, 4096) : std::vector<int>{128, 128};
     std::vector<MethodConfig> methods =
         f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods")
                          : scene.methods;
@@ -96,8 +101,8 @@ FitReport runFit(const Scene& scene, bool progress) {
     // Every view's truth frame and fragments are kept for the whole search: estimated as one
     // frame as tall as all of them, with one method's images at a time.
     const size_t viewCount = rep.thetas.size() * rep.phis.size();
-    checkViewMemory(scene, res[0], int(std::min<size_t>(viewCount * size_t(res[1]), 1u << 30)),
-                    1, false, false, "fit.resolution");
+    checkViewMemory(scene, res[0], int(std::min<size_t>(viewCount * size_t(res[1]), 1u << 30)), 1,
+                    false, false, "fit.resolution");
 
     // The fixed truth, seen from every view once.
     TruthBuilder builder(scene);
@@ -109,10 +114,10 @@ FitReport runFit(const Scene& scene, bool progress) {
             v.camera.theta = th, v.camera.phi = ph;
             v.camera.width = res[0], v.camera.height = res[1];
             Camera cam = makeCamera(v);
-            View view{truths.truth->traceFrame(cam),
-                      compactFragments(rasterize(sceneBaseMesh(v, cam), cam,
-                                                 {scene.cullBackFaces})),
-                      res[0], res[1]};
+            View view{
+                truths.truth->traceFrame(cam),
+                compactFragments(rasterize(sceneBaseMesh(v, cam), cam, {scene.cullBackFaces})),
+                res[0], res[1]};
             views.push_back(std::move(view));
         }
     MethodTextureCache textures(scene.height, scene.uvExtent);
@@ -199,7 +204,8 @@ FitReport runFit(const Scene& scene, bool progress) {
                 fr.bestP90 = best.p90;
             }
             if (progress)
-                std::fprintf(stderr, "fit: %s steps %d: %d candidates, best %s %.4f (as listed %.4f)\n",
+                std::fprintf(stderr,
+                             "fit: %s steps %d: %d candidates, best %s %.4f (as listed %.4f)\n",
                              fr.method.c_str(), fr.steps, fr.candidates, rep.objective.c_str(),
                              fr.bestObjective, fr.nativeObjective);
             rep.methods.push_back(fr);

@@ -13,12 +13,12 @@ namespace pgt {
 
 // The best own (scale, bias) of one method at one step count (or the only one).
 struct FitResult {
-    std::string method;           // method label in the scene
-    int steps = 0;                // the step parameter's value (0: the method has none)
-    nlohmann::json best;          // the best configuration (with its own scale and bias)
-    double bestObjective = NAN;   // mean over views of the per-view objective (texels)
+    std::string method;          // method label in the scene
+    int steps = 0;               // the step parameter's value (0: the method has none)
+    nlohmann::json best;         // the best configuration (with its own scale and bias)
+    double bestObjective = NAN;  // mean over views of the per-view objective (texels)
     double bestMean = NAN, bestP90 = NAN;
-    double nativeObjective = NAN; // the same method with the truth's (s, b), as listed
+    double nativeObjective = NAN;  // the same method with the truth's (s, b), as listed
     int candidates = 0;
 };
 

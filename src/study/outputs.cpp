@@ -3,19 +3,18 @@
 // words but keeps its colour bar).
 #include "study/outputs.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-
 #include <fcntl.h>
 #include <signal.h>
 #include <unistd.h>
 
 #include <array>
 #include <cerrno>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -53,8 +52,10 @@ void writeNewFile(const std::string& path, const std::string& bytes, const std::
     while (off < bytes.size() && !err) {
         ssize_t n = ::write(fd, bytes.data() + off, bytes.size() - off);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) err = n < 0 ? errno : EIO;
-        else off += size_t(n);
+        if (n <= 0)
+            err = n < 0 ? errno : EIO;
+        else
+            off += size_t(n);
     }
     if (!err && ::fsync(fd) != 0) err = errno;
     if (::close(fd) != 0 && !err) err = errno;
@@ -265,8 +266,8 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
             // what the per-vertex tangent frame adds.
             j["exact_frame"] = toJson(m.statsExactFrame);
             double a = m.stats.error.mean, e = m.statsExactFrame.error.mean;
-            j["frame_share_of_mean"] = a > 0 && std::isfinite(a) && std::isfinite(e)
-                                           ? Json(1.0 - e / a) : Json(nullptr);
+            j["frame_share_of_mean"] =
+                a > 0 && std::isfinite(a) && std::isfinite(e) ? Json(1.0 - e / a) : Json(nullptr);
         }
         j["config"] = toJson(m.config);
         j["ns_per_px"] = m.nsPerPixel;
@@ -278,15 +279,17 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
             {"scene", resolvedSceneJson(scene)},
             {"view", view},
             {"truth", truth},
-            {"raster", {{"covered_pixels", r.raster.covered},
-                        {"no_exact_frame_pixels", r.raster.noExactFrame},
-                        {"triangles_drawn", r.raster.trianglesDrawn},
-                        {"triangles_culled", r.raster.trianglesCulled}}},
+            {"raster",
+             {{"covered_pixels", r.raster.covered},
+              {"no_exact_frame_pixels", r.raster.noExactFrame},
+              {"triangles_drawn", r.raster.trianglesDrawn},
+              {"triangles_culled", r.raster.trianglesCulled}}},
             {"methods", methods},
             {"timings_ms", r.timingsMs},
-            {"units", {{"error", "texels of the height map (MODEL.md section 7)"},
-                       {"ns_per_px", "single-threaded method time per rasterised pixel, median"},
-                       {"scale_bias", "UV units (MODEL.md section 3)"}}}};
+            {"units",
+             {{"error", "texels of the height map (MODEL.md section 7)"},
+              {"ns_per_px", "single-threaded method time per rasterised pixel, median"},
+              {"scale_bias", "UV units (MODEL.md section 3)"}}}};
 }
 
 double errorScaleTexels(double p99Texels) {
@@ -305,8 +308,10 @@ using Rgb = std::array<float, 3>;
 
 // A perceptually ordered ramp, dark blue -> blue -> green -> yellow -> red (our own stops).
 Rgb errorColour(double t) {
-    static const Rgb stops[5] = {{0.05f, 0.03f, 0.35f}, {0.10f, 0.45f, 0.90f},
-                                 {0.15f, 0.75f, 0.35f}, {0.95f, 0.85f, 0.10f},
+    static const Rgb stops[5] = {{0.05f, 0.03f, 0.35f},
+                                 {0.10f, 0.45f, 0.90f},
+                                 {0.15f, 0.75f, 0.35f},
+                                 {0.95f, 0.85f, 0.10f},
                                  {0.85f, 0.10f, 0.10f}};
     t = std::clamp(t, 0.0, 1.0) * 4;
     int i = std::min(int(t), 3);
@@ -328,8 +333,7 @@ std::string fmt(double v) {
 }
 
 // The error map of one method as PNG bytes.
-std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& truth,
-                           double scale) {
+std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& truth, double scale) {
     const int W = m.errTexels.width, H = m.errTexels.height;
     const int legendH = 70, canvasW = std::max(W, 560);
     OIIO::ImageSpec spec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8);
@@ -342,10 +346,14 @@ std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& tru
             const MethodPixel& p = m.pixels.data[k];
             bool hit = truth.data[k].hit;
             Rgb c = kNeither;
-            if (p.covered && (!std::isfinite(p.uv.x) || !std::isfinite(p.uv.y))) c = kNonFinite;
-            else if (p.covered && hit) c = errorColour(m.errTexels.data[k] / scale);
-            else if (hit) c = kTruthOnly;
-            else if (p.covered) c = kRasterOnly;
+            if (p.covered && (!std::isfinite(p.uv.x) || !std::isfinite(p.uv.y)))
+                c = kNonFinite;
+            else if (p.covered && hit)
+                c = errorColour(m.errTexels.data[k] / scale);
+            else if (hit)
+                c = kTruthOnly;
+            else if (p.covered)
+                c = kRasterOnly;
             put(x, y, c);
         }
     // Legend: colour bar 0..scale texels, coverage swatches, title line.
@@ -391,15 +399,25 @@ void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::st
         names.push_back(name);
         planes.push_back(std::move(img));
     };
-    add("truth.u", [&](size_t k) { return r.truth.data[k].hit ? float(r.truth.data[k].uv.x) : NAN; });
-    add("truth.v", [&](size_t k) { return r.truth.data[k].hit ? float(r.truth.data[k].uv.y) : NAN; });
+    add("truth.u",
+        [&](size_t k) { return r.truth.data[k].hit ? float(r.truth.data[k].uv.x) : NAN; });
+    add("truth.v",
+        [&](size_t k) { return r.truth.data[k].hit ? float(r.truth.data[k].uv.y) : NAN; });
     add("truth.hit", [&](size_t k) { return r.truth.data[k].hit ? 1.0f : 0.0f; });
-    add("base.u", [&](size_t k) { return r.fragments.data[k].covered ? float(r.fragments.data[k].uv0.x) : NAN; });
-    add("base.v", [&](size_t k) { return r.fragments.data[k].covered ? float(r.fragments.data[k].uv0.y) : NAN; });
+    add("base.u", [&](size_t k) {
+        return r.fragments.data[k].covered ? float(r.fragments.data[k].uv0.x) : NAN;
+    });
+    add("base.v", [&](size_t k) {
+        return r.fragments.data[k].covered ? float(r.fragments.data[k].uv0.y) : NAN;
+    });
     add("base.hit", [&](size_t k) { return r.fragments.data[k].covered ? 1.0f : 0.0f; });
     for (const auto& m : r.methods) {
-        add(m.config.label + ".u", [&](size_t k) { return m.pixels.data[k].covered ? float(m.pixels.data[k].uv.x) : NAN; });
-        add(m.config.label + ".v", [&](size_t k) { return m.pixels.data[k].covered ? float(m.pixels.data[k].uv.y) : NAN; });
+        add(m.config.label + ".u", [&](size_t k) {
+            return m.pixels.data[k].covered ? float(m.pixels.data[k].uv.x) : NAN;
+        });
+        add(m.config.label + ".v", [&](size_t k) {
+            return m.pixels.data[k].covered ? float(m.pixels.data[k].uv.y) : NAN;
+        });
         add(m.config.label + ".err", [&](size_t k) { return m.errTexels.data[k]; });
     }
     std::vector<const Image2D<float>*> ptrs;

@@ -4,9 +4,9 @@
 // together, so a failure (a full disk) leaves nothing half-written and no final-looking file.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <OpenImageIO/imagebuf.h>
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,7 +37,7 @@ void prepareOutputDir(const std::string& dir);
 // Files of one output, each written whole to a hidden temporary in `dir`, then renamed into
 // place together by commit(); whatever is not committed is removed on destruction.
 class StagedFiles {
-public:
+  public:
     explicit StagedFiles(std::string dir);
     ~StagedFiles();
     StagedFiles(const StagedFiles&) = delete;
@@ -47,7 +47,7 @@ public:
     void add(const std::string& name, const std::string& bytes);
     void commit();
 
-private:
+  private:
     std::string dir_;
     std::vector<std::pair<std::string, std::string>> staged_;  // temporary, final path
 };

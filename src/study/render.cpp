@@ -1,8 +1,6 @@
 // The frame pipeline: truth -> raster -> methods -> comparison, with stage timings.
 #include "study/render.h"
 
-#include "core/memory.h"
-
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/memory.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
 
@@ -67,7 +66,8 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
     t.scale = scale;
     t.bias = bias;
     t.uvExtent = uvExtent;
-    if (needDerived) t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
+    if (needDerived)
+        t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
     return t;
 }
 
@@ -121,15 +121,17 @@ const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncerta
         return current_;
     }
     current_.truth->setDisplacement(disp);
-    if (withUncertainty) current_.fine->setDisplacement(disp);
-    else current_.fine.reset();
+    if (withUncertainty)
+        current_.fine->setDisplacement(disp);
+    else
+        current_.fine.reset();
     return current_;
 }
 
 BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
     if (scene.isMesh) return scene.mesh.drawn->mesh;
-    int tiles = scene.plane.infinite ? tilesToCover(camera, scene.plane.center, scene.plane.size)
-                                     : 0;
+    int tiles =
+        scene.plane.infinite ? tilesToCover(camera, scene.plane.center, scene.plane.size) : 0;
     return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
 }
 
@@ -160,8 +162,7 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
     p.fetches = uint32_t(c.fetches);
     p.flags = c.flags;
     // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
-    if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y)))
-        p.covered = false;
+    if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y))) p.covered = false;
     return p;
 }
 
@@ -188,15 +189,14 @@ double glNsPerPixel(const GlslRun& run) {
 GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex,
                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view, int repeats) {
     return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
-                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias, uv0,
-                   view, repeats);
+                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias, uv0, view,
+                   repeats);
 }
 
 // `nsPerPixel` (optional): also time the draw, median of `repeats`.
 Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
-                                  const MethodTextures& tex, int width, int height,
-                                  bool exactFrame, double* nsPerPixel = nullptr,
-                                  int repeats = 0) {
+                                  const MethodTextures& tex, int width, int height, bool exactFrame,
+                                  double* nsPerPixel = nullptr, int repeats = 0) {
     Image2D<MethodPixel> out(width, height);
     GlslRun run = runGlslWith(cfg, tex, frags.uv0, exactFrame ? frags.viewExact : frags.view,
                               nsPerPixel ? repeats : 0);
@@ -218,7 +218,8 @@ Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& f
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame) {
-    if (cfg.kind == MethodKind::Glsl) return evaluateGlsl(cfg, frags, tex, width, height, exactFrame);
+    if (cfg.kind == MethodKind::Glsl)
+        return evaluateGlsl(cfg, frags, tex, width, height, exactFrame);
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
@@ -290,9 +291,8 @@ RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPai
 }
 
 RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFrames&& truth,
-                             const std::vector<MethodConfig>& configs,
-                             MethodTextureCache& textures, const TimingSpec& timing,
-                             bool keepImages) {
+                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                             const TimingSpec& timing, bool keepImages) {
     RenderResult r;
     r.camera = camera;
     const int W = camera.width(), H = camera.height();
@@ -310,8 +310,7 @@ RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFram
     }
 
     auto t2 = Clock::now();
-    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces},
-                            &r.raster);
+    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces}, &r.raster);
     FragmentList frags = compactFragments(r.fragments);
     FragmentList timed = sampleFragments(frags, timing.maxFragments, timing.seed);
     r.timingsMs["raster"] = msSince(t2);
@@ -362,8 +361,10 @@ double truthVertices(const Scene& scene, const TruthWindow& w) {
     double sum = 0;
     for (int r : {scene.truth.rate, scene.truth.uncertainty ? 2 * scene.truth.rate : 0}) {
         if (r == 0) continue;
-        double u = r * scene.height.width * (w.limited ? w.uvMax.x - w.uvMin.x : scene.plane.tiling);
-        double v = r * scene.height.height * (w.limited ? w.uvMax.y - w.uvMin.y : scene.plane.tiling);
+        double u =
+            r * scene.height.width * (w.limited ? w.uvMax.x - w.uvMin.x : scene.plane.tiling);
+        double v =
+            r * scene.height.height * (w.limited ? w.uvMax.y - w.uvMin.y : scene.plane.tiling);
         sum += (u + 2) * (v + 2);
     }
     return sum;
@@ -381,7 +382,8 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
         for (int by = 0; by < n && fits; ++by)
             for (int bx = 0; bx < n && fits; ++bx) {
                 PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
-                TruthWindow w = viewWindow(scene.plane, scene.height, scene.displacement, camera, b);
+                TruthWindow w =
+                    viewWindow(scene.plane, scene.height, scene.displacement, camera, b);
                 fits = w.limited && (w.empty || truthVertices(scene, w) <= budgetVertices);
                 if (w.empty) continue;  // sees no part of the plane: every pixel misses
                 blocks.push_back(b);
@@ -434,8 +436,8 @@ double estimateViewBytes(const Scene& scene, int width, int height, size_t metho
     return pixels * perPixel + truth;
 }
 
-void checkViewMemory(const Scene& scene, int width, int height, size_t methods,
-                     bool writesImages, bool truthInBlocks, const std::string& field) {
+void checkViewMemory(const Scene& scene, int width, int height, size_t methods, bool writesImages,
+                     bool truthInBlocks, const std::string& field) {
     checkMemory(estimateViewBytes(scene, width, height, methods, writesImages, truthInBlocks),
                 scene.file, field, std::to_string(width) + "x" + std::to_string(height),
                 "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with " +
@@ -453,8 +455,8 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         TruthFrames f;
         if (truthVertices(scene, whole) > budget && traceTruthInBlocks(scene, camera, budget, f)) {
             double truthMs = msSince(t0);
-            RenderResult r = renderWithTruth(scene, camera, std::move(f), scene.methods, textures,
-                                             timing);
+            RenderResult r =
+                renderWithTruth(scene, camera, std::move(f), scene.methods, textures, timing);
             r.timingsMs["truth_total"] = truthMs;
             return r;
         }
@@ -469,6 +471,5 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     r.timingsMs["truth_total"] = buildMs;
     return r;
 }
-
 
 }  // namespace pgt

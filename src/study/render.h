@@ -21,8 +21,8 @@ namespace pgt {
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2f> uv0;
-    std::vector<Vec3f> view;     // unit tangent-space V, rounded to float
-    std::vector<Vec2d> uv0d;     // double copies for `precision: double`
+    std::vector<Vec3f> view;  // unit tangent-space V, rounded to float
+    std::vector<Vec2d> uv0d;  // double copies for `precision: double`
     std::vector<Vec3d> viewd;
     std::vector<Vec3f> viewExact;  // V in the exact frame of the drawn surface (meshes)
     std::vector<Vec3d> viewExactd;
@@ -44,7 +44,7 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
 
 // Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
 class MethodTextureCache {
-public:
+  public:
     MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
         : height_(height), uvExtent_(uvExtent) {}
     const MethodTextures& get(double scale, double bias, bool needDerived);
@@ -52,7 +52,7 @@ public:
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }
 
-private:
+  private:
     const Texture& height_;
     UvExtent uvExtent_;
     std::map<std::pair<double, double>, MethodTextures> cache_;
@@ -70,8 +70,8 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
                             const MethodTextures& tex, int repeats);
 
 struct TimingSpec {
-    int repeats = 3;        // median of this many single-threaded passes
-    int maxFragments = 0;   // time a seeded subset of this many fragments (0 = all)
+    int repeats = 3;       // median of this many single-threaded passes
+    int maxFragments = 0;  // time a seeded subset of this many fragments (0 = all)
     uint32_t seed = 1;
 };
 
@@ -82,7 +82,7 @@ struct TruthPair {
 
 // Base tessellations (independent of s, b) built once, displaced per (s, b) on request.
 class TruthBuilder {
-public:
+  public:
     explicit TruthBuilder(const Scene& scene) : scene_(scene) {}
     // New surfaces for (s, b).
     TruthPair build(const Displacement& disp, bool withUncertainty);
@@ -94,7 +94,7 @@ public:
     void limitToView(const Camera& camera, const Displacement& disp, PixelRect block = {});
     const TruthWindow& window() const { return window_; }
 
-private:
+  private:
     std::shared_ptr<const BaseTessellation> tessellate(int rate) const;
     const Scene& scene_;
     std::shared_ptr<const BaseTessellation> base_, fine_;
@@ -143,9 +143,8 @@ TruthFrames traceTruth(const Camera& camera, const TruthPair& truths);
 
 // Rasterisation, methods and comparison against given truth frames.
 RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFrames&& truth,
-                             const std::vector<MethodConfig>& configs,
-                             MethodTextureCache& textures, const TimingSpec& timing,
-                             bool keepImages = true);
+                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                             const TimingSpec& timing, bool keepImages = true);
 
 // One view with given truth surfaces; methods use the scene's (s, b) unless they have their
 // own. `keepImages` = false drops per-pixel images once the statistics are taken.
@@ -167,8 +166,8 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options = {});
 // blocks). Throws InputError naming `field` when it exceeds the memory limit (core/memory.h).
 double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
                          bool writesImages, bool truthInBlocks);
-void checkViewMemory(const Scene& scene, int width, int height, size_t methods,
-                     bool writesImages, bool truthInBlocks, const std::string& field);
+void checkViewMemory(const Scene& scene, int width, int height, size_t methods, bool writesImages,
+                     bool truthInBlocks, const std::string& field);
 
 // The base mesh the rasteriser draws for a scene and camera (an infinite plane is extended
 // by whole tiles to cover the view).

@@ -18,11 +18,24 @@ namespace pgt {
 namespace fs = std::filesystem;
 
 const std::vector<std::string>& stressColumns() {
-    static const std::vector<std::string> cols = {
-        "scene", "label", "method", "pixels", "truth_only", "raster_only", "nonfinite",
-        "diverged", "zero_divide", "step_limit", "mean", "p99", "max",
-        "truth_uncertainty_p99", "truth_float_p99", "truth_float_max", "truth_float_samples",
-        "truth_edge_misses"};
+    static const std::vector<std::string> cols = {"scene",
+                                                  "label",
+                                                  "method",
+                                                  "pixels",
+                                                  "truth_only",
+                                                  "raster_only",
+                                                  "nonfinite",
+                                                  "diverged",
+                                                  "zero_divide",
+                                                  "step_limit",
+                                                  "mean",
+                                                  "p99",
+                                                  "max",
+                                                  "truth_uncertainty_p99",
+                                                  "truth_float_p99",
+                                                  "truth_float_max",
+                                                  "truth_float_samples",
+                                                  "truth_edge_misses"};
     return cols;
 }
 
@@ -74,19 +87,18 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
             const FrameStats& st = m.stats;
             csv << name << ',' << m.config.label << ',' << m.config.name << ',' << st.error.count
                 << ',' << st.coverage.truthOnly << ',' << st.coverage.rasterOnly << ','
-                << st.nonfinite << ',' << st.diverged << ',' << st.zeroDivide << ','
-                << st.stepLimit << ',' << num(st.error.mean) << ',' << num(st.error.p99) << ','
-                << num(st.error.max) << ','
-                << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
+                << st.nonfinite << ',' << st.diverged << ',' << st.zeroDivide << ',' << st.stepLimit
+                << ',' << num(st.error.mean) << ',' << num(st.error.p99) << ',' << num(st.error.max)
+                << ',' << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
                 << num(pc.p99Texels) << ',' << num(pc.maxTexels) << ',' << pc.samples << ','
                 << pc.edgeMisses << '\n';
             std::printf("%-22s %-16s %8lld %9lld %8lld %10.4g %10.4g %12.4g\n", name.c_str(),
-                        m.config.label.c_str(), (long long)st.error.count,
-                        (long long)st.nonfinite, (long long)st.diverged, st.error.mean,
+                        m.config.label.c_str(), (long long)st.error.count, (long long)st.nonfinite,
+                        (long long)st.diverged, st.error.mean,
                         r.haveUncertainty ? r.uncertainty.p99Texels : NAN, pc.maxTexels);
         }
-        if (opt.progress) std::fprintf(stderr, "stress: %zu/%zu %s\n", i + 1, scenes.size(),
-                                       name.c_str());
+        if (opt.progress)
+            std::fprintf(stderr, "stress: %zu/%zu %s\n", i + 1, scenes.size(), name.c_str());
     }
     writeTextFile((fs::path(opt.outDir) / "stress.csv").string(), csv.str());
     return int(scenes.size());

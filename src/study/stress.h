@@ -10,7 +10,7 @@ namespace pgt {
 
 struct StressOptions {
     std::string outDir;
-    int resolution = 0;        // > 0: override every scene's resolution (square)
+    int resolution = 0;  // > 0: override every scene's resolution (square)
     int precisionSamples = 4096;
     bool progress = true;
 };

@@ -6,12 +6,11 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <cstring>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -19,9 +18,9 @@
 #include <sstream>
 
 #include "core/format.h"
-#include "core/process.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
+#include "core/process.h"
 #include "methods/registry.h"
 #include "study/outputs.h"
 
@@ -81,14 +80,36 @@ std::string StudyCase::key() const {
 }
 
 const std::vector<std::string>& resultColumns() {
-    static const std::vector<std::string> cols = {
-        "case",         "theta",        "phi",           "scale",         "bias",
-        "bias_ratio",   "method",       "label",         "params",        "pixels",
-        "mean",         "rms",          "p50",           "p90",           "p99",
-        "max",          "frac_gt_1texel", "truth_only",  "raster_only",   "nonfinite",
-        "zero_divide",  "step_limit",   "fetches_mean",  "fetches_max",   "ns_per_px",
-        "truth_uncertainty_p99", "truth_uncertainty_max", "mean_exact_frame", "p90_exact_frame",
-        "timing_backend"};
+    static const std::vector<std::string> cols = {"case",
+                                                  "theta",
+                                                  "phi",
+                                                  "scale",
+                                                  "bias",
+                                                  "bias_ratio",
+                                                  "method",
+                                                  "label",
+                                                  "params",
+                                                  "pixels",
+                                                  "mean",
+                                                  "rms",
+                                                  "p50",
+                                                  "p90",
+                                                  "p99",
+                                                  "max",
+                                                  "frac_gt_1texel",
+                                                  "truth_only",
+                                                  "raster_only",
+                                                  "nonfinite",
+                                                  "zero_divide",
+                                                  "step_limit",
+                                                  "fetches_mean",
+                                                  "fetches_max",
+                                                  "ns_per_px",
+                                                  "truth_uncertainty_p99",
+                                                  "truth_uncertainty_max",
+                                                  "mean_exact_frame",
+                                                  "p90_exact_frame",
+                                                  "timing_backend"};
     return cols;
 }
 
@@ -101,16 +122,16 @@ Study parseStudy(const Scene& scene) {
                          "studies sweep the view angle: they need an orthographic camera");
     JsonFields f(scene.sweep, file, "sweep");
     Study st;
-    std::vector<double> thetas = f.has("theta") ? valueList(f, "theta", 0, 90)
-                                                : std::vector<double>{scene.camera.theta};
-    std::vector<double> phis = f.has("phi") ? valueList(f, "phi", -360, 360)
-                                            : std::vector<double>{scene.camera.phi};
+    std::vector<double> thetas =
+        f.has("theta") ? valueList(f, "theta", 0, 90) : std::vector<double>{scene.camera.theta};
+    std::vector<double> phis =
+        f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{scene.camera.phi};
     std::vector<double> scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
                                                 : std::vector<double>{scene.displacement.scale};
     if (f.has("bias") && f.has("bias_ratio"))
         f.fail("bias_ratio", "give either \"bias\" or \"bias_ratio\", not both");
     bool ratios = f.has("bias_ratio");
-    std::vector<double> biases = ratios ? valueList(f, "bias_ratio", -1e3, 1e3)
+    std::vector<double> biases = ratios          ? valueList(f, "bias_ratio", -1e3, 1e3)
                                  : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
                                                  : std::vector<double>{scene.displacement.bias};
     if (f.has("resolution")) {
@@ -143,7 +164,8 @@ Study parseStudy(const Scene& scene) {
         if (values.empty()) f.failValue(it.key(), it.value(), "no values");
         bool known = false;
         for (const auto& m : scene.methods)
-            known = known || ((m.name == prefix || m.label == prefix) && !m.glsl && m.preset.empty());
+            known =
+                known || ((m.name == prefix || m.label == prefix) && !m.glsl && m.preset.empty());
         if (!known)
             f.fail(it.key(), "no built-in method named or labelled \"" + prefix +
                                  "\" in \"methods\" (presets and GLSL methods are fixed)");
@@ -190,8 +212,8 @@ Study parseStudy(const Scene& scene) {
     st.configs = parseMethods(expanded, file, "methods");
 
     // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
-    double caseCount = double(scales.size()) * double(biases.size()) * double(thetas.size()) *
-                       double(phis.size());
+    double caseCount =
+        double(scales.size()) * double(biases.size()) * double(thetas.size()) * double(phis.size());
     if (caseCount > double(kMaxStudyCases))
         throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
                          "a study has at most " + std::to_string(kMaxStudyCases) +
@@ -253,9 +275,8 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
            << num(s.error.max) << ',' << num(s.fracAbove1Texel) << ',' << s.coverage.truthOnly
            << ',' << s.coverage.rasterOnly << ',' << s.nonfinite << ',' << s.zeroDivide << ','
            << s.stepLimit << ',' << num(s.fetchesMean) << ',' << s.fetchesMax << ','
-           << num(m.nsPerPixel) << ','
-           << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
-           << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
+           << num(m.nsPerPixel) << ',' << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN)
+           << ',' << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
            << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << ','
            << csvField(m.timingBackend) << '\n';
@@ -280,9 +301,12 @@ std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, s
     for (size_t i = from; i < text.size(); ++i) {
         char ch = text[i];
         if (quoted) {
-            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"') cur += '"', ++i;
-            else if (ch == '"') quoted = false;
-            else cur += ch;
+            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"')
+                cur += '"', ++i;
+            else if (ch == '"')
+                quoted = false;
+            else
+                cur += ch;
         } else if (ch == '"') {
             quoted = true;
         } else if (ch == ',') {
@@ -320,8 +344,9 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         return finished;
     }
     if (text.compare(0, header().size(), header()) != 0)
-        throw InputError(path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
-                         "results.csv has other columns (an older pgt?): use --fresh or another --out");
+        throw InputError(
+            path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
+            "results.csv has other columns (an older pgt?): use --fresh or another --out");
     std::map<std::string, std::vector<std::string>> rowsByKey;
     std::map<std::string, std::set<std::string>> labelsByKey;
     std::vector<std::string> order;
@@ -371,7 +396,7 @@ void appendAll(int fd, const std::string& text, const std::string& path) {
 // An advisory lock (flock) on DIR/.pgt-lock, held while a sweep writes DIR. The kernel
 // drops it when the process ends, killed or not, so a stale lock cannot block a resume.
 class StudyLock {
-public:
+  public:
     explicit StudyLock(const std::string& dir) {
         path_ = (fs::path(dir) / ".pgt-lock").string();
         fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
@@ -397,7 +422,7 @@ public:
     StudyLock(const StudyLock&) = delete;
     StudyLock& operator=(const StudyLock&) = delete;
 
-private:
+  private:
     std::string path_;
     int fd_ = -1;
 };
@@ -436,8 +461,9 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
             old = nullptr;  // unreadable or hostile: not this study
         }
         if (old != study.resolved)
-            throw InputError(studyPath, "", "",
-                             "this directory holds a different study; use --fresh or another --out");
+            throw InputError(
+                studyPath, "", "",
+                "this directory holds a different study; use --fresh or another --out");
     } else {
         writeTextFile(studyPath, study.resolved.dump(2) + "\n");
     }
@@ -450,8 +476,10 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     sum.total = int(study.cases.size());
     std::vector<const StudyCase*> todo;
     for (const auto& c : study.cases) {
-        if (finished.count(c.key())) ++sum.resumed;
-        else todo.push_back(&c);
+        if (finished.count(c.key()))
+            ++sum.resumed;
+        else
+            todo.push_back(&c);
     }
     const bool tty = ::isatty(2);
     auto progress = [&](bool last) {
@@ -529,8 +557,9 @@ std::string writeStudyReport(const std::string& outDir, std::string* why) {
     }
     const std::string python = "/usr/bin/python3";
     if (runProgram({python, "-c", "import matplotlib, pandas, numpy"}, true) != 0) {
-        *why = "/usr/bin/python3 with matplotlib, pandas and numpy is needed for the report "
-               "(apt-get install python3-matplotlib python3-pandas python3-numpy)";
+        *why =
+            "/usr/bin/python3 with matplotlib, pandas and numpy is needed for the report "
+            "(apt-get install python3-matplotlib python3-pandas python3-numpy)";
         return "";
     }
     if (runProgram({python, script, outDir}) != 0) {

@@ -3,8 +3,8 @@
 // each finished case is appended and flushed, and a re-run skips the cases already there.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -16,7 +16,7 @@ namespace pgt {
 struct StudyCase {
     int index = 0;
     double theta = 0, phi = 0, scale = 0, bias = 0;
-    double biasRatio = NAN;  // b / s when the study gave ratios
+    double biasRatio = NAN;   // b / s when the study gave ratios
     std::string key() const;  // identity of the case in results.csv
 };
 
@@ -24,9 +24,9 @@ struct Study {
     std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
     std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
     int width = 0, height = 0;
-    bool jitter = false;                // pixel sample positions (README "Studies")
+    bool jitter = false;  // pixel sample positions (README "Studies")
     TimingSpec timing;
-    nlohmann::json resolved;            // what identifies the study (scene + sweep)
+    nlohmann::json resolved;  // what identifies the study (scene + sweep)
 };
 
 // Reads the scene's "sweep" block (README "Studies"); throws InputError on bad input.
@@ -34,11 +34,11 @@ Study parseStudy(const Scene& scene);
 
 struct SweepOptions {
     std::string outDir;
-    bool images = false;  // write each case's frame.exr, summary.json and error maps
-    bool fresh = false;   // discard earlier results in outDir instead of resuming
-    int maxCases = -1;    // stop after this many new cases (tests; -1 = all)
-    bool progress = true; // progress on stderr
-    bool report = false;  // run analysis/report.py when every case is done (still locked)
+    bool images = false;   // write each case's frame.exr, summary.json and error maps
+    bool fresh = false;    // discard earlier results in outDir instead of resuming
+    int maxCases = -1;     // stop after this many new cases (tests; -1 = all)
+    bool progress = true;  // progress on stderr
+    bool report = false;   // run analysis/report.py when every case is done (still locked)
 };
 
 // Bounds that keep a study's plan small (its lists are allocated whole).
@@ -50,8 +50,8 @@ struct SweepSummary {
     bool finished = false;  // every case has its rows
     double wallSeconds = 0;
     std::map<std::string, double> stageMs;  // summed over the cases run: build, trace, ...
-    bool reportTried = false;  // options.report and finished
-    std::string reportPath, reportWhy;  // the report, or why it was not written
+    bool reportTried = false;               // options.report and finished
+    std::string reportPath, reportWhy;      // the report, or why it was not written
 };
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);

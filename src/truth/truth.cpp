@@ -15,13 +15,13 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <random>
-#include <tuple>
 #include <cmath>
+#include <map>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "compare/statistics.h"
@@ -45,7 +45,8 @@ std::string gEmbreeError;
 void embreeError(void*, RTCError code, const char* message) {
     std::lock_guard<std::mutex> lock(gEmbreeErrorMutex);
     if (gEmbreeError.empty())
-        gEmbreeError = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+        gEmbreeError =
+            "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
 }
 
 RTCDevice device() {
@@ -181,8 +182,8 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
         m.cornerPosition[c] = Vec3d(P[0], P[1], P[2]);
         m.cornerUv[c] = Vec2d(UV[0], UV[1]);
         if (c == 0)
-            m.planeNormal = glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]),
-                                                      Vec3d(Dv[0], Dv[1], Dv[2])));
+            m.planeNormal =
+                glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2])));
     }
     m.heightMap = std::make_shared<const Texture>(height);
     const Vec2d skew = m.cornerUv[0] + m.cornerUv[3] - m.cornerUv[1] - m.cornerUv[2];
@@ -259,8 +260,8 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
         }
     }
 
-    std::map<std::pair<int, int>, uint32_t> cornerOf;                   // (vertex, uv value)
-    std::map<std::tuple<int, int, int, int>, uint32_t> edgeOf;          // (edge, k, uvA, uvB)
+    std::map<std::pair<int, int>, uint32_t> cornerOf;           // (vertex, uv value)
+    std::map<std::tuple<int, int, int, int>, uint32_t> edgeOf;  // (edge, k, uvA, uvB)
     auto push = [&](const Vec3d& p, const Vec3d& n, const Vec2d& uv) {
         m.position.push_back(Vec3f(p - m.origin));
         m.normal.push_back(Vec3f(n));
@@ -302,7 +303,8 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
         // (vertex, uv value), edge points by (edge, k from the edge's first vertex, uv values
         // at both ends), interior points new.
         std::map<std::pair<double, double>, uint32_t> vertexAt;
-        std::vector<double> buf(size_t(std::max(2, 2 * (*std::max_element(rates.begin(), rates.end()) + 1))));
+        std::vector<double> buf(
+            size_t(std::max(2, 2 * (*std::max_element(rates.begin(), rates.end()) + 1))));
         for (int i = 0; i < nEdges; ++i) {
             tess.GetVertexCoord(i, buf.data());
             auto key = std::make_pair(int(fv[i]), int(ft[i]));
@@ -351,7 +353,8 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
     const size_t nTri = drawn.indices.size() / 3;
     PGT_CHECK(nTri > 0);
     Vec3d lo(1e300), hi(-1e300);
-    for (const auto& v : drawn.vertices) lo = glm::min(lo, v.position), hi = glm::max(hi, v.position);
+    for (const auto& v : drawn.vertices)
+        lo = glm::min(lo, v.position), hi = glm::max(hi, v.position);
     m.origin = (lo + hi) * 0.5;
     // One subdivision count n for every triangle: rate samples per texel along the longest
     // UV edge of the mesh.
@@ -368,8 +371,8 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
     m.nu = m.nv = 0;
 
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeStart;  // first of n-1 edge points
-    auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c,
-                         double wa, double wb, double wc) {
+    auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c, double wa,
+                         double wb, double wc) {
         Vec3d p = a.position * wa + b.position * wb + c.position * wc;
         Vec3d nrm = a.normal * wa + b.normal * wb + c.normal * wc;
         double len = glm::length(nrm);
@@ -414,8 +417,8 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
         edge(1, 2, [&](int k) -> uint32_t& { return at(n - k, k); });
         for (int j = 1; j < n; ++j)
             for (int i = 1; i + j < n; ++i)
-                at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n,
-                                     double(i) / n, double(j) / n);
+                at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n, double(i) / n,
+                                     double(j) / n);
         for (int j = 0; j < n; ++j)
             for (int i = 0; i + j < n; ++i) {
                 m.triangles.insert(m.triangles.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
@@ -507,8 +510,10 @@ struct TruthSurface::Impl {
             int64_t cell = rh.hit.primID / 2;
             int ci = int(cell % nu), cj = int(cell / nu);
             double u = rh.hit.u, v = rh.hit.v;
-            if (rh.hit.primID % 2 == 0) s.uv = cellUv(ci, cj, u, v);
-            else s.uv = cellUv(ci, cj, 1 - u, 1 - v);
+            if (rh.hit.primID % 2 == 0)
+                s.uv = cellUv(ci, cj, u, v);
+            else
+                s.uv = cellUv(ci, cj, 1 - u, 1 - v);
         }
         return s;
     }
@@ -519,9 +524,9 @@ struct TruthSurface::Impl {
     struct Walk {
         Vec3d o{0}, dir{0};
         double t = 0, tExit = 0;
-        double leave = 0;       // this stretch's length to the tile walls (periodic)
-        Vec2d uvOffset{0};      // tile offset of this stretch
-        Vec3d segOrg{0};        // the ray as given to Embree for this stretch, before rounding
+        double leave = 0;   // this stretch's length to the tile walls (periodic)
+        Vec2d uvOffset{0};  // tile offset of this stretch
+        Vec3d segOrg{0};    // the ray as given to Embree for this stretch, before rounding
         int guard = 0;
         bool done = false;
         TruthSample result;
@@ -621,16 +626,17 @@ struct TruthSurface::Impl {
             rtcIntersect1(scene, ctx, &rh);
             advance(w, rh);
         }
-        if (detail) detail->rh = rh, detail->org = w.segOrg, detail->dir = w.dir,
-                    detail->uvOffset = w.uvOffset;
+        if (detail)
+            detail->rh = rh, detail->org = w.segOrg, detail->dir = w.dir,
+            detail->uvOffset = w.uvOffset;
         return w.result;
     }
 
     // A tile's rays as coherent streams: every live walk's stretch in one rtcIntersect1M
     // call, repeated while walks remain (periodic planes take a few rounds at grazing views).
-    void traceTile(const Camera& camera, int x0, int x1, int y0, int y1,
-                   Image2D<TruthSample>& out, std::vector<Walk>& walks,
-                   std::vector<RTCRayHit>& rays, std::vector<int>& live) const {
+    void traceTile(const Camera& camera, int x0, int x1, int y0, int y1, Image2D<TruthSample>& out,
+                   std::vector<Walk>& walks, std::vector<RTCRayHit>& rays,
+                   std::vector<int>& live) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -638,8 +644,10 @@ struct TruthSurface::Impl {
         walks.resize(size_t(n));  // start() resets what a walk reads
         live.clear();
         for (int k = 0; k < n; ++k)
-            if (start(camera.pixelRay(x0 + k % w, y0 + k / w), walks[size_t(k)])) live.push_back(k);
-            else walks[size_t(k)].done = true;
+            if (start(camera.pixelRay(x0 + k % w, y0 + k / w), walks[size_t(k)]))
+                live.push_back(k);
+            else
+                walks[size_t(k)].done = true;
         rays.resize(size_t(n));
         while (!live.empty()) {
             for (size_t q = 0; q < live.size(); ++q) segment(walks[size_t(live[q])], rays[q]);
@@ -698,12 +706,12 @@ struct TruthSurface::Impl {
     }
 };
 
-TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane,
-                           const Displacement& disp, int rate, TruthGeometry geometry)
+TruthSurface::TruthSurface(const Texture& height, const PlaneBase& plane, const Displacement& disp,
+                           int rate, TruthGeometry geometry)
     : TruthSurface(tessellatePlane(height, plane, rate), disp, geometry, false) {}
 
-TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
-                           const Displacement& disp, TruthGeometry geometry, bool periodic)
+TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const Displacement& disp,
+                           TruthGeometry geometry, bool periodic)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.base = std::move(base);
@@ -762,8 +770,9 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base,
         m.stats.geometryBytes += int64_t(m.grids.size() * sizeof(RTCGrid));
     } else if (meshTriangles) {
         const auto& tri = m.base->triangles;
-        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            m.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tri.size() / 3));
+        auto* ib = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(m.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(unsigned), tri.size() / 3));
         std::copy(tri.begin(), tri.end(), ib);
         m.stats.primitives = int64_t(tri.size() / 3);
         m.stats.geometryBytes += int64_t(tri.size() * sizeof(unsigned));
@@ -807,7 +816,7 @@ void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update)
     // its rebuild; a grid's refit is no faster than its rebuild, and a rebuilt BVH stays tight.
     const bool translatable = m.base->isGrid() && disp.scale == m.built.scale;
     if (update == TruthUpdate::Auto)
-        update = translatable ? TruthUpdate::Translate
+        update = translatable                        ? TruthUpdate::Translate
                  : m.geometry == TruthGeometry::Grid ? TruthUpdate::Rebuild
                                                      : TruthUpdate::Refit;
     if (update == TruthUpdate::Translate) {
@@ -819,8 +828,8 @@ void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update)
     }
     m.displaceCanonical(disp);
     rtcUpdateGeometryBuffer(m.geom, RTC_BUFFER_TYPE_VERTEX, 0);
-    rtcSetGeometryBuildQuality(m.geom, update == TruthUpdate::Refit ? RTC_BUILD_QUALITY_REFIT
-                                                                    : RTC_BUILD_QUALITY_MEDIUM);
+    rtcSetGeometryBuildQuality(
+        m.geom, update == TruthUpdate::Refit ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_MEDIUM);
     rtcCommitGeometry(m.geom);
     rtcCommitScene(m.scene);
     m.lastUpdate = update;
@@ -842,7 +851,11 @@ struct TileGrid {
     int X0, Y0, X1, Y1, across, count;
     TileGrid(int w, int h) : TileGrid(PixelRect{0, 0, w, h}) {}
     explicit TileGrid(PixelRect r)
-        : X0(r.x0), Y0(r.y0), X1(r.x1), Y1(r.y1), across((r.x1 - r.x0 + kTile - 1) / kTile),
+        : X0(r.x0),
+          Y0(r.y0),
+          X1(r.x1),
+          Y1(r.y1),
+          across((r.x1 - r.x0 + kTile - 1) / kTile),
           count(across * ((r.y1 - r.y0 + kTile - 1) / kTile)) {}
     int x0(int t) const { return X0 + (t % across) * kTile; }
     int y0(int t) const { return Y0 + (t / across) * kTile; }
@@ -878,8 +891,8 @@ void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, P
             thread_local std::vector<RTCRayHit> rays;
             thread_local std::vector<int> live;
             for (int t = r.begin(); t < r.end(); ++t)
-                m.traceTile(camera, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out,
-                            walks, rays, live);
+                m.traceTile(camera, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out, walks,
+                            rays, live);
             return;
         }
         RTCIntersectContext ctx;

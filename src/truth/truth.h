@@ -9,17 +9,17 @@
 #include "core/image.h"
 #include "core/math.h"
 #include "core/samples.h"
+#include "heightfield/texture.h"
 #include "mesh/control_mesh.h"
 #include "mesh/refine.h"
 #include "raster/raster.h"
-#include "heightfield/texture.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace pgt {
 
 struct TruthBuildStats {
-    int segmentsU = 0, segmentsV = 0;  // tessellation segments per axis
+    int segmentsU = 0, segmentsV = 0;      // tessellation segments per axis
     int64_t vertices = 0, primitives = 0;  // primitives: grids or triangles
     int64_t geometryBytes = 0;             // Embree buffers (vertices + indices/grids)
     double tessellateMs = 0, buildMs = 0;
@@ -38,15 +38,15 @@ struct TruthBuildStats {
 // (a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
 // vertices and triangles.
 struct BaseTessellation {
-    int nu = 0, nv = 0;           // grid segments (planes); 0 for meshes
+    int nu = 0, nv = 0;  // grid segments (planes); 0 for meshes
     // A window of the plane's vertex lattice (TruthWindow): local vertex (i, j) is lattice
     // vertex (i + offsetI, j + offsetJ) of the whole tile's fullNu x fullNv segments
     // (outside [0, fullNu] on an infinite plane: the tile's continuation).
     int offsetI = 0, offsetJ = 0, fullNu = 0, fullNv = 0;
-    Vec3d origin{0};              // positions are relative to this point (float precision)
-    double worldPerUv = 1;        // l (MODEL.md §2)
-    double periodWorld = 1;       // plane side L: the tile period of an infinite plane
-    double periodUv = 1;          // tiling T: the UV period of the tile
+    Vec3d origin{0};         // positions are relative to this point (float precision)
+    double worldPerUv = 1;   // l (MODEL.md §2)
+    double periodWorld = 1;  // plane side L: the tile period of an infinite plane
+    double periodUv = 1;     // tiling T: the UV period of the tile
     // Planes: the Bfr-evaluated corners at (s, t) = (0,0), (1,0), (0,1), (1,1), the unit
     // normal and the height map the vertices sample.
     Vec3d cornerPosition[4]{};
@@ -57,7 +57,7 @@ struct BaseTessellation {
     std::vector<Vec3f> position;  // S(u, v) - origin
     std::vector<Vec3f> normal;    // unit N(u, v)
     std::vector<Vec2d> uv;
-    std::vector<double> height;   // h(u, v) from the shared bilinear sampler
+    std::vector<double> height;  // h(u, v) from the shared bilinear sampler
     std::vector<uint32_t> triangles;
     double tessellateMs = 0;
 
@@ -73,8 +73,14 @@ struct BaseTessellation {
     }
     Vec2d gridUv(int i, int j) const { return blend(cornerUv, gridS(i), gridT(j)); }
     // Lattice i / fullNu and j / fullNv without a division per call, exact at the tile edge.
-    double gridS(int i) const { i += offsetI; return i == fullNu ? 1.0 : i * invNu; }
-    double gridT(int j) const { j += offsetJ; return j == fullNv ? 1.0 : j * invNv; }
+    double gridS(int i) const {
+        i += offsetI;
+        return i == fullNu ? 1.0 : i * invNu;
+    }
+    double gridT(int j) const {
+        j += offsetJ;
+        return j == fullNv ? 1.0 : j * invNv;
+    }
     double invNu = 1, invNv = 1;
     bool affineUv = false;  // the corners' UVs form a parallelogram (every plane does)
     Vec3d positionAt(size_t k) const;
@@ -152,19 +158,19 @@ enum class TraceMode { Single, Coherent };
 // The same frame's rays traced by nothing but Embree calls: the rays are made
 // before the clock starts, the loop over tiles only calls Embree. Median of the repeats.
 struct BareLoopTiming {
-    double bareMs = 0;   // the bare loop
+    double bareMs = 0;  // the bare loop
     int64_t rays = 0;
 };
 
 class TruthSurface {
-public:
+  public:
     // Displaces `base` by (s, b) (MODEL.md §3) and builds the Embree scene. `periodic`
     // repeats the tile forever in x and y (an infinite plane; needs an integer tiling).
     TruthSurface(std::shared_ptr<const BaseTessellation> base, const Displacement& disp,
                  TruthGeometry geometry, bool periodic);
     // Tessellates and builds in one step.
-    TruthSurface(const Texture& height, const PlaneBase& plane, const Displacement& disp,
-                 int rate, TruthGeometry geometry);
+    TruthSurface(const Texture& height, const PlaneBase& plane, const Displacement& disp, int rate,
+                 TruthGeometry geometry);
     ~TruthSurface();
     TruthSurface(const TruthSurface&) = delete;
     TruthSurface& operator=(const TruthSurface&) = delete;
@@ -197,7 +203,7 @@ public:
     PrecisionCheck checkPrecision(const Camera& camera, const Texture& height, int samples,
                                   uint32_t seed = 1) const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -44,7 +44,11 @@ void BM_TruthBuild(benchmark::State& state) {
                    std::to_string(state.range(0) + 1) + "^2 vertices");
 }
 BENCHMARK(BM_TruthBuild)
-    ->Args({256, 0})->Args({256, 1})->Args({1024, 0})->Args({1024, 1})->Args({2048, 0})
+    ->Args({256, 0})
+    ->Args({256, 1})
+    ->Args({1024, 0})
+    ->Args({1024, 1})
+    ->Args({2048, 0})
     ->Unit(benchmark::kMillisecond);
 
 Scene frameScene(int mapSide, int pixels) {
@@ -75,7 +79,8 @@ void BM_TruthFrame(benchmark::State& state) {
     for (int k = 0; k < 5; ++k) {
         auto t0 = std::chrono::steady_clock::now();
         surface.traceFrame(cam, frame, mode);
-        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        t.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                        .count());
     }
     std::sort(t.begin(), t.end());
     frameMs = t[2];
@@ -89,7 +94,10 @@ void BM_TruthFrame(benchmark::State& state) {
                    (state.range(1) ? "coherent (rtcIntersect1M tiles)" : "single (rtcIntersect1)"));
 }
 BENCHMARK(BM_TruthFrame)
-    ->Args({512, 0, 0})->Args({512, 1, 0})->Args({1024, 1, 0})->Args({512, 1, 1})
+    ->Args({512, 0, 0})
+    ->Args({512, 1, 0})
+    ->Args({1024, 1, 0})
+    ->Args({512, 1, 1})
     ->Unit(benchmark::kMillisecond);
 
 // The default study's surface: infinite plane (periodic tile walk), 512^2 at theta 60.
@@ -123,7 +131,10 @@ void BM_TruthUpdate(benchmark::State& state) {
                    (state.range(1) ? " refit" : " rebuild"));
 }
 BENCHMARK(BM_TruthUpdate)
-    ->Args({0, 0})->Args({0, 1})->Args({1, 0})->Args({1, 1})
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
     ->Unit(benchmark::kMillisecond);
 
 // Each method alone, single-threaded, over 65,536 fragments at theta 60 (ns per fragment =
