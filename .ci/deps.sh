@@ -6,6 +6,7 @@ packages=(
   libembree-dev libopenimageio-dev openimageio-tools libosd-dev libglm-dev libopenexr-dev
   libtbb-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
   fonts-dejavu-core
+  clang-format clang libclang-rt-14-dev
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-numpy python3-matplotlib python3-pandas python3-openimageio
 )
