@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "scene/scene.h"
+#include "study/csv_table.h"
 #include "study/outputs.h"
 #include "study/render.h"
 
@@ -17,31 +18,60 @@ namespace pgt {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string>& stressColumns() {
-    static const std::vector<std::string> cols = {"scene",
-                                                  "label",
-                                                  "method",
-                                                  "pixels",
-                                                  "truth_only",
-                                                  "raster_only",
-                                                  "nonfinite",
-                                                  "diverged",
-                                                  "zero_divide",
-                                                  "step_limit",
-                                                  "mean",
-                                                  "p99",
-                                                  "max",
-                                                  "truth_uncertainty_p99",
-                                                  "truth_float_p99",
-                                                  "truth_float_max",
-                                                  "truth_float_samples",
-                                                  "truth_edge_misses"};
-    return cols;
+namespace {
+
+// stress.csv numbers: 6 significant digits (errors in texels, counts exact).
+std::string num(double x) { return formatNumber(x, 6); }
+
+// One stress.csv row: a scene (by file stem), its frame, one method, the precision check.
+struct StressRow {
+    const std::string& scene;
+    const RenderResult& r;
+    const MethodFrame& m;
+    const PrecisionCheck& pc;
+};
+
+// stress.csv (README "Stiff cases"): the columns in order, each with how a row writes it.
+const CsvTable<StressRow>& stressTable() {
+    using Col = CsvColumn<StressRow>;
+    auto count = [](int64_t FrameStats::*field) {
+        return [field](const StressRow& x) { return std::to_string(x.m.stats.*field); };
+    };
+    static const CsvTable<StressRow> table({
+        Col{"scene", [](const StressRow& x) { return x.scene; }},
+        Col{"label", [](const StressRow& x) { return x.m.config.label; }},
+        Col{"method", [](const StressRow& x) { return x.m.config.name; }},
+        Col{"pixels", [](const StressRow& x) { return std::to_string(x.m.stats.error.count); }},
+        Col{"truth_only",
+            [](const StressRow& x) { return std::to_string(x.m.stats.coverage.truthOnly); }},
+        Col{"raster_only",
+            [](const StressRow& x) { return std::to_string(x.m.stats.coverage.rasterOnly); }},
+        Col{"nonfinite", count(&FrameStats::nonfinite)},
+        Col{"diverged", count(&FrameStats::diverged)},
+        Col{"zero_divide", count(&FrameStats::zeroDivide)},
+        Col{"step_limit", count(&FrameStats::stepLimit)},
+        Col{"mean", [](const StressRow& x) { return num(x.m.stats.error.mean); }},
+        Col{"p99", [](const StressRow& x) { return num(x.m.stats.error.p99); }},
+        Col{"max", [](const StressRow& x) { return num(x.m.stats.error.max); }},
+        Col{"truth_uncertainty_p99",
+            [](const StressRow& x) {
+                return num(x.r.haveUncertainty ? x.r.uncertainty.p99Texels : NAN);
+            }},
+        Col{"truth_float_p99", [](const StressRow& x) { return num(x.pc.p99Texels); }},
+        Col{"truth_float_max", [](const StressRow& x) { return num(x.pc.maxTexels); }},
+        Col{"truth_float_samples", [](const StressRow& x) { return std::to_string(x.pc.samples); }},
+        Col{"truth_edge_misses",
+            [](const StressRow& x) { return std::to_string(x.pc.edgeMisses); }},
+    });
+    return table;
 }
 
-namespace {
-std::string num(double x) { return formatNumber(x, 6); }
 }  // namespace
+
+const std::vector<std::string>& stressColumns() {
+    static const std::vector<std::string> names = stressTable().names();
+    return names;
+}
 
 int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
     std::vector<std::string> files;
@@ -68,9 +98,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
     }
     prepareOutputDir(opt.outDir);
 
-    std::ostringstream csv;
-    for (size_t k = 0; k < stressColumns().size(); ++k) csv << (k ? "," : "") << stressColumns()[k];
-    csv << "\n";
+    std::string csv = stressTable().header();
     std::printf("%-22s %-16s %8s %9s %8s %10s %10s %12s\n", "scene", "method", "pixels",
                 "nonfinite", "diverged", "mean", "truth unc", "truth f32");
     for (size_t i = 0; i < scenes.size(); ++i) {
@@ -85,13 +113,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         PrecisionCheck pc = truths.truth->checkPrecision(cam, s.height, opt.precisionSamples);
         for (const auto& m : r.methods) {
             const FrameStats& st = m.stats;
-            csv << name << ',' << m.config.label << ',' << m.config.name << ',' << st.error.count
-                << ',' << st.coverage.truthOnly << ',' << st.coverage.rasterOnly << ','
-                << st.nonfinite << ',' << st.diverged << ',' << st.zeroDivide << ',' << st.stepLimit
-                << ',' << num(st.error.mean) << ',' << num(st.error.p99) << ',' << num(st.error.max)
-                << ',' << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN) << ','
-                << num(pc.p99Texels) << ',' << num(pc.maxTexels) << ',' << pc.samples << ','
-                << pc.edgeMisses << '\n';
+            csv += stressTable().line(StressRow{name, r, m, pc});
             std::printf("%-22s %-16s %8lld %9lld %8lld %10.4g %10.4g %12.4g\n", name.c_str(),
                         m.config.label.c_str(), (long long)st.error.count, (long long)st.nonfinite,
                         (long long)st.diverged, st.error.mean,
@@ -100,7 +122,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         if (opt.progress)
             std::fprintf(stderr, "stress: %zu/%zu %s\n", i + 1, scenes.size(), name.c_str());
     }
-    writeTextFile((fs::path(opt.outDir) / "stress.csv").string(), csv.str());
+    writeTextFile((fs::path(opt.outDir) / "stress.csv").string(), csv);
     return int(scenes.size());
 }
 

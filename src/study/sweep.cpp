@@ -22,6 +22,7 @@
 #include "core/json_read.h"
 #include "core/process.h"
 #include "methods/registry.h"
+#include "study/csv_table.h"
 #include "study/outputs.h"
 
 #ifndef PGT_ANALYSIS_DIR
@@ -79,38 +80,74 @@ std::string StudyCase::key() const {
     return num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
 }
 
+namespace {
+
+// One results.csv row: a case, its frame, one method configuration of it.
+struct ResultRow {
+    const StudyCase& c;
+    const RenderResult& r;
+    const MethodFrame& m;
+};
+
+std::string integer(int64_t x) { return std::to_string(x); }
+
+// results.csv (README "Studies"): the columns in order, each with how a row writes it.
+const CsvTable<ResultRow>& resultTable() {
+    using Col = CsvColumn<ResultRow>;
+    auto stat = [](double Summary::*field) {
+        return [field](const ResultRow& x) { return num(x.m.stats.error.*field); };
+    };
+    auto uncertainty = [](double TruthUncertainty::*field) {
+        return [field](const ResultRow& x) {
+            return num(x.r.haveUncertainty ? x.r.uncertainty.*field : NAN);
+        };
+    };
+    auto exact = [](double Summary::*field) {
+        return [field](const ResultRow& x) {
+            return num(x.m.haveExactFrame ? x.m.statsExactFrame.error.*field : NAN);
+        };
+    };
+    static const CsvTable<ResultRow> table({
+        Col{"case", [](const ResultRow& x) { return integer(x.c.index); }},
+        Col{"theta", [](const ResultRow& x) { return num(x.c.theta); }},
+        Col{"phi", [](const ResultRow& x) { return num(x.c.phi); }},
+        Col{"scale", [](const ResultRow& x) { return num(x.c.scale); }},
+        Col{"bias", [](const ResultRow& x) { return num(x.c.bias); }},
+        Col{"bias_ratio", [](const ResultRow& x) { return num(x.c.biasRatio); }},
+        Col{"method", [](const ResultRow& x) { return x.m.config.name; }},
+        Col{"label", [](const ResultRow& x) { return x.m.config.label; }},
+        Col{"params", [](const ResultRow& x) { return methodParams(x.m.config).dump(); }, true},
+        Col{"pixels", [](const ResultRow& x) { return integer(x.m.stats.error.count); }},
+        Col{"mean", stat(&Summary::mean)},
+        Col{"rms", stat(&Summary::rms)},
+        Col{"p50", stat(&Summary::p50)},
+        Col{"p90", stat(&Summary::p90)},
+        Col{"p99", stat(&Summary::p99)},
+        Col{"max", stat(&Summary::max)},
+        Col{"frac_gt_1texel", [](const ResultRow& x) { return num(x.m.stats.fracAbove1Texel); }},
+        Col{"truth_only", [](const ResultRow& x) { return integer(x.m.stats.coverage.truthOnly); }},
+        Col{"raster_only",
+            [](const ResultRow& x) { return integer(x.m.stats.coverage.rasterOnly); }},
+        Col{"nonfinite", [](const ResultRow& x) { return integer(x.m.stats.nonfinite); }},
+        Col{"zero_divide", [](const ResultRow& x) { return integer(x.m.stats.zeroDivide); }},
+        Col{"step_limit", [](const ResultRow& x) { return integer(x.m.stats.stepLimit); }},
+        Col{"fetches_mean", [](const ResultRow& x) { return num(x.m.stats.fetchesMean); }},
+        Col{"fetches_max", [](const ResultRow& x) { return integer(x.m.stats.fetchesMax); }},
+        Col{"ns_per_px", [](const ResultRow& x) { return num(x.m.nsPerPixel); }},
+        Col{"truth_uncertainty_p99", uncertainty(&TruthUncertainty::p99Texels)},
+        Col{"truth_uncertainty_max", uncertainty(&TruthUncertainty::maxTexels)},
+        Col{"mean_exact_frame", exact(&Summary::mean)},
+        Col{"p90_exact_frame", exact(&Summary::p90)},
+        Col{"timing_backend", [](const ResultRow& x) { return x.m.timingBackend; }},
+    });
+    return table;
+}
+
+}  // namespace
+
 const std::vector<std::string>& resultColumns() {
-    static const std::vector<std::string> cols = {"case",
-                                                  "theta",
-                                                  "phi",
-                                                  "scale",
-                                                  "bias",
-                                                  "bias_ratio",
-                                                  "method",
-                                                  "label",
-                                                  "params",
-                                                  "pixels",
-                                                  "mean",
-                                                  "rms",
-                                                  "p50",
-                                                  "p90",
-                                                  "p99",
-                                                  "max",
-                                                  "frac_gt_1texel",
-                                                  "truth_only",
-                                                  "raster_only",
-                                                  "nonfinite",
-                                                  "zero_divide",
-                                                  "step_limit",
-                                                  "fetches_mean",
-                                                  "fetches_max",
-                                                  "ns_per_px",
-                                                  "truth_uncertainty_p99",
-                                                  "truth_uncertainty_max",
-                                                  "mean_exact_frame",
-                                                  "p90_exact_frame",
-                                                  "timing_backend"};
-    return cols;
+    static const std::vector<std::string> names = resultTable().names();
+    return names;
 }
 
 Study parseStudy(const Scene& scene) {
@@ -252,84 +289,13 @@ Study parseStudy(const Scene& scene) {
 
 namespace {
 
-std::string csvQuote(const std::string& s) {
-    std::string out = "\"";
-    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
-
-// RFC 4180: a field is quoted when it holds a comma, a quote or a line break.
-std::string csvField(const std::string& s) {
-    return s.find_first_of(",\"\r\n") == std::string::npos ? s : csvQuote(s);
-}
-
 std::string csvRows(const StudyCase& c, const RenderResult& r) {
-    std::ostringstream os;
-    for (const MethodFrame& m : r.methods) {
-        const FrameStats& s = m.stats;
-        os << c.index << ',' << num(c.theta) << ',' << num(c.phi) << ',' << num(c.scale) << ','
-           << num(c.bias) << ',' << num(c.biasRatio) << ',' << csvField(m.config.name) << ','
-           << csvField(m.config.label) << ',' << csvQuote(methodParams(m.config).dump()) << ','
-           << s.error.count << ',' << num(s.error.mean) << ',' << num(s.error.rms) << ','
-           << num(s.error.p50) << ',' << num(s.error.p90) << ',' << num(s.error.p99) << ','
-           << num(s.error.max) << ',' << num(s.fracAbove1Texel) << ',' << s.coverage.truthOnly
-           << ',' << s.coverage.rasterOnly << ',' << s.nonfinite << ',' << s.zeroDivide << ','
-           << s.stepLimit << ',' << num(s.fetchesMean) << ',' << s.fetchesMax << ','
-           << num(m.nsPerPixel) << ',' << num(r.haveUncertainty ? r.uncertainty.p99Texels : NAN)
-           << ',' << num(r.haveUncertainty ? r.uncertainty.maxTexels : NAN) << ','
-           << num(m.haveExactFrame ? m.statsExactFrame.error.mean : NAN) << ','
-           << num(m.haveExactFrame ? m.statsExactFrame.error.p90 : NAN) << ','
-           << csvField(m.timingBackend) << '\n';
-    }
-    return os.str();
+    std::string rows;
+    for (const MethodFrame& m : r.methods) rows += resultTable().line(ResultRow{c, r, m});
+    return rows;
 }
 
-std::string header() {
-    std::string h;
-    for (const auto& c : resultColumns()) h += (h.empty() ? "" : ",") + c;
-    return h + "\n";
-}
-
-// Splits CSV text (RFC 4180: quoted fields may hold commas, quotes and line breaks) into
-// records of fields. `torn` is set when the text does not end with a complete record.
-std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, size_t from,
-                                                      bool* torn) {
-    std::vector<std::vector<std::string>> records;
-    std::vector<std::string> fields;
-    std::string cur;
-    bool quoted = false;
-    for (size_t i = from; i < text.size(); ++i) {
-        char ch = text[i];
-        if (quoted) {
-            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"')
-                cur += '"', ++i;
-            else if (ch == '"')
-                quoted = false;
-            else
-                cur += ch;
-        } else if (ch == '"') {
-            quoted = true;
-        } else if (ch == ',') {
-            fields.push_back(std::move(cur)), cur.clear();
-        } else if (ch == '\n') {
-            fields.push_back(std::move(cur)), cur.clear();
-            records.push_back(std::move(fields)), fields.clear();
-        } else {
-            cur += ch;
-        }
-    }
-    *torn = quoted || !cur.empty() || !fields.empty();
-    return records;
-}
-
-std::string csvRecord(const std::vector<std::string>& fields) {
-    std::string line;
-    for (size_t k = 0; k < fields.size(); ++k) {
-        // params (column 8) is always quoted JSON; the rest as csvField decides.
-        line += (k ? "," : "") + (k == 8 ? csvQuote(fields[k]) : csvField(fields[k]));
-    }
-    return line + "\n";
-}
+std::string header() { return resultTable().header(); }
 
 // Reads results.csv, keeps only the rows of complete cases (every configuration present),
 // rewrites the file when anything was dropped (a torn last line, a half-written case), and
@@ -366,7 +332,7 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         }
         std::string key = c.key();
         if (!rowsByKey.count(key)) order.push_back(key);
-        rowsByKey[key].push_back(csvRecord(f));
+        rowsByKey[key].push_back(resultTable().line(f));
         labelsByKey[key].insert(f[7]);
     }
     std::set<std::string> wantLabels;

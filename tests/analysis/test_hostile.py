@@ -301,6 +301,13 @@ def labels(d):
     got = [m["label"] for m in json.load(open(os.path.join(out, "summary.json")))["methods"]] \
         if r.returncode == 0 else []
     check("generated labels unique", r.returncode == 0 and len(set(got)) == 3, f"{got} {r.stderr}")
+    # stress.csv names scenes by file stem: a comma in it is quoted, not a new column.
+    path = write(d, "a,b.json", json.dumps(GOOD))
+    out = os.path.join(d, "stress")
+    r = run(["stress", path, "--out", out])
+    got = rows_of(os.path.join(out, "stress.csv")) if r.returncode == 0 else []
+    check("stress.csv quotes a scene name", [x["scene"] for x in got] == ["a,b"],
+          f"{got[:1]} {r.stderr}")
     # Resume works with quoted fields (the params column): nothing recomputed.
     path = write(d, "sweep.json", json.dumps(SWEEP))
     out = os.path.join(d, "study")
