@@ -9,6 +9,8 @@ bash .ci/deps.sh
 cmake -S . -B build-fuzz -DCMAKE_CXX_COMPILER=clang++ -DPGT_FUZZ=ON -DPGT_BUILD_TESTS=OFF \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build build-fuzz -j2 --target fuzz_scene fuzz_image
+# Leaks inside Debian's libraries are suppressed by name (.ci/lsan.supp says which and why).
+export LSAN_OPTIONS="suppressions=$PWD/.ci/lsan.supp:print_suppressions=0"
 for target in scene image; do
   scratch=$(mktemp -d)
   (cd build-fuzz && ./tests/fuzz/fuzz_$target "$scratch" "../tests/fuzz/corpus_$target" \
