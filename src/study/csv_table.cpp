@@ -25,9 +25,12 @@ std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, s
     for (size_t i = from; i < text.size(); ++i) {
         char ch = text[i];
         if (quoted) {
-            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"') cur += '"', ++i;
-            else if (ch == '"') quoted = false;
-            else cur += ch;
+            if (ch == '"' && i + 1 < text.size() && text[i + 1] == '"')
+                cur += '"', ++i;
+            else if (ch == '"')
+                quoted = false;
+            else
+                cur += ch;
         } else if (ch == '"') {
             quoted = true;
         } else if (ch == ',') {

@@ -27,7 +27,7 @@ struct CsvColumn {
 
 template <class Row>
 class CsvTable {
-public:
+  public:
     explicit CsvTable(std::vector<CsvColumn<Row>> columns) : columns_(std::move(columns)) {}
 
     std::vector<std::string> names() const {
@@ -48,7 +48,7 @@ public:
     std::string line(const std::vector<std::string>& fields) const { return join(fields, true); }
     size_t size() const { return columns_.size(); }
 
-private:
+  private:
     std::string join(const std::vector<std::string>& fields, bool quoteAsDeclared) const {
         std::string out;
         for (size_t k = 0; k < fields.size(); ++k) {
