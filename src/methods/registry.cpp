@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "gl/glsl_method.h"
@@ -248,11 +249,7 @@ std::string parameterSuffix(const MethodConfig& c) {
     }
     if (c.doublePrecision) s += s.empty() ? "f64" : "_f64";
     if (c.discardOutside) s += s.empty() ? "discard" : "_discard";
-    auto num = [](double x) {
-        std::ostringstream os;
-        os << x;
-        return os.str();
-    };
+    auto num = [](double x) { return formatNumber(x, 6); };  // as an ostream's default %g
     if (std::isfinite(c.scale)) s += (s.empty() ? "s" : "_s") + num(c.scale);
     if (std::isfinite(c.bias)) s += (s.empty() ? "b" : "_b") + num(c.bias);
     return s;

@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/registry.h"
 
@@ -326,11 +327,7 @@ const Rgb kRasterOnly = {0.0f, 0.65f, 0.65f};  // raster covered, truth ray miss
 const Rgb kNonFinite = {1.0f, 1.0f, 1.0f};     // uv' not finite
 const Rgb kNeither = {0.12f, 0.12f, 0.12f};
 
-std::string fmt(double v) {
-    std::ostringstream os;
-    os << v;
-    return os.str();
-}
+std::string fmt(double v) { return formatNumber(v, 6); }  // as an ostream's default %g
 
 // The error map of one method as PNG bytes.
 std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& truth, double scale) {

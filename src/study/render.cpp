@@ -7,19 +7,13 @@
 #include <chrono>
 #include <random>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
 
 namespace pgt {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-}  // namespace
 
 FragmentList compactFragments(const Image2D<Fragment>& frags) {
     FragmentList list;

@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "core/clock.h"
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
@@ -403,7 +404,6 @@ std::string hms(double seconds) {
 }  // namespace
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
-    using Clock = std::chrono::steady_clock;
     auto start = Clock::now();
     std::error_code ec;
     prepareOutputDir(opt.outDir);
@@ -476,8 +476,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
                 truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
                 built = {c->scale, c->bias};
                 textures.clear();
-                sum.stageMs["truth_build"] +=
-                    std::chrono::duration<double, std::milli>(Clock::now() - tb).count();
+                sum.stageMs["truth_build"] += msSince(tb);
             }
             Scene view = scene;
             view.camera.theta = c->theta;

@@ -25,17 +25,13 @@
 #include <vector>
 
 #include "compare/statistics.h"
+#include "core/clock.h"
 #include "core/error.h"
 #include "mesh/osd_refiner.h"
 
 namespace pgt {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // One Embree device for the process. Errors land in the callback, which records the first
 // message; the build checks it (Embree tutorials: one error callback, not per-call checks).
