@@ -1,0 +1,376 @@
+// Base tessellations for the truth: a plane's lattice from OpenSubdiv Bfr's bilinear quad,
+// a mesh's drawn triangles split n x n, and the limit surface tessellated face by face with
+// Bfr's Tessellation API; the part of a plane a view can see.
+#include "truth/tessellation.h"
+
+#include <opensubdiv/bfr/refinerSurfaceFactory.h>
+#include <opensubdiv/bfr/surface.h>
+#include <opensubdiv/bfr/tessellation.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+#include <vector>
+
+#include "core/clock.h"
+#include "core/error.h"
+#include "mesh/osd_refiner.h"
+
+namespace pgt {
+
+TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                       const Camera& camera, PixelRect block, double marginTexels) {
+    if (block.empty()) block = {0, 0, camera.width(), camera.height()};
+    TruthWindow w;
+    float hMin = 1e30f, hMax = -1e30f;
+    for (float h : height.texels) hMin = std::min(hMin, h), hMax = std::max(hMax, h);
+    const double l = plane.worldPerUv();
+    const double z[2] = {plane.center.z + l * (disp.scale * hMin + disp.bias),
+                         plane.center.z + l * (disp.scale * hMax + disp.bias)};
+    // The frustum's four edge rays through the frame's corners meet each slab plane in a
+    // quadrilateral; every ray of the frame crosses the slab inside their hull.
+    Vec2d lo(1e300), hi(-1e300);
+    const double x0 = block.x0, x1 = block.x1, y0 = block.y0, y1 = block.y1;
+    for (Vec2d c : {Vec2d(x0, y0), Vec2d(x1, y0), Vec2d(x0, y1), Vec2d(x1, y1)}) {
+        Ray r = camera.ray(c.x, c.y);
+        if (!(std::fabs(r.dir.z) > 1e-9)) return {};  // parallel to the plane: unbounded
+        for (double zk : z) {
+            double t = (zk - r.origin.z) / r.dir.z;
+            if (!r.line && t < 0) return {};  // behind a pinhole eye: unbounded
+            Vec3d p = r.origin + r.dir * t;
+            Vec2d uv((p.x - plane.center.x) / l + plane.tiling / 2,
+                     (p.y - plane.center.y) / l + plane.tiling / 2);
+            lo = glm::min(lo, uv), hi = glm::max(hi, uv);
+        }
+    }
+    Vec2d margin = Vec2d(marginTexels / height.width, marginTexels / height.height);
+    lo -= margin, hi += margin;
+    if (!plane.infinite) lo = glm::max(lo, Vec2d(0)), hi = glm::min(hi, Vec2d(plane.tiling));
+    w.limited = true;
+    w.empty = !(lo.x < hi.x && lo.y < hi.y);
+    w.uvMin = lo;
+    w.uvMax = hi;
+    return w;
+}
+
+std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window) {
+    using namespace OpenSubdiv;
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.origin = plane.center;
+    m.worldPerUv = plane.worldPerUv();
+    m.periodWorld = plane.size;
+    m.periodUv = plane.tiling;
+
+    // The base plane as a one-quad bilinear control mesh with face-varying UVs; control
+    // points relative to the plane centre (the local frame of the float vertices).
+    const double half = plane.size / 2, tiling = plane.tiling;
+    ControlMesh quad;
+    quad.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
+    quad.uvs = {{0, 0}, {tiling, 0}, {tiling, tiling}, {0, tiling}};
+    quad.faceSizes = {4};
+    quad.faceVerts = {0, 1, 2, 3};
+    quad.faceUvs = {0, 1, 2, 3};
+    std::unique_ptr<Far::TopologyRefiner> refiner = createRefiner(quad, Scheme::Bilinear);
+    Bfr::RefinerSurfaceFactory<> factory(*refiner,
+                                         Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
+    Bfr::Surface<double> posSurface, uvSurface;
+    PGT_CHECK(factory.InitVertexSurface(0, &posSurface));
+    PGT_CHECK(factory.InitFaceVaryingSurface(0, &uvSurface));
+
+    // `rate` samples per texel per axis over the texels the plane covers.
+    double nu = std::ceil(rate * height.width * tiling - 1e-9);
+    double nv = std::ceil(rate * height.height * tiling - 1e-9);
+    // The scene parser bounds the vertex count; this keeps the int conversion defined.
+    PGT_CHECK_LT((nu + 1) * (nv + 1), double(int64_t(1) << 31));
+    m.nu = std::max(1, int(nu));
+    m.nv = std::max(1, int(nv));
+    m.fullNu = m.nu;
+    m.fullNv = m.nv;
+    m.invNu = 1.0 / m.nu;
+    m.invNv = 1.0 / m.nv;
+    int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
+    // Bfr's pattern for these rates is the regular lattice the grid indexes (checked where
+    // its int count can hold it; windows of larger lattices use the same formula). Bfr
+    // clamps an edge rate to kBfrMaxRate (measured: rates 40000 x 4 gave 32768 x 5
+    // coordinates), so wider lattices, e.g. a 20000-texel map at 2x rate, are not compared.
+    constexpr int kBfrMaxRate = 32767;
+    if (int64_t(m.nu + 1) * (m.nv + 1) < (int64_t(1) << 30) && m.nu <= kBfrMaxRate &&
+        m.nv <= kBfrMaxRate) {
+        Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
+                               Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
+        PGT_CHECK(tess.IsValid());
+        PGT_CHECK_EQ(int64_t(tess.GetNumCoords()), int64_t(m.nu + 1) * (m.nv + 1));
+    }
+
+    std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
+    std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
+    posSurface.PreparePatchPoints(&quad.positions[0].x, 3, posPatch.data(), 3);
+    uvSurface.PreparePatchPoints(&quad.uvs[0].x, 2, uvPatch.data(), 2);
+    // The corners of the pattern; every other vertex is their bilinear blend (the grid is
+    // implicit, see BaseTessellation).
+    const double corners[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+    for (int c = 0; c < 4; ++c) {
+        double P[3], Du[3], Dv[3], UV[2];
+        posSurface.Evaluate(corners[c], posPatch.data(), 3, P, Du, Dv);
+        uvSurface.Evaluate(corners[c], uvPatch.data(), 2, UV);
+        m.cornerPosition[c] = Vec3d(P[0], P[1], P[2]);
+        m.cornerUv[c] = Vec2d(UV[0], UV[1]);
+        if (c == 0)
+            m.planeNormal =
+                glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2])));
+    }
+    m.heightMap = std::make_shared<const Texture>(height);
+    const Vec2d skew = m.cornerUv[0] + m.cornerUv[3] - m.cornerUv[1] - m.cornerUv[2];
+    m.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(m.cornerUv[3] - m.cornerUv[0]));
+    if (window.limited) {
+        // The lattice vertices covering the window (whole cells of the tile's lattice, so
+        // the window's sheet is the very same surface as the tile's).
+        const double perUvU = m.fullNu / tiling, perUvV = m.fullNv / tiling;
+        m.offsetI = int(std::floor(window.uvMin.x * perUvU));
+        m.offsetJ = int(std::floor(window.uvMin.y * perUvV));
+        m.nu = std::max(1, int(std::ceil(window.uvMax.x * perUvU)) - m.offsetI);
+        m.nv = std::max(1, int(std::ceil(window.uvMax.y * perUvV)) - m.offsetJ);
+    }
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
+Vec3d BaseTessellation::positionAt(size_t k) const {
+    if (!isGrid()) return Vec3d(position[k]);
+    size_t w = size_t(nu) + 1;
+    return blend(cornerPosition, gridS(int(k % w)), gridT(int(k / w)));
+}
+
+Vec3d BaseTessellation::normalAt(size_t k) const {
+    return isGrid() ? planeNormal : Vec3d(normal[k]);
+}
+
+Vec2d BaseTessellation::uvAt(size_t k) const {
+    if (!isGrid()) return uv[k];
+    size_t w = size_t(nu) + 1;
+    return gridUv(int(k % w), int(k / w));
+}
+
+double BaseTessellation::heightAt(size_t k) const {
+    return isGrid() ? sampleBilinear<double>(*heightMap, uvAt(k)) : height[k];
+}
+
+size_t BaseTessellation::bytes() const {
+    return position.size() * sizeof(Vec3f) + normal.size() * sizeof(Vec3f) +
+           uv.size() * sizeof(Vec2d) + height.size() * sizeof(double) +
+           triangles.size() * sizeof(uint32_t) +
+           (heightMap ? heightMap->texels.size() * sizeof(float) : 0);
+}
+
+std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& height,
+                                                               const ControlMesh& cage,
+                                                               Scheme scheme, double worldPerUv,
+                                                               int rate) {
+    using namespace OpenSubdiv;
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.worldPerUv = worldPerUv;
+    Vec3d lo(1e300), hi(-1e300);
+    for (const auto& p : cage.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    m.origin = (lo + hi) * 0.5;
+
+    std::unique_ptr<Far::TopologyRefiner> refiner = createRefiner(cage, scheme);
+    const Far::TopologyLevel& level = refiner->GetLevel(0);
+    Bfr::RefinerSurfaceFactory<> factory(*refiner,
+                                         Bfr::SurfaceFactory::Options().SetDefaultFVarID(0));
+
+    // Rate per cage edge: its longest UV image in texels x rate (the max over both sides).
+    std::vector<int> edgeRate(level.GetNumEdges(), 1);
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        auto fe = level.GetFaceEdges(f);
+        auto ft = level.GetFaceFVarValues(f, 0);
+        for (int i = 0; i < fe.size(); ++i) {
+            Vec2d a = cage.uvs[ft[i]], b = cage.uvs[ft[(i + 1) % fe.size()]];
+            double texels = glm::length((b - a) * Vec2d(height.width, height.height));
+            // (capped in double: a UV edge millions of texels long must not overflow an int)
+            double r = std::min(std::ceil(rate * texels - 1e-9), double(1 << 15));
+            edgeRate[fe[i]] = std::max(edgeRate[fe[i]], int(r));
+        }
+    }
+
+    std::map<std::pair<int, int>, uint32_t> cornerOf;           // (vertex, uv value)
+    std::map<std::tuple<int, int, int, int>, uint32_t> edgeOf;  // (edge, k, uvA, uvB)
+    auto push = [&](const Vec3d& p, const Vec3d& n, const Vec2d& uv) {
+        m.position.push_back(Vec3f(p - m.origin));
+        m.normal.push_back(Vec3f(n));
+        m.uv.push_back(uv);
+        m.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.position.size() - 1);
+    };
+    Bfr::Surface<double> pos, tex;
+    std::vector<double> posPatch, uvPatch, coords;
+    std::vector<int> facets;
+    for (int f = 0; f < level.GetNumFaces(); ++f) {
+        if (!factory.InitVertexSurface(f, &pos) || !factory.InitFaceVaryingSurface(f, &tex))
+            continue;  // holes have no limit surface
+        auto fv = level.GetFaceVertices(f);
+        auto fe = level.GetFaceEdges(f);
+        auto ft = level.GetFaceFVarValues(f, 0);
+        const int nEdges = fe.size();
+        std::vector<int> rates(nEdges);
+        for (int i = 0; i < nEdges; ++i) rates[i] = edgeRate[fe[i]];
+        Bfr::Tessellation tess(pos.GetParameterization(), nEdges, rates.data(),
+                               Bfr::Tessellation::Options().SetFacetSize(3));
+        PGT_CHECK(tess.IsValid());
+        coords.resize(size_t(tess.GetNumCoords()) * 2);
+        tess.GetCoords(coords.data());
+        posPatch.resize(size_t(pos.GetNumPatchPoints()) * 3);
+        uvPatch.resize(size_t(tex.GetNumPatchPoints()) * 2);
+        pos.PreparePatchPoints(&cage.positions[0].x, 3, posPatch.data(), 3);
+        tex.PreparePatchPoints(&cage.uvs[0].x, 2, uvPatch.data(), 2);
+        auto evaluate = [&](const double* st) {
+            double P[3], Du[3], Dv[3], UV[2];
+            pos.Evaluate(st, posPatch.data(), 3, P, Du, Dv);
+            tex.Evaluate(st, uvPatch.data(), 2, UV);
+            Vec3d n = glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2]));
+            double len = glm::length(n);
+            return push(Vec3d(P[0], P[1], P[2]), len > 0 ? n / len : Vec3d(0, 0, 1),
+                        Vec2d(UV[0], UV[1]));
+        };
+        // Map each coordinate of the pattern to a shared or new vertex: corners by
+        // (vertex, uv value), edge points by (edge, k from the edge's first vertex, uv values
+        // at both ends), interior points new.
+        std::map<std::pair<double, double>, uint32_t> vertexAt;
+        std::vector<double> buf(
+            size_t(std::max(2, 2 * (*std::max_element(rates.begin(), rates.end()) + 1))));
+        for (int i = 0; i < nEdges; ++i) {
+            tess.GetVertexCoord(i, buf.data());
+            auto key = std::make_pair(int(fv[i]), int(ft[i]));
+            auto it = cornerOf.find(key);
+            if (it == cornerOf.end()) it = cornerOf.emplace(key, evaluate(buf.data())).first;
+            vertexAt[{buf[0], buf[1]}] = it->second;
+        }
+        for (int i = 0; i < nEdges; ++i) {
+            int count = tess.GetEdgeCoords(i, buf.data());
+            auto ev = level.GetEdgeVertices(fe[i]);
+            bool forward = ev[0] == fv[i];
+            int uvA = forward ? ft[i] : ft[(i + 1) % nEdges];
+            int uvB = forward ? ft[(i + 1) % nEdges] : ft[i];
+            for (int k = 0; k < count; ++k) {
+                int along = forward ? k : count - 1 - k;  // from the edge's first vertex
+                auto key = std::make_tuple(int(fe[i]), along, uvA, uvB);
+                auto it = edgeOf.find(key);
+                if (it == edgeOf.end()) it = edgeOf.emplace(key, evaluate(&buf[2 * k])).first;
+                vertexAt[{buf[2 * k], buf[2 * k + 1]}] = it->second;
+            }
+        }
+        std::vector<uint32_t> index(coords.size() / 2);
+        for (size_t c = 0; c < index.size(); ++c) {
+            auto it = vertexAt.find({coords[2 * c], coords[2 * c + 1]});
+            index[c] = it != vertexAt.end() ? it->second : evaluate(&coords[2 * c]);
+        }
+        facets.resize(size_t(tess.GetNumFacets()) * 3);
+        tess.GetFacets(facets.data());
+        for (size_t k = 0; k + 2 < facets.size(); k += 3)
+            m.triangles.insert(m.triangles.end(),
+                               {index[facets[k]], index[facets[k + 1]], index[facets[k + 2]]});
+    }
+    PGT_CHECK(!m.triangles.empty());
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
+std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
+                                                            const BaseMesh& drawn,
+                                                            double worldPerUv, int rate,
+                                                            int64_t maxVertices) {
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    m.worldPerUv = worldPerUv;
+    const size_t nTri = drawn.indices.size() / 3;
+    PGT_CHECK(nTri > 0);
+    Vec3d lo(1e300), hi(-1e300);
+    for (const auto& v : drawn.vertices)
+        lo = glm::min(lo, v.position), hi = glm::max(hi, v.position);
+    m.origin = (lo + hi) * 0.5;
+    // One subdivision count n for every triangle: rate samples per texel along the longest
+    // UV edge of the mesh.
+    double longest = 0;
+    for (size_t t = 0; t < nTri; ++t)
+        for (int e = 0; e < 3; ++e) {
+            Vec2d a = drawn.vertices[drawn.indices[3 * t + e]].uv;
+            Vec2d b = drawn.vertices[drawn.indices[3 * t + (e + 1) % 3]].uv;
+            longest = std::max(longest, glm::length((b - a) * Vec2d(height.width, height.height)));
+        }
+    int n = std::max(1, int(std::min(std::ceil(rate * longest - 1e-9), double(1 << 15))));
+    // Vertices: corners V, edge points E*(n-1), interior T*(n-1)(n-2)/2 <= T*(n+1)(n+2)/2.
+    while (n > 1 && double(nTri) * (n + 1) * (n + 2) / 2 > double(maxVertices)) --n;
+    m.nu = m.nv = 0;
+
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeStart;  // first of n-1 edge points
+    auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c, double wa,
+                         double wb, double wc) {
+        Vec3d p = a.position * wa + b.position * wb + c.position * wc;
+        Vec3d nrm = a.normal * wa + b.normal * wb + c.normal * wc;
+        double len = glm::length(nrm);
+        nrm = len > 0 ? nrm / len : Vec3d(0, 0, 1);
+        Vec2d uv = a.uv * wa + b.uv * wb + c.uv * wc;
+        m.position.push_back(Vec3f(p - m.origin));
+        m.normal.push_back(Vec3f(nrm));
+        m.uv.push_back(uv);
+        m.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.position.size() - 1);
+    };
+    // Corners first: drawn vertex i is tessellation vertex i.
+    for (const auto& v : drawn.vertices) addVertex(v, v, v, 1, 0, 0);
+    std::vector<uint32_t> local;
+    for (size_t t = 0; t < nTri; ++t) {
+        const uint32_t id[3] = {drawn.indices[3 * t], drawn.indices[3 * t + 1],
+                                drawn.indices[3 * t + 2]};
+        const BaseVertex* v[3] = {&drawn.vertices[id[0]], &drawn.vertices[id[1]],
+                                  &drawn.vertices[id[2]]};
+        // Lattice point (i, j), i + j <= n, barycentric (1 - (i+j)/n, i/n, j/n).
+        local.assign(size_t(n + 1) * (n + 1), 0);
+        auto at = [&](int i, int j) -> uint32_t& { return local[size_t(j) * (n + 1) + i]; };
+        at(0, 0) = id[0], at(n, 0) = id[1], at(0, n) = id[2];
+        // Edge points, shared through the pair of drawn vertex indices (canonical order).
+        auto edge = [&](int ea, int eb, auto point) {
+            uint32_t a = id[ea], b = id[eb];
+            bool flip = a > b;
+            auto key = std::make_pair(std::min(a, b), std::max(a, b));
+            auto it = edgeStart.find(key);
+            if (it == edgeStart.end()) {
+                uint32_t first = uint32_t(m.position.size());
+                const BaseVertex& lo0 = drawn.vertices[key.first];
+                const BaseVertex& hi0 = drawn.vertices[key.second];
+                for (int k = 1; k < n; ++k)
+                    addVertex(lo0, hi0, hi0, 1.0 - double(k) / n, double(k) / n, 0.0);
+                it = edgeStart.emplace(key, first).first;
+            }
+            for (int k = 1; k < n; ++k) point(k) = it->second + uint32_t(flip ? n - 1 - k : k - 1);
+        };
+        edge(0, 1, [&](int k) -> uint32_t& { return at(k, 0); });
+        edge(0, 2, [&](int k) -> uint32_t& { return at(0, k); });
+        edge(1, 2, [&](int k) -> uint32_t& { return at(n - k, k); });
+        for (int j = 1; j < n; ++j)
+            for (int i = 1; i + j < n; ++i)
+                at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n, double(i) / n,
+                                     double(j) / n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i + j < n; ++i) {
+                m.triangles.insert(m.triangles.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+                if (i + j + 1 < n)
+                    m.triangles.insert(m.triangles.end(),
+                                       {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+    }
+    m.tessellateMs = msSince(t0);
+    return out;
+}
+
+}  // namespace pgt

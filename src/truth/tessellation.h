@@ -1,0 +1,131 @@
+// The truth's base tessellations (MODEL.md §5): a plane's implicit lattice, a mesh's drawn
+// triangles split at the truth's rate, or its OpenSubdiv limit surface (Bfr), with the
+// window of a plane a view can see. Independent of the displacement (s, b).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/math.h"
+#include "heightfield/texture.h"
+#include "mesh/control_mesh.h"
+#include "mesh/refine.h"
+#include "raster/raster.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+namespace pgt {
+
+// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis: everything
+// the truth needs that does not depend on the displacement (s, b), so a study builds it once
+// per rate and reuses it.
+//
+// Planes are a regular (nu + 1) x (nv + 1) vertex grid that is stored implicitly: OpenSubdiv
+// (Bfr) evaluates the quad's corners, and vertex (i, j) is their bilinear blend at
+// (i / nu, j / nv) -- exactly what Bfr's bilinear scheme evaluates there (tested) -- with
+// the height sampled from the map when the surface is displaced. Nothing is stored per
+// vertex, so the only per-vertex memory of a plane's truth is Embree's 12-byte vertex
+// (a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
+// vertices and triangles.
+struct BaseTessellation {
+    int nu = 0, nv = 0;  // grid segments (planes); 0 for meshes
+    // A window of the plane's vertex lattice (TruthWindow): local vertex (i, j) is lattice
+    // vertex (i + offsetI, j + offsetJ) of the whole tile's fullNu x fullNv segments
+    // (outside [0, fullNu] on an infinite plane: the tile's continuation).
+    int offsetI = 0, offsetJ = 0, fullNu = 0, fullNv = 0;
+    Vec3d origin{0};         // positions are relative to this point (float precision)
+    double worldPerUv = 1;   // l (MODEL.md §2)
+    double periodWorld = 1;  // plane side L: the tile period of an infinite plane
+    double periodUv = 1;     // tiling T: the UV period of the tile
+    // Planes: the Bfr-evaluated corners at (s, t) = (0,0), (1,0), (0,1), (1,1), the unit
+    // normal and the height map the vertices sample.
+    Vec3d cornerPosition[4]{};
+    Vec2d cornerUv[4]{};
+    Vec3d planeNormal{0, 0, 1};
+    std::shared_ptr<const Texture> heightMap;
+    // Meshes: explicit vertices and triangles over them.
+    std::vector<Vec3f> position;  // S(u, v) - origin
+    std::vector<Vec3f> normal;    // unit N(u, v)
+    std::vector<Vec2d> uv;
+    std::vector<double> height;  // h(u, v) from the shared bilinear sampler
+    std::vector<uint32_t> triangles;
+    double tessellateMs = 0;
+
+    bool isGrid() const { return triangles.empty(); }
+    size_t vertexCount() const {
+        return isGrid() ? size_t(nu + 1) * size_t(nv + 1) : position.size();
+    }
+    size_t gridIndex(int i, int j) const { return size_t(j) * size_t(nu + 1) + size_t(i); }
+    // Vertex (i, j) of the grid: the corners blended at (i / nu, j / nv).
+    template <class T>
+    static T blend(const T c[4], double s, double t) {
+        return (c[0] * (1 - s) + c[1] * s) * (1 - t) + (c[2] * (1 - s) + c[3] * s) * t;
+    }
+    Vec2d gridUv(int i, int j) const { return blend(cornerUv, gridS(i), gridT(j)); }
+    // Lattice i / fullNu and j / fullNv without a division per call, exact at the tile edge.
+    double gridS(int i) const {
+        i += offsetI;
+        return i == fullNu ? 1.0 : i * invNu;
+    }
+    double gridT(int j) const {
+        j += offsetJ;
+        return j == fullNv ? 1.0 : j * invNv;
+    }
+    double invNu = 1, invNv = 1;
+    bool affineUv = false;  // the corners' UVs form a parallelogram (every plane does)
+    Vec3d positionAt(size_t k) const;
+    Vec3d normalAt(size_t k) const;
+    Vec2d uvAt(size_t k) const;
+    double heightAt(size_t k) const;  // h at the vertex (sampleBilinear<double>)
+    // Bytes held per vertex by this object (0 for planes).
+    size_t bytes() const;
+};
+
+// The part of a plane's UV domain a frame can see: the texels under the camera's frustum
+// between the lowest and the highest displaced height (the displacement is along the
+// plane's normal, so a hit's UV lies under its ray's passage through that slab), plus a
+// margin. Unwrapped UV (may leave [0, tiling] on an infinite plane).
+struct TruthWindow {
+    bool limited = false;  // false: the whole plane (tile)
+    bool empty = false;    // limited to nothing: the view misses the plane
+    Vec2d uvMin{0}, uvMax{0};
+};
+// A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                       const Camera& camera, PixelRect block = {}, double marginTexels = 2);
+// Bytes per truth vertex of a plane's grid, Embree's BVH included (measured: 3.27 GB peak for
+// 84M grid vertices, a 4096^2 map at rates 1 and 2).
+constexpr double kTruthBytesPerGridVertex = 40;
+
+std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window = {});
+
+// The `limit` truth of a mesh: the OpenSubdiv limit surface of the control mesh
+// (its scheme), tessellated face by face with the Bfr Tessellation API at a rate per cage
+// edge from its UV length in texels x rate, displaced along the exact limit normal. Corners
+// and edge points are shared between faces (evaluated once), split only where the UVs are
+// discontinuous, so the sheet is watertight elsewhere. Throws std::invalid_argument on
+// topology OpenSubdiv rejects.
+std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& height,
+                                                               const ControlMesh& cage,
+                                                               Scheme scheme, double worldPerUv,
+                                                               int rate);
+
+// The `polygonal` truth of a mesh: the very triangles the rasteriser draws, each
+// split uniformly into n^2 sub-triangles (n from the largest UV edge in texels x rate, one n
+// for the whole mesh so shared edges get the same points), displaced along the interpolated
+// vertex normal. Vertices on an edge shared by two drawn triangles are shared, so the sheet
+// is watertight wherever the UVs are continuous (it opens at UV seams, as the real
+// displaced asset does). `maxVertices` bounds the tessellation (n is lowered to fit).
+std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
+                                                            const BaseMesh& drawn,
+                                                            double worldPerUv, int rate,
+                                                            int64_t maxVertices = int64_t(1) << 26);
+
+}  // namespace pgt
