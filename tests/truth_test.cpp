@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "compare/statistics.h"
+#include "compare/uncertainty.h"
 #include "scene/scene.h"
 #include "test_util.h"
 

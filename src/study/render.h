@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "compare/compare.h"
+#include "compare/uncertainty.h"
 #include "core/image.h"
 #include "heightfield/heightfield.h"
 #include "raster/raster.h"

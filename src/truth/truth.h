@@ -98,17 +98,4 @@ class TruthSurface {
     std::unique_ptr<Impl> impl_;
 };
 
-// The truth's own uncertainty (MODEL.md §5): the same frame at two rates.
-struct TruthUncertainty {
-    int rate = 0, rateFine = 0;
-    int64_t pixelsCompared = 0;  // hit in both frames
-    int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
-    // NaN when no pixel was compared: nothing was measured (written as null / nan).
-    double p50Texels = NAN, p99Texels = NAN, maxTexels = NAN;
-};
-
-TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
-                                    const Image2D<TruthSample>& fine, const Texture& height,
-                                    Address address);
-
 }  // namespace pgt

@@ -1,0 +1,32 @@
+// compareTruthFrames: the per-pixel UV difference of two truth frames, in texels.
+#include "compare/uncertainty.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "compare/statistics.h"
+
+namespace pgt {
+
+TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
+                                    const Image2D<TruthSample>& fine, const Texture& height,
+                                    Address address) {
+    TruthUncertainty u;
+    std::vector<double> diffs;
+    for (size_t k = 0; k < coarse.size(); ++k) {
+        const auto& a = coarse.data[k];
+        const auto& b = fine.data[k];
+        if (a.hit != b.hit) ++u.hitMismatch;
+        if (!(a.hit && b.hit)) continue;
+        diffs.push_back(uvErrorTexels(a.uv, b.uv, height.width, height.height, address));
+    }
+    u.pixelsCompared = int64_t(diffs.size());
+    if (!diffs.empty()) {
+        u.p50Texels = percentile(diffs, 0.50);
+        u.p99Texels = percentile(diffs, 0.99);
+        u.maxTexels = *std::max_element(diffs.begin(), diffs.end());
+    }
+    return u;
+}
+
+}  // namespace pgt

@@ -1,0 +1,27 @@
+// The truth's own uncertainty (MODEL.md §5): the same view traced at the truth's rate and at
+// twice that rate, compared pixel by pixel like a method against the truth.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "core/image.h"
+#include "core/samples.h"
+#include "heightfield/texture.h"
+
+namespace pgt {
+
+// The truth's own uncertainty (MODEL.md §5): the same frame at two rates.
+struct TruthUncertainty {
+    int rate = 0, rateFine = 0;
+    int64_t pixelsCompared = 0;  // hit in both frames
+    int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
+    // NaN when no pixel was compared: nothing was measured (written as null / nan).
+    double p50Texels = NAN, p99Texels = NAN, maxTexels = NAN;
+};
+
+TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
+                                    const Image2D<TruthSample>& fine, const Texture& height,
+                                    Address address);
+
+}  // namespace pgt
