@@ -1,0 +1,308 @@
+// The Embree sheet behind a TruthSurface (internal to src/truth/): the displaced base
+// tessellation as Embree grid or triangle geometry, built, displaced and refit in place, with
+// the ray set-up and hit-to-UV (periodic walk included) that tracing and the precision check
+// share. Included by truth.cpp and precision.cpp only.
+#pragma once
+
+#include <embree3/rtcore.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "compare/statistics.h"
+#include "core/clock.h"
+#include "core/error.h"
+#include "truth/embree_device.h"
+#include "truth/truth.h"
+
+namespace pgt {
+
+// Grids are split into blocks of at most this many segments per side (Embree's limit is
+// 32767 vertices); blocks share their boundary vertices, so the sheet stays watertight.
+constexpr int kGridBlock = 1024;
+
+struct TruthSurface::Impl {
+    std::shared_ptr<const BaseTessellation> base;
+    TruthGeometry geometry;
+    bool periodic = false;
+    int nu = 0, nv = 0;
+    Vec3d boundsLo{0}, boundsHi{0};  // of the displaced vertices, local frame
+    double margin = 0;               // rays start this far before the bounds
+    std::vector<RTCGrid> grids;
+    std::vector<std::pair<int, int>> gridStart;  // (i0, j0) of each grid block
+    RTCScene scene = nullptr;
+    RTCGeometry geom = nullptr;
+    Vec3f* vertices = nullptr;  // Embree's vertex buffer (owned by the geometry)
+    TruthBuildStats stats;
+    TruthUpdate lastUpdate = TruthUpdate::Rebuild;
+    Displacement built;  // the (s, b) in Embree's vertices
+    Vec3d shift{0};      // a translation of the built sheet (TruthUpdate::Translate)
+
+    // The candidate triangles (vertex indices) of a hit: one, or a grid cell's two.
+    int candidates(const RTCRayHit& rh, uint32_t out[2][3]) const {
+        if (!base->triangles.empty()) {
+            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+            out[0][0] = t[0], out[0][1] = t[1], out[0][2] = t[2];
+            return 1;
+        }
+        int ci, cj;
+        if (geometry == TruthGeometry::Grid) {
+            const RTCGrid& g = grids[rh.hit.primID];
+            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+            ci = gridStart[rh.hit.primID].first + std::min(int(gx), g.width - 2);
+            cj = gridStart[rh.hit.primID].second + std::min(int(gy), g.height - 2);
+        } else {
+            ci = int((rh.hit.primID / 2) % unsigned(nu));
+            cj = int((rh.hit.primID / 2) / unsigned(nu));
+        }
+        uint32_t a = uint32_t(base->gridIndex(ci, cj)), b = a + 1;
+        uint32_t c = uint32_t(base->gridIndex(ci, cj + 1)), d = c + 1;
+        out[0][0] = a, out[0][1] = b, out[0][2] = c;
+        out[1][0] = d, out[1][1] = c, out[1][2] = b;
+        return 2;
+    }
+
+    // Vertex UVs interpolated over the triangle of cell (ci, cj) containing local (fx, fy):
+    // the cell is split along its (1,0)-(0,1) diagonal.
+    Vec2d cellUv(int ci, int cj, double fx, double fy) const {
+        ci = std::clamp(ci, 0, nu - 1);
+        cj = std::clamp(cj, 0, nv - 1);
+        const BaseTessellation& t = *base;
+        // A parallelogram's UVs are affine in (i, j): both triangles of a cell interpolate
+        // the same affine function, which is the corners' blend at the hit's lattice point.
+        if (t.affineUv)
+            return BaseTessellation::blend(t.cornerUv, (ci + t.offsetI + fx) * t.invNu,
+                                           (cj + t.offsetJ + fy) * t.invNv);
+        const Vec2d a = t.gridUv(ci, cj), b = t.gridUv(ci + 1, cj);
+        const Vec2d c = t.gridUv(ci, cj + 1), d = t.gridUv(ci + 1, cj + 1);
+        if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
+        return d + (c - d) * (1 - fx) + (b - d) * (1 - fy);
+    }
+
+    TruthSample hitToSample(const RTCRayHit& rh) const {
+        TruthSample s;
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
+        s.hit = true;
+        if (geometry == TruthGeometry::Grid) {
+            // Grid hits report u, v over the whole grid primitive (BUILD-NOTES.md).
+            const RTCGrid& g = grids[rh.hit.primID];
+            const int i0 = gridStart[rh.hit.primID].first, j0 = gridStart[rh.hit.primID].second;
+            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+            int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
+            s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
+        } else if (!base->triangles.empty()) {
+            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+            double u = rh.hit.u, v = rh.hit.v;
+            s.uv = base->uv[t[0]] * (1 - u - v) + base->uv[t[1]] * u + base->uv[t[2]] * v;
+        } else {
+            // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
+            // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
+            int64_t cell = rh.hit.primID / 2;
+            int ci = int(cell % nu), cj = int(cell / nu);
+            double u = rh.hit.u, v = rh.hit.v;
+            if (rh.hit.primID % 2 == 0)
+                s.uv = cellUv(ci, cj, u, v);
+            else
+                s.uv = cellUv(ci, cj, 1 - u, 1 - v);
+        }
+        return s;
+    }
+
+    // One ray's walk through the relief, in the local frame: clipped to the bounds, then one
+    // Embree ray per tile stretch (periodic planes) or a single one. The scalar trace and
+    // the coherent tile tracer both drive it, so they differ in nothing but the Embree call.
+    struct Walk {
+        Vec3d o{0}, dir{0};
+        double t = 0, tExit = 0;
+        double leave = 0;   // this stretch's length to the tile walls (periodic)
+        Vec2d uvOffset{0};  // tile offset of this stretch
+        Vec3d segOrg{0};    // the ray as given to Embree for this stretch, before rounding
+        int guard = 0;
+        bool done = false;
+        TruthSample result;
+    };
+
+    // Clips the ray; false when it misses the relief's bounds entirely.
+    bool start(const Ray& ray, Walk& w) const {
+        w.o = ray.origin - base->origin - shift;  // into the built sheet's frame, in double
+        w.dir = ray.dir;
+        w.guard = 0;
+        w.done = false;
+        w.result = TruthSample{};
+        const double inf = std::numeric_limits<double>::infinity();
+        // Parametric interval of the ray inside the bounds (x, y unbounded when periodic).
+        double tEnter = ray.line ? -inf : 0.0, tExit = inf;
+        for (int a = 0; a < (periodic ? 1 : 3); ++a) {
+            int axis = periodic ? 2 : a;
+            if (ray.dir[axis] == 0) {
+                if (w.o[axis] < boundsLo[axis] || w.o[axis] > boundsHi[axis]) return false;
+                continue;
+            }
+            const double inv = 1.0 / ray.dir[axis];
+            double t0 = (boundsLo[axis] - w.o[axis]) * inv;
+            double t1 = (boundsHi[axis] - w.o[axis]) * inv;
+            tEnter = std::max(tEnter, std::min(t0, t1));
+            tExit = std::min(tExit, std::max(t0, t1));
+        }
+        if (!(tEnter <= tExit) || !std::isfinite(tEnter)) return false;
+        // Start a little before the bounds so the float ray begins within a box-size of the
+        // hit: float error scales with |origin| + t. 1% of the box keeps it strictly outside.
+        w.t = ray.line ? tEnter - margin : std::max(0.0, tEnter - margin);
+        w.tExit = tExit;
+        return true;
+    }
+
+    // The Embree ray of the walk's current stretch. Infinite plane: the one tile shifted
+    // under the stretch, up to the tile's side walls (plus a hair, so no gap is skipped).
+    void segment(Walk& w, RTCRayHit& rh) const {
+        Vec3d org = w.o + w.dir * w.t;
+        double tfar = std::numeric_limits<double>::infinity();
+        w.uvOffset = Vec2d(0);
+        if (periodic) {
+            const double L = base->periodWorld, T = base->periodUv;
+            double kx = std::floor((org.x + L / 2) / L), ky = std::floor((org.y + L / 2) / L);
+            org = Vec3d(org.x - kx * L, org.y - ky * L, org.z);
+            double leave = std::numeric_limits<double>::infinity();
+            for (int a = 0; a < 2; ++a) {
+                if (w.dir[a] > 0) leave = std::min(leave, (L / 2 - org[a]) / w.dir[a]);
+                if (w.dir[a] < 0) leave = std::min(leave, (-L / 2 - org[a]) / w.dir[a]);
+            }
+            w.leave = std::max(leave, 0.0);
+            w.uvOffset = Vec2d(kx * T, ky * T);
+            tfar = std::min(w.leave, w.tExit + margin - w.t) + 1e-9 * L;
+        }
+        w.segOrg = org;
+        rh.ray.org_x = float(org.x), rh.ray.org_y = float(org.y), rh.ray.org_z = float(org.z);
+        rh.ray.dir_x = float(w.dir.x), rh.ray.dir_y = float(w.dir.y), rh.ray.dir_z = float(w.dir.z);
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = std::isfinite(tfar) ? float(tfar) : std::numeric_limits<float>::infinity();
+        rh.ray.time = 0.0f;
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    }
+
+    // After Embree answered the stretch: a hit ends the walk; a miss moves to the next tile.
+    void advance(Walk& w, const RTCRayHit& rh) const {
+        w.result = hitToSample(rh);
+        if (w.result.hit) {
+            w.result.uv += w.uvOffset;
+            w.done = true;
+            return;
+        }
+        if (!periodic) {
+            w.done = true;
+            return;
+        }
+        w.t += w.leave + 1e-9 * base->periodWorld;
+        if (++w.guard >= 100000 || w.t > w.tExit + margin) w.done = true;
+    }
+
+    // What the last Embree call of a trace saw, for the double-precision check.
+    struct Detail {
+        RTCRayHit rh;
+        Vec3d org{0}, dir{0};  // the ray as given to Embree, local frame, before rounding
+        Vec2d uvOffset{0};     // tile offset added to the UV (periodic planes)
+    };
+
+    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx, Detail* detail = nullptr) const {
+        Walk w;
+        if (!start(ray, w)) return {};
+        RTCRayHit rh;
+        while (!w.done) {
+            segment(w, rh);
+            rtcIntersect1(scene, ctx, &rh);
+            advance(w, rh);
+        }
+        if (detail)
+            detail->rh = rh, detail->org = w.segOrg, detail->dir = w.dir,
+            detail->uvOffset = w.uvOffset;
+        return w.result;
+    }
+
+    // A tile's rays as coherent streams: every live walk's stretch in one rtcIntersect1M
+    // call, repeated while walks remain (periodic planes take a few rounds at grazing views).
+    void traceTile(const Camera& camera, int x0, int x1, int y0, int y1, Image2D<TruthSample>& out,
+                   std::vector<Walk>& walks, std::vector<RTCRayHit>& rays,
+                   std::vector<int>& live) const {
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        const int w = x1 - x0, n = w * (y1 - y0);
+        walks.resize(size_t(n));  // start() resets what a walk reads
+        live.clear();
+        for (int k = 0; k < n; ++k)
+            if (start(camera.pixelRay(x0 + k % w, y0 + k / w), walks[size_t(k)]))
+                live.push_back(k);
+            else
+                walks[size_t(k)].done = true;
+        rays.resize(size_t(n));
+        while (!live.empty()) {
+            for (size_t q = 0; q < live.size(); ++q) segment(walks[size_t(live[q])], rays[q]);
+            rtcIntersect1M(scene, &ctx, rays.data(), unsigned(live.size()), sizeof(RTCRayHit));
+            size_t keep = 0;
+            for (size_t q = 0; q < live.size(); ++q) {
+                Walk& wk = walks[size_t(live[q])];
+                advance(wk, rays[q]);
+                if (!wk.done) live[keep++] = live[q];
+            }
+            live.resize(keep);
+        }
+        for (int k = 0; k < n; ++k) out.at(x0 + k % w, y0 + k / w) = walks[size_t(k)].result;
+    }
+
+    // Planes keep their vertices at (s, 0) and carry b as a translation N * l * b of the
+    // rays, so a surface reached by any sequence of (s, b) updates is bit-identical to one
+    // built at (s, b) directly (a resumed study reproduces an uninterrupted one).
+    void displaceCanonical(const Displacement& disp) {
+        if (!base->isGrid()) return displace(disp);
+        displace(Displacement{disp.scale, 0.0});
+        shift = base->planeNormal * (base->worldPerUv * disp.bias);
+    }
+
+    // Writes P = S + N * l * (s*h + b) (MODEL.md §3, in double, rounded once to float) into
+    // Embree's vertex buffer, and the bounds of the result.
+    void displace(const Displacement& disp) {
+        const BaseTessellation& b = *base;
+        const size_t n = b.vertexCount();
+        const double l = b.worldPerUv;
+        struct Box {
+            Vec3d lo{1e300}, hi{-1e300};
+        };
+        Box box = tbb::parallel_reduce(
+            tbb::blocked_range<size_t>(0, n, 16384), Box{},
+            [&](const tbb::blocked_range<size_t>& r, Box acc) {
+                for (size_t k = r.begin(); k < r.end(); ++k) {
+                    Vec3f v(b.positionAt(k) +
+                            b.normalAt(k) * (l * (disp.scale * b.heightAt(k) + disp.bias)));
+                    vertices[k] = v;
+                    acc.lo = glm::min(acc.lo, Vec3d(v));
+                    acc.hi = glm::max(acc.hi, Vec3d(v));
+                }
+                return acc;
+            },
+            [](Box x, const Box& y) {
+                x.lo = glm::min(x.lo, y.lo);
+                x.hi = glm::max(x.hi, y.hi);
+                return x;
+            });
+        boundsLo = box.lo;
+        boundsHi = box.hi;
+        margin = 0.01 * glm::length(boundsHi - boundsLo) + 1e-6;
+        built = disp;
+        shift = Vec3d(0);
+    }
+};
+
+}  // namespace pgt
