@@ -1,0 +1,72 @@
+// Methods over fragments: the maps each method reads for one (s, b) (cached per study), the
+// evaluation over all cores (C++ kernels, or a GLSL method in OpenGL), and the timing of a
+// method alone, single-threaded.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include "core/image.h"
+#include "core/samples.h"
+#include "heightfield/heightfield.h"
+#include "methods/method.h"
+#include "raster/fragment_list.h"
+#include "scene/scene.h"
+
+namespace pgt {
+
+// Inputs every method needs for one (s, b): the height map and, when asked for, 003's maps.
+struct MethodTextures {
+    const Texture* height = nullptr;
+    std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
+    double scale = 0, bias = 0;
+    UvExtent uvExtent;  // the base's UV range (discard_outside)
+};
+MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
+                                  const UvExtent& uvExtent, bool needDerived);
+
+// Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
+class MethodTextureCache {
+  public:
+    MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
+        : height_(height), uvExtent_(uvExtent) {}
+    const MethodTextures& get(double scale, double bias, bool needDerived);
+    // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
+    // bytes each, so keeping every (s, b) would grow with the study).
+    void clear() { cache_.clear(); }
+
+  private:
+    const Texture& height_;
+    UvExtent uvExtent_;
+    std::map<std::pair<double, double>, MethodTextures> cache_;
+};
+
+// Runs one method over all fragments (all cores); pixels not in the list stay uncovered.
+// `exactFrame` feeds V in the exact frame instead of the per-vertex (Listing 7.4/7.8) frame.
+Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
+                                    const MethodTextures& tex, int width, int height,
+                                    bool exactFrame = false);
+
+// A GLSL method over the fragments in OpenGL. With `nsPerPixel`, the same call also times
+// the draw (median of `repeats`): GL timer queries on a GPU, the wall clock around the draw
+// on a software GL (llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation).
+Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
+                                  const MethodTextures& tex, int width, int height, bool exactFrame,
+                                  double* nsPerPixel = nullptr, int repeats = 0);
+
+// Measured cost of the method alone: single-threaded, median of `repeats` passes over the
+// fragment list, in nanoseconds per fragment.
+double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
+                            const MethodTextures& tex, int repeats);
+
+struct TimingSpec {
+    int repeats = 3;       // median of this many single-threaded passes
+    int maxFragments = 0;  // time a seeded subset of this many fragments (0 = all)
+    uint32_t seed = 1;
+};
+
+// Where a method's ns/px comes from: "cpu" (single thread) or "gl: <GL_RENDERER>".
+std::string timingBackend(const MethodConfig& cfg);
+
+}  // namespace pgt

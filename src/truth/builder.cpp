@@ -1,0 +1,134 @@
+// TruthBuilder, traceTruth and block tracing (truth/builder.h).
+#include "truth/builder.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "core/clock.h"
+#include "core/error.h"
+
+namespace pgt {
+
+std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r) const {
+    if (scene_.isMesh && scene_.mesh.truthSurface == "limit")
+        return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
+                                      scene_.worldPerUv(), r);
+    if (scene_.isMesh)
+        return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
+    return tessellatePlane(scene_.height, scene_.plane, r, window_);
+}
+
+void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, PixelRect block) {
+    PGT_CHECK(!base_ && !fine_);
+    if (scene_.isMesh) return;
+    window_ = viewWindow(scene_.plane, scene_.height, disp, camera, block);
+    // A whole view's window is only worth it when it is clearly smaller than the tile.
+    const double T = scene_.plane.tiling;
+    const Vec2d extent = window_.uvMax - window_.uvMin;
+    if (window_.empty || (block.empty() && window_.limited && extent.x * extent.y >= 0.5 * T * T))
+        window_ = {};
+}
+
+TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
+    const int rate = scene_.truth.rate;
+    // A mesh's truth is an explicit triangle list; grids are for planes.
+    TruthGeometry geometry = scene_.isMesh ? TruthGeometry::Triangles : scene_.truth.geometry;
+    // A window of an infinite plane is traced as it is: it covers every hit of the view.
+    bool periodic = !scene_.isMesh && scene_.plane.infinite && !window_.limited;
+    if (!base_) base_ = tessellate(rate);
+    TruthPair p;
+    p.truth = std::make_unique<TruthSurface>(base_, disp, geometry, periodic);
+    if (withUncertainty) {
+        if (!fine_) fine_ = tessellate(2 * rate);
+        p.fine = std::make_unique<TruthSurface>(fine_, disp, geometry, periodic);
+    }
+    return p;
+}
+
+const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncertainty) {
+    if (!current_.truth || (withUncertainty && !current_.fine)) {
+        current_ = build(disp, withUncertainty);
+        return current_;
+    }
+    current_.truth->setDisplacement(disp);
+    if (withUncertainty)
+        current_.fine->setDisplacement(disp);
+    else
+        current_.fine.reset();
+    return current_;
+}
+
+TruthFrames traceTruth(const Camera& camera, const TruthPair& truths) {
+    TruthFrames f;
+    f.build = truths.truth->stats();
+    auto t0 = Clock::now();
+    truths.truth->traceFrame(camera, f.truth);
+    f.traceMs = msSince(t0);
+    if (truths.fine) {
+        auto t1 = Clock::now();
+        f.buildFine = truths.fine->stats();
+        truths.fine->traceFrame(camera, f.fine);
+        f.haveFine = true;
+        f.fineMs = msSince(t1);
+    }
+    return f;
+}
+
+// Plane vertices of a truth (and its 2x-rate twin) over the whole tile or a window.
+double truthVertices(const Scene& scene, const TruthWindow& w) {
+    double sum = 0;
+    for (int r : {scene.truth.rate, scene.truth.uncertainty ? 2 * scene.truth.rate : 0}) {
+        if (r == 0) continue;
+        double u =
+            r * scene.height.width * (w.limited ? w.uvMax.x - w.uvMin.x : scene.plane.tiling);
+        double v =
+            r * scene.height.height * (w.limited ? w.uvMax.y - w.uvMin.y : scene.plane.tiling);
+        sum += (u + 2) * (v + 2);
+    }
+    return sum;
+}
+
+// The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
+// block sees, so peak memory is one block's (large maps in a whole-map view).
+// Returns false (frames untouched) when no n <= 16 brings every block under the budget.
+bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetVertices,
+                        TruthFrames& f) {
+    const int W = camera.width(), H = camera.height();
+    for (int n = 2; n <= 16; ++n) {
+        std::vector<PixelRect> blocks;
+        bool fits = true;
+        for (int by = 0; by < n && fits; ++by)
+            for (int bx = 0; bx < n && fits; ++bx) {
+                PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
+                TruthWindow w =
+                    viewWindow(scene.plane, scene.height, scene.displacement, camera, b);
+                fits = w.limited && (w.empty || truthVertices(scene, w) <= budgetVertices);
+                if (w.empty) continue;  // sees no part of the plane: every pixel misses
+                blocks.push_back(b);
+            }
+        if (!fits) continue;
+        f.truth = Image2D<TruthSample>(W, H);
+        if (scene.truth.uncertainty) f.fine = Image2D<TruthSample>(W, H), f.haveFine = true;
+        for (const PixelRect& b : blocks) {
+            TruthBuilder builder(scene);
+            builder.limitToView(camera, scene.displacement, b);
+            TruthPair pair = builder.build(scene.displacement, scene.truth.uncertainty);
+            auto t0 = Clock::now();
+            pair.truth->traceBlock(camera, f.truth, b);
+            f.traceMs += msSince(t0);
+            if (pair.truth->stats().vertices > f.build.vertices) f.build = pair.truth->stats();
+            if (pair.fine) {
+                auto t1 = Clock::now();
+                pair.fine->traceBlock(camera, f.fine, b);
+                f.fineMs += msSince(t1);
+                if (pair.fine->stats().vertices > f.buildFine.vertices)
+                    f.buildFine = pair.fine->stats();
+            }
+        }
+        f.blocks = n * n;
+        return true;
+    }
+    return false;
+}
+
+}  // namespace pgt
