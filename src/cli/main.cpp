@@ -38,6 +38,67 @@ void printSummary(const pgt::RenderResult& r) {
             r.truthBlocks);
 }
 
+// `pgt render`: checks the memory estimate and --out before any work.
+void renderCommand(const std::string& scenePath, const std::string& outDir, int repeats) {
+    pgt::Scene scene = pgt::loadScene(scenePath);
+    pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height, scene.methods.size(), true,
+                         true, "camera.resolution");
+    pgt::prepareOutputDir(outDir);  // before the work, so a bad --out fails at once
+    pgt::RenderResult result = pgt::renderFrame(scene, {repeats});
+    pgt::writeRenderOutputs(scene, result, outDir);
+    printSummary(result);
+    std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n", outDir.c_str(),
+                outDir.c_str(), result.methods.size());
+}
+
+// `pgt sweep`: the study, resumed where it stopped, and its report.
+void sweepCommand(const std::string& scenePath, pgt::SweepOptions sweepOpt, bool noReport) {
+    pgt::Scene scene = pgt::loadScene(scenePath);
+    pgt::Study study = pgt::parseStudy(scene);
+    std::printf("study: %zu cases x %zu method configurations at %dx%d\n", study.cases.size(),
+                study.configs.size(), study.width, study.height);
+    sweepOpt.report = !noReport;
+    pgt::SweepSummary sum = pgt::runSweep(scene, study, sweepOpt);
+    std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n", sum.done,
+                sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
+                sweepOpt.outDir.c_str());
+    if (!sum.stageMs.empty()) {
+        std::printf("stage totals (s):");
+        for (const auto& [stage, ms] : sum.stageMs)
+            std::printf(" %s %.2f", stage.c_str(), ms / 1000);
+        std::printf("\n");
+    }
+    if (!sum.finished) {
+        std::printf("stopped early; run the same command again to resume\n");
+    } else if (sum.reportTried) {
+        if (sum.reportPath.empty())
+            std::printf("report not written: %s\n", sum.reportWhy.c_str());
+        else
+            std::printf("report: %s\n", sum.reportPath.c_str());
+    }
+}
+
+// `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
+void fitCommand(const std::string& scenePath, const std::string& outDir) {
+    pgt::Scene scene = pgt::loadScene(scenePath);
+    pgt::prepareOutputDir(outDir);  // before the search, so a bad --out fails at once
+    pgt::FitReport rep = pgt::runFit(scene, true);
+    pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
+    std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale", "bias",
+                rep.objective.c_str(), "p90", "as listed");
+    for (const auto& m : rep.methods) {
+        double sc = m.best.value("scale", scene.displacement.scale);
+        double bi = m.best.value("bias", scene.displacement.bias);
+        std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(), m.steps, sc,
+                    bi, m.bestObjective, m.bestP90, m.nativeObjective);
+    }
+    std::printf(
+        "objective: %s UV error in texels averaged over %zu view angles; "
+        "'as listed' = the scene's own (s, b)\n",
+        rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
+    std::printf("wrote %s/fit.json\n", outDir.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -102,60 +163,14 @@ int main(int argc, char** argv) {
         pgt::setMemoryLimitMb(memoryLimitMb);
         if (!glDevice.empty()) pgt::setGlDevice(glDevice);
         if (*render) {
-            pgt::Scene scene = pgt::loadScene(scenePath);
-            pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
-                                 scene.methods.size(), true, true, "camera.resolution");
-            pgt::prepareOutputDir(outDir);  // before the work, so a bad --out fails at once
-            pgt::RenderResult result = pgt::renderFrame(scene, {repeats});
-            pgt::writeRenderOutputs(scene, result, outDir);
-            printSummary(result);
-            std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n", outDir.c_str(),
-                        outDir.c_str(), result.methods.size());
+            renderCommand(scenePath, outDir, repeats);
         } else if (*sweep) {
-            pgt::Scene scene = pgt::loadScene(scenePath);
-            pgt::Study study = pgt::parseStudy(scene);
-            std::printf("study: %zu cases x %zu method configurations at %dx%d\n",
-                        study.cases.size(), study.configs.size(), study.width, study.height);
-            sweepOpt.report = !noReport;
-            pgt::SweepSummary sum = pgt::runSweep(scene, study, sweepOpt);
-            std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n",
-                        sum.done, sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
-                        sweepOpt.outDir.c_str());
-            if (!sum.stageMs.empty()) {
-                std::printf("stage totals (s):");
-                for (const auto& [stage, ms] : sum.stageMs)
-                    std::printf(" %s %.2f", stage.c_str(), ms / 1000);
-                std::printf("\n");
-            }
-            if (!sum.finished) {
-                std::printf("stopped early; run the same command again to resume\n");
-            } else if (sum.reportTried) {
-                if (sum.reportPath.empty())
-                    std::printf("report not written: %s\n", sum.reportWhy.c_str());
-                else
-                    std::printf("report: %s\n", sum.reportPath.c_str());
-            }
+            sweepCommand(scenePath, sweepOpt, noReport);
         } else if (*stress) {
             int n = pgt::runStress(stressPaths, stressOpt);
             std::printf("%d scenes: %s/stress.csv\n", n, stressOpt.outDir.c_str());
         } else if (*fit) {
-            pgt::Scene scene = pgt::loadScene(scenePath);
-            pgt::prepareOutputDir(outDir);  // before the search, so a bad --out fails at once
-            pgt::FitReport rep = pgt::runFit(scene, true);
-            pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
-            std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale", "bias",
-                        rep.objective.c_str(), "p90", "as listed");
-            for (const auto& m : rep.methods) {
-                double sc = m.best.value("scale", scene.displacement.scale);
-                double bi = m.best.value("bias", scene.displacement.bias);
-                std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(),
-                            m.steps, sc, bi, m.bestObjective, m.bestP90, m.nativeObjective);
-            }
-            std::printf(
-                "objective: %s UV error in texels averaged over %zu view angles; "
-                "'as listed' = the scene's own (s, b)\n",
-                rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
-            std::printf("wrote %s/fit.json\n", outDir.c_str());
+            fitCommand(scenePath, outDir);
         }
     } catch (const pgt::InputError& e) {
         std::cerr << "pgt: error: " << e.what() << "\n";

@@ -124,6 +124,100 @@ void parseMeshBase(Scene& s, JsonFields& f) {
     }
 }
 
+// "base": a plane (size, tiling, centre, infinite) or a mesh; the UV extent and culling.
+void parseBase(Scene& s, JsonFields& root) {
+    JsonFields f(root.raw("base"), s.file, "base");
+    std::string type = f.choice("type", {"plane", "mesh"}, "plane");
+    s.isMesh = type == "mesh";
+    if (s.isMesh) {
+        parseMeshBase(s, f);
+    } else {
+        s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
+        s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
+        if (f.has("center")) s.plane.center = vec3(f, "center");
+        s.plane.infinite = f.boolean("infinite", false);
+        if (s.plane.infinite) {
+            if (s.height.address != Address::Repeat)
+                f.fail("infinite",
+                       "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
+            if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
+                f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
+        }
+    }
+    s.cullBackFaces = f.boolean("cull_back_faces", true);
+    if (s.isMesh) {
+        UvExtent box{Vec2d(HUGE_VAL), Vec2d(-HUGE_VAL)};
+        for (const Vec2d& uv : s.mesh.cage->uvs)
+            box.lo = glm::min(box.lo, uv), box.hi = glm::max(box.hi, uv);
+        s.uvExtent = box;
+    } else {
+        s.uvExtent = UvExtent(s.plane.tiling);
+    }
+    f.finish();
+}
+
+// "camera": orthographic (view angles and framing) or pinhole (eye, target, up, fov).
+void parseCamera(Scene& s, JsonFields& root) {
+    JsonFields f(root.raw("camera"), s.file, "camera");
+    CameraSpec& c = s.camera;
+    c.type = f.choice("type", {"orthographic", "pinhole"}, "orthographic");
+    auto res = f.integers("resolution", 2, 1, 16384);
+    c.width = res[0];
+    c.height = res[1];
+    if (double(c.width) * c.height > double(1 << 26)) f.fail("resolution", "more than 2^26 pixels");
+    c.jitter = f.choice("samples", {"centre", "jittered"}, "centre") == "jittered";
+    c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
+    if (c.type == "orthographic") {
+        c.theta = f.number("theta", 0.0, 90.0);
+        if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
+            f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
+        c.phi = f.number("phi", 0.0, -360.0, 360.0);
+        c.frame = f.choice("frame", {"plane", "fill"}, "plane");
+        c.fillSize =
+            f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2, 1e-9, 1e9);
+        if (f.has("view_height")) {
+            if (f.has("frame")) f.fail("view_height", "give either \"frame\" or \"view_height\"");
+            c.frame = "view";
+            c.viewHeight = f.number("view_height", 1e-9, 1e9);
+        }
+        c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
+    } else {
+        c.eye = vec3(f, "eye");
+        c.target = vec3(f, "target");
+        c.up = f.has("up") ? vec3(f, "up") : Vec3d(0, 0, 1);
+        c.fov = f.number("fov", 45.0, 1e-3, 179.0);
+        Vec3d fwd = c.target - c.eye;
+        if (glm::length(fwd) < 1e-12) f.fail("target", "equals eye");
+        if (glm::length(glm::cross(glm::normalize(fwd), c.up)) < 1e-9)
+            f.fail("up", "is parallel to the viewing direction");
+    }
+    f.finish();
+}
+
+// "truth": rate, geometry, uncertainty, memory budget; a plane's vertex bound.
+void parseTruth(Scene& s, JsonFields& root) {
+    if (root.has("truth")) {
+        JsonFields f(root.raw("truth"), s.file, "truth");
+        s.truth.rate = f.integer("rate", 4, 1, 64);
+        s.truth.geometry = f.choice("geometry", {"grid", "triangles"}, "grid") == "triangles"
+                               ? TruthGeometry::Triangles
+                               : TruthGeometry::Grid;
+        s.truth.uncertainty = f.boolean("uncertainty", true);
+        s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
+        f.finish();
+    }
+    if (!s.isMesh) {
+        // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
+        double r = s.truth.rate * (s.truth.uncertainty ? 2.0 : 1.0);
+        double verts = (std::ceil(r * s.height.width * s.plane.tiling) + 1) *
+                       (std::ceil(r * s.height.height * s.plane.tiling) + 1);
+        if (verts > double(1u << 31))
+            throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
+                             "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +
+                                 " truth vertices (more than 2^31); lower the rate or the tiling");
+    }
+}
+
 }  // namespace
 
 Scene parseScene(const Json& json, const std::string& file) {
@@ -139,101 +233,16 @@ Scene parseScene(const Json& json, const std::string& file) {
                            ? Address::Clamp
                            : Address::Repeat;
 
-    {
-        JsonFields f(root.raw("base"), file, "base");
-        std::string type = f.choice("type", {"plane", "mesh"}, "plane");
-        s.isMesh = type == "mesh";
-        if (s.isMesh) {
-            parseMeshBase(s, f);
-        } else {
-            s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
-            s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
-            if (f.has("center")) s.plane.center = vec3(f, "center");
-            s.plane.infinite = f.boolean("infinite", false);
-            if (s.plane.infinite) {
-                if (s.height.address != Address::Repeat)
-                    f.fail("infinite",
-                           "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
-                if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
-                    f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
-            }
-        }
-        s.cullBackFaces = f.boolean("cull_back_faces", true);
-        if (s.isMesh) {
-            UvExtent box{Vec2d(HUGE_VAL), Vec2d(-HUGE_VAL)};
-            for (const Vec2d& uv : s.mesh.cage->uvs)
-                box.lo = glm::min(box.lo, uv), box.hi = glm::max(box.hi, uv);
-            s.uvExtent = box;
-        } else {
-            s.uvExtent = UvExtent(s.plane.tiling);
-        }
-        f.finish();
-    }
+    parseBase(s, root);
     if (root.has("displacement")) {
         JsonFields f(root.raw("displacement"), file, "displacement");
         s.displacement.scale = f.number("scale", 0.05, -1e3, 1e3);
         s.displacement.bias = f.number("bias", -s.displacement.scale / 2, -1e3, 1e3);
         f.finish();
     }
-    {
-        JsonFields f(root.raw("camera"), file, "camera");
-        CameraSpec& c = s.camera;
-        c.type = f.choice("type", {"orthographic", "pinhole"}, "orthographic");
-        auto res = f.integers("resolution", 2, 1, 16384);
-        c.width = res[0];
-        c.height = res[1];
-        if (double(c.width) * c.height > double(1 << 26))
-            f.fail("resolution", "more than 2^26 pixels");
-        c.jitter = f.choice("samples", {"centre", "jittered"}, "centre") == "jittered";
-        c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
-        if (c.type == "orthographic") {
-            c.theta = f.number("theta", 0.0, 90.0);
-            if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
-                f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
-            c.phi = f.number("phi", 0.0, -360.0, 360.0);
-            c.frame = f.choice("frame", {"plane", "fill"}, "plane");
-            c.fillSize = f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2,
-                                  1e-9, 1e9);
-            if (f.has("view_height")) {
-                if (f.has("frame"))
-                    f.fail("view_height", "give either \"frame\" or \"view_height\"");
-                c.frame = "view";
-                c.viewHeight = f.number("view_height", 1e-9, 1e9);
-            }
-            c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
-        } else {
-            c.eye = vec3(f, "eye");
-            c.target = vec3(f, "target");
-            c.up = f.has("up") ? vec3(f, "up") : Vec3d(0, 0, 1);
-            c.fov = f.number("fov", 45.0, 1e-3, 179.0);
-            Vec3d fwd = c.target - c.eye;
-            if (glm::length(fwd) < 1e-12) f.fail("target", "equals eye");
-            if (glm::length(glm::cross(glm::normalize(fwd), c.up)) < 1e-9)
-                f.fail("up", "is parallel to the viewing direction");
-        }
-        f.finish();
-    }
+    parseCamera(s, root);
     s.methods = parseMethods(root.raw("methods"), file, "methods");
-    if (root.has("truth")) {
-        JsonFields f(root.raw("truth"), file, "truth");
-        s.truth.rate = f.integer("rate", 4, 1, 64);
-        s.truth.geometry = f.choice("geometry", {"grid", "triangles"}, "grid") == "triangles"
-                               ? TruthGeometry::Triangles
-                               : TruthGeometry::Grid;
-        s.truth.uncertainty = f.boolean("uncertainty", true);
-        s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
-        f.finish();
-    }
-    if (!s.isMesh) {
-        // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
-        double r = s.truth.rate * (s.truth.uncertainty ? 2.0 : 1.0);
-        double verts = (std::ceil(r * s.height.width * s.plane.tiling) + 1) *
-                       (std::ceil(r * s.height.height * s.plane.tiling) + 1);
-        if (verts > double(1u << 31))
-            throw InputError(file, "truth.rate", std::to_string(s.truth.rate),
-                             "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +
-                                 " truth vertices (more than 2^31); lower the rate or the tiling");
-    }
+    parseTruth(s, root);
     if (root.has("sweep")) s.sweep = root.raw("sweep");
     if (root.has("fit")) s.fit = root.raw("fit");
     root.finish();
