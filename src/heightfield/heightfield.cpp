@@ -211,13 +211,141 @@ double smoothstep01(double t) {
     return t * t * (3 - 2 * t);
 }
 
+// What every generator may use besides its own fields: the map's size and the seed.
+struct GeneratorArgs {
+    int width = 0, height = 0;
+    unsigned seed = 1;
+};
+// Height as a function of the texel centre (u, v) in [0,1)^2.
+using HeightFn = std::function<double(double, double)>;
+
+HeightFn generateConstant(JsonFields& f, const GeneratorArgs&) {
+    double value = f.number("value", 0.5, -1e6, 1e6);
+    return [=](double, double) { return value; };
+}
+
+HeightFn generateRamp(JsonFields& f, const GeneratorArgs&) {
+    // h = offset + slope_u * u + slope_v * v at texel centres (exact under bilinear).
+    std::vector<double> slope =
+        f.has("slope") ? f.numbers("slope", 2, -1e6, 1e6) : std::vector<double>{1.0, 0.0};
+    double offset = f.number("offset", 0.0, -1e6, 1e6);
+    return [=](double u, double v) { return offset + slope[0] * u + slope[1] * v; };
+}
+
+HeightFn generateSine(JsonFields& f, const GeneratorArgs&) {
+    // h = 0.5 + amplitude * prod over axes with frequency > 0 of sin(2 pi f x).
+    std::vector<double> freq =
+        f.has("frequency") ? f.numbers("frequency", 2, 0, 1e4) : std::vector<double>{4, 4};
+    double amplitude = f.number("amplitude", 0.5, -1e6, 1e6);
+    return [=](double u, double v) {
+        double p = 1.0;
+        if (freq[0] > 0) p *= std::sin(2 * kPi * freq[0] * u);
+        if (freq[1] > 0) p *= std::sin(2 * kPi * freq[1] * v);
+        return 0.5 + amplitude * p;
+    };
+}
+
+HeightFn generateBricks(JsonFields& f, const GeneratorArgs& g) {
+    // Running bond: `bricks` = [columns, rows] per repeat, odd rows shifted by half a
+    // brick; mortar width and bevel as fractions of a brick's height; h = 1 on bricks.
+    std::vector<int> count =
+        f.has("bricks") ? f.integers("bricks", 2, 1, 4096) : std::vector<int>{4, 8};
+    double mortar = f.number("mortar", 0.1, 0.0, 0.9);
+    double bevel = f.number("bevel", 0.15, 0.0, 1.0);
+    double mortarHeight = f.number("mortar_height", 0.0, -1e6, 1e6);
+    double jitter = f.number("jitter", 0.0, 0.0, 1.0);
+    std::mt19937 rng(g.seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::vector<double> brickHeight(static_cast<size_t>(count[0]) * count[1]);
+    for (auto& b : brickHeight) b = 1.0 - jitter * uni(rng);
+    return [=](double u, double v) {
+        double rowF = v * count[1];
+        int row = std::min(int(rowF), count[1] - 1);
+        double colF = u * count[0] + (row % 2 ? 0.5 : 0.0);
+        int col = int(std::floor(colF)) % count[0];
+        // Distances to the brick's edges in units of brick height.
+        double aspect = double(count[1]) / count[0];  // brick width / height in UV
+        double dy = std::min(rowF - row, row + 1 - rowF);
+        double dx = std::min(colF - std::floor(colF), std::ceil(colF) - colF) / aspect;
+        double inside = std::min(dx, dy) - mortar / 2;
+        if (inside <= 0) return mortarHeight;
+        double top = brickHeight[size_t(row) * count[0] + col];
+        double t = bevel > 0 ? smoothstep01(inside / bevel) : 1.0;
+        return mortarHeight + (top - mortarHeight) * t;
+    };
+}
+
+HeightFn generateSteps(JsonFields& f, const GeneratorArgs&) {
+    // A staircase along u: `levels` flat treads from 0 to 1 with jumps between them.
+    int levels = f.integer("levels", 4, 2, 65536);
+    return [=](double u, double) { return std::floor(u * levels) / (levels - 1); };
+}
+
+HeightFn generateChecker(JsonFields& f, const GeneratorArgs&) {
+    std::vector<int> cells =
+        f.has("cells") ? f.integers("cells", 2, 1, kMaxSide) : std::vector<int>{8, 8};
+    return [=](double u, double v) { return double((int(u * cells[0]) + int(v * cells[1])) % 2); };
+}
+
+HeightFn generateSpike(JsonFields& f, const GeneratorArgs& g) {
+    // One texel at `texel` = [column, row from the bottom] has `value`, all others 0.
+    std::vector<int> at = f.has("texel") ? f.integers("texel", 2, 0, kMaxSide - 1)
+                                         : std::vector<int>{g.width / 2, g.height / 2};
+    double value = f.number("value", 1.0, -1e6, 1e6);
+    if (at[0] >= g.width || at[1] >= g.height) f.fail("texel", "outside the map");
+    return [at, value, w = g.width, h = g.height](double u, double v) {
+        return int(u * w) == at[0] && int(v * h) == at[1] ? value : 0.0;
+    };
+}
+
+HeightFn generateNoise(JsonFields& f, const GeneratorArgs& g) {
+    int cells = f.integer("frequency", 4, 1, 4096);
+    int octaves = f.integer("octaves", 4, 1, 12);
+    double gain = f.number("gain", 0.5, 0.0, 1.0);
+    // The lattices hold (frequency * 2^octave)^2 doubles each: refuse before allocating.
+    double latticeBytes = 0;
+    for (int o = 0; o < octaves; ++o) latticeBytes += std::pow(double(cells) * (1 << o), 2) * 8;
+    checkMemory(latticeBytes, f.file(), f.fieldPath("octaves"), std::to_string(octaves),
+                "noise with frequency " + std::to_string(cells) + " and " +
+                    std::to_string(octaves) + " octaves (its value lattices)");
+    std::mt19937 rng(g.seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::vector<std::vector<double>> lattices;
+    for (int o = 0; o < octaves; ++o) {
+        int c = cells << o;
+        std::vector<double> lat(size_t(c) * c);
+        for (auto& x : lat) x = uni(rng);
+        lattices.push_back(std::move(lat));
+    }
+    double norm = 0, amp = 1;
+    for (int o = 0; o < octaves; ++o) norm += amp, amp *= gain;
+    // Moved into the generator, not copied: the lattices are the bulk of its memory.
+    return [lattices = std::move(lattices), cells, octaves, gain, norm](double u, double v) {
+        double sum = 0, a = 1;
+        for (int o = 0; o < octaves; ++o) {
+            int c = cells << o;
+            sum += a * valueNoise(lattices[o], c, u * c, v * c);
+            a *= gain;
+        }
+        return sum / norm;
+    };
+}
+
+// The generators by name: each reads its own fields and returns h(u, v) at texel centres.
+using GeneratorFn = HeightFn (*)(JsonFields& f, const GeneratorArgs& g);
+const std::pair<const char*, GeneratorFn> kGenerators[] = {
+    {"constant", generateConstant}, {"ramp", generateRamp},   {"sine", generateSine},
+    {"bricks", generateBricks},     {"steps", generateSteps}, {"checker", generateChecker},
+    {"spike", generateSpike},       {"noise", generateNoise},
+};
+
 }  // namespace
 
 Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
                              const std::string& field) {
     JsonFields f(params, sceneFile, field);
-    const std::vector<std::string> kinds = {"constant", "ramp",    "sine",  "bricks",
-                                            "steps",    "checker", "noise", "spike"};
+    std::vector<std::string> kinds;
+    for (const auto& generator : kGenerators) kinds.push_back(generator.first);
     std::string kind = f.choice("procedural", kinds, "");
     std::vector<int> size =
         f.has("size") ? f.integers("size", 2, 1, kMaxSide) : std::vector<int>{256, 256};
@@ -231,106 +359,10 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
         f.fail("quantize", "expected 8 or 16 (bits), or 0 for float");
     f.has("channel");  // allowed and meaningless for procedural maps
 
-    // Each generator is a function of the texel centre (u, v) in [0,1)^2.
-    std::function<double(double, double)> fn;
-    if (kind == "constant") {
-        double value = f.number("value", 0.5, -1e6, 1e6);
-        fn = [=](double, double) { return value; };
-    } else if (kind == "ramp") {
-        // h = offset + slope_u * u + slope_v * v at texel centres (exact under bilinear).
-        std::vector<double> slope =
-            f.has("slope") ? f.numbers("slope", 2, -1e6, 1e6) : std::vector<double>{1.0, 0.0};
-        double offset = f.number("offset", 0.0, -1e6, 1e6);
-        fn = [=](double u, double v) { return offset + slope[0] * u + slope[1] * v; };
-    } else if (kind == "sine") {
-        // h = 0.5 + amplitude * prod over axes with frequency > 0 of sin(2 pi f x).
-        std::vector<double> freq =
-            f.has("frequency") ? f.numbers("frequency", 2, 0, 1e4) : std::vector<double>{4, 4};
-        double amplitude = f.number("amplitude", 0.5, -1e6, 1e6);
-        fn = [=](double u, double v) {
-            double p = 1.0;
-            if (freq[0] > 0) p *= std::sin(2 * kPi * freq[0] * u);
-            if (freq[1] > 0) p *= std::sin(2 * kPi * freq[1] * v);
-            return 0.5 + amplitude * p;
-        };
-    } else if (kind == "bricks") {
-        // Running bond: `bricks` = [columns, rows] per repeat, odd rows shifted by half a
-        // brick; mortar width and bevel as fractions of a brick's height; h = 1 on bricks.
-        std::vector<int> count =
-            f.has("bricks") ? f.integers("bricks", 2, 1, 4096) : std::vector<int>{4, 8};
-        double mortar = f.number("mortar", 0.1, 0.0, 0.9);
-        double bevel = f.number("bevel", 0.15, 0.0, 1.0);
-        double mortarHeight = f.number("mortar_height", 0.0, -1e6, 1e6);
-        double jitter = f.number("jitter", 0.0, 0.0, 1.0);
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> uni(0.0, 1.0);
-        std::vector<double> brickHeight(static_cast<size_t>(count[0]) * count[1]);
-        for (auto& b : brickHeight) b = 1.0 - jitter * uni(rng);
-        fn = [=](double u, double v) {
-            double rowF = v * count[1];
-            int row = std::min(int(rowF), count[1] - 1);
-            double colF = u * count[0] + (row % 2 ? 0.5 : 0.0);
-            int col = int(std::floor(colF)) % count[0];
-            // Distances to the brick's edges in units of brick height.
-            double aspect = double(count[1]) / count[0];  // brick width / height in UV
-            double dy = std::min(rowF - row, row + 1 - rowF);
-            double dx = std::min(colF - std::floor(colF), std::ceil(colF) - colF) / aspect;
-            double inside = std::min(dx, dy) - mortar / 2;
-            if (inside <= 0) return mortarHeight;
-            double top = brickHeight[size_t(row) * count[0] + col];
-            double t = bevel > 0 ? smoothstep01(inside / bevel) : 1.0;
-            return mortarHeight + (top - mortarHeight) * t;
-        };
-    } else if (kind == "steps") {
-        // A staircase along u: `levels` flat treads from 0 to 1 with jumps between them.
-        int levels = f.integer("levels", 4, 2, 65536);
-        fn = [=](double u, double) { return std::floor(u * levels) / (levels - 1); };
-    } else if (kind == "checker") {
-        std::vector<int> cells =
-            f.has("cells") ? f.integers("cells", 2, 1, kMaxSide) : std::vector<int>{8, 8};
-        fn = [=](double u, double v) {
-            return double((int(u * cells[0]) + int(v * cells[1])) % 2);
-        };
-    } else if (kind == "spike") {
-        // One texel at `texel` = [column, row from the bottom] has `value`, all others 0.
-        std::vector<int> at = f.has("texel") ? f.integers("texel", 2, 0, kMaxSide - 1)
-                                             : std::vector<int>{w / 2, h / 2};
-        double value = f.number("value", 1.0, -1e6, 1e6);
-        if (at[0] >= w || at[1] >= h) f.fail("texel", "outside the map");
-        fn = [=](double u, double v) {
-            return int(u * w) == at[0] && int(v * h) == at[1] ? value : 0.0;
-        };
-    } else {  // noise
-        int cells = f.integer("frequency", 4, 1, 4096);
-        int octaves = f.integer("octaves", 4, 1, 12);
-        double gain = f.number("gain", 0.5, 0.0, 1.0);
-        // The lattices hold (frequency * 2^octave)^2 doubles each: refuse before allocating.
-        double latticeBytes = 0;
-        for (int o = 0; o < octaves; ++o) latticeBytes += std::pow(double(cells) * (1 << o), 2) * 8;
-        checkMemory(latticeBytes, sceneFile, field + ".octaves", std::to_string(octaves),
-                    "noise with frequency " + std::to_string(cells) + " and " +
-                        std::to_string(octaves) + " octaves (its value lattices)");
-        std::mt19937 rng(seed);
-        std::uniform_real_distribution<double> uni(0.0, 1.0);
-        std::vector<std::vector<double>> lattices;
-        for (int o = 0; o < octaves; ++o) {
-            int c = cells << o;
-            std::vector<double> lat(size_t(c) * c);
-            for (auto& x : lat) x = uni(rng);
-            lattices.push_back(std::move(lat));
-        }
-        double norm = 0, amp = 1;
-        for (int o = 0; o < octaves; ++o) norm += amp, amp *= gain;
-        fn = [=](double u, double v) {
-            double sum = 0, a = 1;
-            for (int o = 0; o < octaves; ++o) {
-                int c = cells << o;
-                sum += a * valueNoise(lattices[o], c, u * c, v * c);
-                a *= gain;
-            }
-            return sum / norm;
-        };
-    }
+    GeneratorArgs args{w, h, seed};
+    HeightFn fn;
+    for (const auto& [name, generate] : kGenerators)
+        if (kind == name) fn = generate(f, args);
     f.finish();
 
     Texture t;
