@@ -1,7 +1,6 @@
 // compareTruthFrames: the per-pixel UV difference of two truth frames, in texels.
 #include "compare/uncertainty.h"
 
-#include <algorithm>
 #include <vector>
 
 #include "compare/statistics.h"
@@ -21,11 +20,8 @@ TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,
         diffs.push_back(uvErrorTexels(a.uv, b.uv, height.width, height.height, address));
     }
     u.pixelsCompared = int64_t(diffs.size());
-    if (!diffs.empty()) {
-        u.p50Texels = percentile(diffs, 0.50);
-        u.p99Texels = percentile(diffs, 0.99);
-        u.maxTexels = *std::max_element(diffs.begin(), diffs.end());
-    }
+    Summary d = summarize(diffs);  // NaN statistics when no pixel was compared
+    u.p50Texels = d.p50, u.p99Texels = d.p99, u.maxTexels = d.max;
     return u;
 }
 

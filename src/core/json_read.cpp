@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <functional>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -44,10 +44,7 @@ class BoundedDomBuilder {
         Json& object = *stack_.back().node;
         stack_.back().key = k;
         if (object.contains(k)) {
-            std::string path = pathOfNext();
-            fail_ = [this, path] {
-                throw InputError(file_, path, "", "key given twice in one object");
-            };
+            refusal_.emplace(file_, pathOfNext(), "", "key given twice in one object");
             return false;
         }
         pending_ = &object[k];
@@ -58,10 +55,7 @@ class BoundedDomBuilder {
                      const nlohmann::detail::exception& ex) {
         position_ = position;
         if (ex.id == 406) {  // out_of_range.406: a number beyond double (1e400)
-            std::string path = pathOfNext();
-            fail_ = [this, path, token] {
-                throw InputError(file_, path, token, "number out of range (beyond double)");
-            };
+            refusal_.emplace(file_, pathOfNext(), token, "number out of range (beyond double)");
         } else {
             std::string what = ex.what();
             auto at = what.find("parse error");
@@ -72,7 +66,7 @@ class BoundedDomBuilder {
 
     // Throws the refusal recorded by a handler that returned false, if any.
     void rethrow() const {
-        if (fail_) fail_();
+        if (refusal_) throw *refusal_;
     }
     const std::string& parseMessage() const { return message_; }
     std::size_t position() const { return position_; }
@@ -105,10 +99,8 @@ class BoundedDomBuilder {
     bool open(Json&& container) {
         if (int(stack_.size()) >= kMaxJsonDepth) {
             std::string path = pathOfNext();
-            fail_ = [this, path] {
-                throw InputError(file_, path.empty() ? "(root)" : path, "",
-                                 "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-            };
+            refusal_.emplace(file_, path.empty() ? "(root)" : path, "",
+                             "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
             return false;
         }
         Json* node = place(std::move(container));
@@ -142,7 +134,7 @@ class BoundedDomBuilder {
     Json root_;
     std::vector<Level> stack_;
     Json* pending_ = nullptr;
-    std::function<void()> fail_;
+    std::optional<InputError> refusal_;  // why a handler stopped the parse, if it did
     std::string message_;
     std::size_t position_ = 0;
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/format.h"
 
 namespace pgt {
 
@@ -33,11 +34,11 @@ void checkMemory(double bytes, const std::string& file, const std::string& field
                  const std::string& value, const std::string& what) {
     const double limit = double(memoryLimitMb()) * 1024 * 1024;
     if (!(bytes <= limit)) {  // also refuses a NaN estimate
-        double mb = std::isfinite(bytes) ? std::ceil(bytes / (1024 * 1024)) : HUGE_VAL;
-        char buf[64];
-        std::snprintf(buf, sizeof buf, std::isfinite(mb) ? "%.0f MB" : "more than 2^64 bytes", mb);
+        std::string need = std::isfinite(bytes)
+                               ? formatNumber(std::ceil(bytes / (1024 * 1024)), 15) + " MB"
+                               : std::string("an unbounded amount");
         throw InputError(file, field, value,
-                         what + " needs about " + buf + ", more than the memory limit of " +
+                         what + " needs about " + need + ", more than the memory limit of " +
                              std::to_string(memoryLimitMb()) +
                              " MB (raise it with --memory-limit MB)");
     }

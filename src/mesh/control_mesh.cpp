@@ -124,6 +124,7 @@ ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
         throw InputError(sceneFile, field, path, "cannot read OBJ: " + reader.Error());
     const auto& attrib = reader.GetAttrib();
     ControlMesh m;
+    m.sourceSha1 = textSha1(text);  // the study identity's record of this file
     for (size_t k = 0; k + 2 < attrib.vertices.size(); k += 3)
         m.positions.push_back({attrib.vertices[k], attrib.vertices[k + 1], attrib.vertices[k + 2]});
     for (size_t k = 0; k + 1 < attrib.texcoords.size(); k += 2)

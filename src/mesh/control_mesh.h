@@ -15,6 +15,7 @@ struct ControlMesh {
     std::vector<int> faceVerts;  // position index per face corner
     std::vector<Vec2d> uvs;      // face-varying UV values
     std::vector<int> faceUvs;    // UV index per face corner
+    std::string sourceSha1;      // SHA-1 of the OBJ file's text ("" for built-in cages)
     int numFaces() const { return int(faceSizes.size()); }
 };
 

@@ -172,7 +172,6 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
         for (const auto& p : methodPresets()) names.push_back(p.name);
         std::string name = pf.choice("preset", names, "");
         std::string label = pf.string("label", name);
-        checkLabel(label, file, pf.fieldPath("label"));
         pf.finish();
         for (const auto& p : methodPresets()) {
             if (p.name != name) continue;

@@ -88,7 +88,6 @@ void parseMeshBase(Scene& s, JsonFields& f) {
             fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
         cage = loadObjMesh(p.string(), s.file, "base.file");
         m.source = rel;
-        m.sourceSha1 = fileSha1(p.string());
     }
     // Bound the work before refining: the drawn mesh has about faces x 4^refine faces (a
     // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
@@ -355,7 +354,7 @@ Json resolvedSceneJson(const Scene& s) {
         {"address", toString(s.height.address)},
         {"base", s.isMesh ? Json{{"type", "mesh"},
                                  {"source", s.mesh.source},
-                                 {"sha1", s.mesh.sourceSha1},
+                                 {"sha1", s.mesh.cage->sourceSha1},
                                  {"given", givenBlock(s, "base")},
                                  {"scheme", toString(s.mesh.scheme)},
                                  {"refine", s.mesh.refine},

@@ -38,8 +38,7 @@ struct PlaneBase {
 
 // A curved base: a control mesh refined by OpenSubdiv.
 struct MeshBase {
-    std::string source;      // "cube", "cylinder", "torus" or the OBJ path
-    std::string sourceSha1;  // SHA-1 of the OBJ file ("" for built-in cages)
+    std::string source;  // "cube", "cylinder", "torus" or the OBJ path
     Scheme scheme = Scheme::Catmark;
     int refine = 2;  // levels for the mesh the rasteriser draws
     // "polygonal": the drawn mesh displaced along its vertex normals (the method's own error);

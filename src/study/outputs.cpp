@@ -128,13 +128,20 @@ void StagedFiles::commit() {
     staged_.clear();
 }
 
-void prepareOutputDir(const std::string& dir) {
+namespace {
+// Creates `dir` and removes the temporaries killed pgt processes left there.
+void makeOutputDir(const std::string& dir) {
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec || !fs::is_directory(dir))
         throw OutputError("cannot create output directory " + dir +
                           (ec ? ": " + ec.message() : std::string()));
     removeStaleTemporaries(dir);
+}
+}  // namespace
+
+void prepareOutputDir(const std::string& dir) {
+    makeOutputDir(dir);
     StagedFiles probe(dir);  // a file can be created there (removed again, uncommitted)
     probe.add("probe", "");
 }
@@ -177,11 +184,6 @@ std::string encodeExr(const std::vector<std::string>& names,
 }
 
 }  // namespace
-
-void writeExr(const std::string& path, const std::vector<std::string>& names,
-              const std::vector<const Image2D<float>*>& channels) {
-    writeTextFile(path, encodeExr(names, channels));
-}
 
 namespace {
 // JSON has no NaN: a statistic that was not measured is null.
@@ -382,7 +384,7 @@ std::string encodeErrorPng(const MethodFrame& m, const Image2D<TruthSample>& tru
 }  // namespace
 
 void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::string& dir) {
-    prepareOutputDir(dir);
+    makeOutputDir(dir);  // no probe: the staged writes below check every byte themselves
     StagedFiles files(dir);
     const int W = r.camera.width(), H = r.camera.height();
 

@@ -23,10 +23,6 @@ void writeRenderOutputs(const Scene& scene, const RenderResult& result, const st
 nlohmann::json summaryJson(const Scene& scene, const RenderResult& result);
 nlohmann::json toJson(const FrameStats& stats);
 
-// EXR with one float channel per name; `channels[c]` is a W x H image, row 0 at the top.
-void writeExr(const std::string& path, const std::vector<std::string>& names,
-              const std::vector<const Image2D<float>*>& channels);
-
 // Replaces `path` atomically with `text`.
 void writeTextFile(const std::string& path, const std::string& text);
 

@@ -68,10 +68,9 @@ PrecisionCheck TruthSurface::checkPrecision(const Camera& camera, const Texture&
         errs.push_back(uvErrorTexels(s.uv, uv, height.width, height.height, height.address));
     }
     pc.samples = int64_t(errs.size());
-    if (!errs.empty()) {
-        pc.p50Texels = percentile(errs, 0.5);
-        pc.p99Texels = percentile(errs, 0.99);
-        pc.maxTexels = *std::max_element(errs.begin(), errs.end());
+    if (!errs.empty()) {  // else the 0s of PrecisionCheck: nothing was sampled
+        Summary e = summarize(errs);
+        pc.p50Texels = e.p50, pc.p99Texels = e.p99, pc.maxTexels = e.max;
     }
     return pc;
 }

@@ -5,6 +5,7 @@ exit with the documented status (2 bad input, 3 output not writable), print one 
 naming the file and field, never crash or hang, and never mix, duplicate or half-write
 results. Arguments: PGT_BINARY SOURCE_DIR CLASS."""
 import csv
+import fcntl
 import json
 import os
 import resource
@@ -13,7 +14,6 @@ import struct
 import subprocess
 import sys
 import tempfile
-import time
 import zlib
 
 PGT, SRC, CLASS = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -187,7 +187,6 @@ def gl_texture_limit(d):
 def concurrent_sweeps(d):
     """A study directory is locked: a second sweep into it is refused while one runs, so no
     row is ever written twice."""
-    import fcntl
     path = write(d, "scene.json", json.dumps(SWEEP))
     out = os.path.join(d, "held")
     os.makedirs(out)
