@@ -365,7 +365,7 @@ Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Rea
         case MethodKind::TangentPlane:
             return methodTangentPlane(ctx, uv0, v, cfg);
         case MethodKind::Glsl:
-            break;  // runs in OpenGL (study/render.cpp), never here
+            break;  // runs in OpenGL (study/evaluate.cpp), never here
     }
     return uv0;
 }
