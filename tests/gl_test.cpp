@@ -14,6 +14,8 @@
 #include "core/error.h"
 #include "gl/glsl_method.h"
 #include "heightfield/heightfield.h"
+#include "methods/config.h"
+#include "methods/presets.h"
 #include "methods/registry.h"
 #include "test_util.h"
 

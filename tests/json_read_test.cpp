@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "methods/registry.h"
+#include "methods/config.h"
 
 namespace pgt {
 namespace {

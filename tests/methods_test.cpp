@@ -1,6 +1,7 @@
 // Methods on closed forms: constant height, head-on view, loop bounds, precision option.
 #include <gtest/gtest.h>
 
+#include "methods/config.h"
 #include "methods/layered.h"
 #include "methods/registry.h"
 #include "study/render.h"

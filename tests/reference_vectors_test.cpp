@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "compare/statistics.h"
+#include "methods/config.h"
 #include "methods/registry.h"
 #include "study/render.h"
 #include "test_util.h"

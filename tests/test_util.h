@@ -7,6 +7,7 @@
 #include <string>
 
 #include "heightfield/texture.h"
+#include "methods/config.h"
 #include "methods/registry.h"
 #include "scene/scene.h"
 

@@ -11,27 +11,9 @@
 
 #include "core/math.h"
 #include "heightfield/texture.h"
+#include "methods/glsl_spec.h"
 
 namespace pgt {
-
-// What a scene's `{"name": ..., "glsl": FILE, ...}` method entry says (parsed in methods/).
-struct GlslSpec {
-    std::string path;    // as resolved from the scene file's folder
-    std::string source;  // the file's text (read when the scene is parsed)
-    std::string function = "ParallaxMapping";
-    std::string sampler = "depthMap";            // "" = the function samples no height map
-    std::string normalSampler, parallaxSampler;  // optional: 003's derived maps
-    bool depthTexture = false;  // "texture": "depth" -> the sampler holds d = 1 - h
-    // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
-    // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
-    struct Uniform {
-        std::string name;
-        std::vector<double> values;
-        bool isInt = false;
-        std::string bind;  // "", "scale" or "bias"
-    };
-    std::vector<Uniform> uniforms;
-};
 
 // The GL the methods run in, named as the driver names itself.
 struct GlInfo {

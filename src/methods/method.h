@@ -27,7 +27,7 @@ enum class MethodKind {
     Glsl
 };
 
-struct GlslSpec;  // gl/glsl_method.h: a user's shader function run in OpenGL
+struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;

@@ -1,7 +1,10 @@
-// Method names, parsing of the scene's "methods" list, and dispatch to the method functions.
+// The method kinds in one table: each kind's scene name, its integer parameters (scene key,
+// range, the configuration field they set), the step count a fit varies, how a generated
+// label shows its parameters, whether it reads 003's derived maps, and its function.
+// Parsing (methods/config.h), labels, JSON, the fit and the dispatch all read this table; a
+// new built-in method is one row here and one function in methods/.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -9,27 +12,37 @@
 
 namespace pgt {
 
-// Parses a "methods" array: each entry a name or an object {"name": ..., parameters}.
-// Labels are unique: a method listed twice gets its parameters in the label ("pom_32").
-std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::string& file,
-                                       const std::string& path);
-MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
-                         const std::string& path);
-nlohmann::json toJson(const MethodConfig& cfg);
-
-// A label a user writes (or a GLSL method's name): 1..kMaxLabelLength characters of
-// A-Z a-z 0-9 _ - +, since it names CSV rows, EXR channels and files. Throws InputError.
-constexpr size_t kMaxLabelLength = 64;
-void checkLabel(const std::string& label, const std::string& file, const std::string& field);
-
-// Named configurations: engine defaults and the source documents' settings, used
-// as {"preset": NAME} in a method list. `entry` is the method entry it stands for.
-struct MethodPreset {
-    std::string name, source, entry;
+// One integer parameter of a method kind.
+struct IntParameter {
+    const char* key;                         // the scene's key: "min_layers"
+    int MethodConfig::*field;                // the configuration field it sets
+    int MethodConfig::*alsoField = nullptr;  // a second field set to the same value, or null
+    int lo = 1, hi = 1;                      // accepted range
+    bool written = true;  // part of the configuration's JSON (an alias like "layers" is not)
 };
-const std::vector<MethodPreset>& methodPresets();
-// Where the shipped GLSL files are (src/shaders; PGT_SHADER_DIR in the environment wins).
-std::string shaderDir();
+
+template <class Real>
+using MethodFunction = Vec2<Real> (*)(MethodContext<Real>&, Vec2<Real>, Vec3<Real>,
+                                      const MethodConfig&);
+
+struct MethodKindInfo {
+    const char* name;
+    MethodKind kind;
+    std::vector<IntParameter> parameters;
+    const char* stepKey = nullptr;  // the key of `parameters` a fit varies, or null
+    // The parameters shown in a generated label ("8_32" for pom), "" when there are none.
+    std::string (*labelParameters)(const MethodConfig&) = nullptr;
+    bool derivedMaps = false;  // reads 003's normal and parallax maps
+    MethodFunction<float> runFloat = nullptr;
+    MethodFunction<double> runDouble = nullptr;
+};
+
+// Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).
+const std::vector<MethodKindInfo>& methodKinds();
+// The row of a built-in kind; null for MethodKind::Glsl.
+const MethodKindInfo* kindInfo(MethodKind kind);
+// The parameter a fit varies set to `steps` (every field it sets); false when the kind has none.
+bool setStepCount(MethodConfig& cfg, int steps);
 
 // Runs one method on one fragment. Never throws; stiff cases land in ctx.flags.
 template <class Real>

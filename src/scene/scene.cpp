@@ -10,7 +10,7 @@
 #include "core/json_read.h"
 #include "core/memory.h"
 #include "heightfield/heightfield.h"
-#include "methods/registry.h"
+#include "methods/config.h"
 
 namespace pgt {
 
@@ -255,18 +255,18 @@ Scene parseScene(const Json& json, const std::string& file) {
 }
 
 namespace {
-Camera makeCameraUnjittered(const Scene& s);
+Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view);
 }
 
-Camera makeCamera(const Scene& s) {
-    Camera cam = makeCameraUnjittered(s);
-    cam.setJitter(s.camera.jitter, s.camera.jitterSeed);
+Camera makeCamera(const Scene& s, const ViewSpec& view) {
+    Camera cam = makeCameraUnjittered(s, view);
+    cam.setJitter(view.camera.jitter, view.camera.jitterSeed);
     return cam;
 }
 
 namespace {
-Camera makeCameraUnjittered(const Scene& s) {
-    const CameraSpec& c = s.camera;
+Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view) {
+    const CameraSpec& c = view.camera;
     if (c.type == "pinhole")
         return Camera::pinhole(c.eye, c.target, c.up, c.fov, c.width, c.height);
     // MODEL.md §4: the camera looks along -V; image up is world +z made perpendicular to the
@@ -283,7 +283,7 @@ Camera makeCameraUnjittered(const Scene& s) {
         return Camera::orthographic(-v, c.target, up, height, c.width, c.height);
     }
     // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.
-    double l = s.worldPerUv(), sc = s.displacement.scale, b = s.displacement.bias;
+    double l = s.worldPerUv(), sc = view.displacement.scale, b = view.displacement.bias;
     double zLo = std::min(l * b, l * (sc + b)), zHi = std::max(l * b, l * (sc + b));
     // The box to frame: the plane with its relief slab, or the mesh grown by the relief.
     Vec3d boxLo, boxHi;
@@ -320,30 +320,34 @@ namespace {
 Json givenBlock(const Scene& s, const char* key) {
     return s.json.is_object() && s.json.contains(key) ? s.json.at(key) : Json();
 }
-}  // namespace
 
-Json resolvedSceneJson(const Scene& s) {
-    Json methods = Json::array();
-    for (const auto& m : s.methods) methods.push_back(toJson(m));
+Json cameraJson(const CameraSpec& c) {
     Json camera;
-    if (s.camera.type == "pinhole") {
+    if (c.type == "pinhole") {
         camera = {{"type", "pinhole"},
-                  {"eye", {s.camera.eye.x, s.camera.eye.y, s.camera.eye.z}},
-                  {"target", {s.camera.target.x, s.camera.target.y, s.camera.target.z}},
-                  {"up", {s.camera.up.x, s.camera.up.y, s.camera.up.z}},
-                  {"fov", s.camera.fov}};
+                  {"eye", {c.eye.x, c.eye.y, c.eye.z}},
+                  {"target", {c.target.x, c.target.y, c.target.z}},
+                  {"up", {c.up.x, c.up.y, c.up.z}},
+                  {"fov", c.fov}};
     } else {
         camera = {{"type", "orthographic"},
-                  {"theta", s.camera.theta},
-                  {"phi", s.camera.phi},
-                  {"frame", s.camera.frame},
-                  {"target", {s.camera.target.x, s.camera.target.y, s.camera.target.z}}};
-        if (s.camera.frame == "fill") camera["fill_size"] = s.camera.fillSize;
-        if (s.camera.frame == "view") camera["view_height"] = s.camera.viewHeight;
+                  {"theta", c.theta},
+                  {"phi", c.phi},
+                  {"frame", c.frame},
+                  {"target", {c.target.x, c.target.y, c.target.z}}};
+        if (c.frame == "fill") camera["fill_size"] = c.fillSize;
+        if (c.frame == "view") camera["view_height"] = c.viewHeight;
     }
-    camera["resolution"] = {s.camera.width, s.camera.height};
-    camera["samples"] = s.camera.jitter ? "jittered" : "centre";
-    if (s.camera.jitter) camera["seed"] = s.camera.jitterSeed;
+    camera["resolution"] = {c.width, c.height};
+    camera["samples"] = c.jitter ? "jittered" : "centre";
+    if (c.jitter) camera["seed"] = c.jitterSeed;
+    return camera;
+}
+}  // namespace
+
+Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
+    Json methods = Json::array();
+    for (const auto& m : s.methods) methods.push_back(toJson(m));
     return {
         // The block as written (every generator parameter) and the file's content hash.
         {"heightmap",
@@ -374,8 +378,8 @@ Json resolvedSceneJson(const Scene& s) {
                          {"fallback_tangents", s.mesh.drawn->frames.fallbackTangents},
                          {"mirrored_vertices", s.mesh.drawn->frames.mirroredVertices}}
                   : Json(nullptr)},
-        {"displacement", {{"scale", s.displacement.scale}, {"bias", s.displacement.bias}}},
-        {"camera", camera},
+        {"displacement", {{"scale", view.displacement.scale}, {"bias", view.displacement.bias}}},
+        {"camera", cameraJson(view.camera)},
         {"methods", methods},
         {"truth",
          {{"rate", s.truth.rate},

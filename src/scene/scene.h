@@ -83,6 +83,13 @@ struct TruthSpec {
     int memoryMb = 1536;
 };
 
+// What changes between the views of one scene in a study or a fit: the camera and (s, b).
+// Stages take it beside the Scene instead of a copy of the Scene (which owns the texels).
+struct ViewSpec {
+    CameraSpec camera;
+    Displacement displacement;
+};
+
 struct Scene {
     std::string file;          // the scene file's path (for messages and relative paths)
     nlohmann::json json;       // as written by the user
@@ -102,6 +109,7 @@ struct Scene {
     TruthSpec truth;
     nlohmann::json sweep;  // the "sweep" block as written (validated by study/sweep.h)
     nlohmann::json fit;    // the "fit" block as written (validated by study/fit.h)
+    ViewSpec view() const { return {camera, displacement}; }  // the scene's own view
 };
 
 // Reads and validates a scene file; throws InputError (file, field, value) on bad input,
@@ -110,10 +118,15 @@ Scene loadScene(const std::string& path);
 // Validates a scene given as JSON; `file` is used for messages and relative paths.
 Scene parseScene(const nlohmann::json& json, const std::string& file);
 
-// The camera a scene describes, with an orthographic camera framing the whole plane and
+// The camera of a view of a scene, with an orthographic camera framing the whole plane and
 // its relief slab (z in l*[b, s+b]) unless a view height is given.
-Camera makeCamera(const Scene& scene);
+Camera makeCamera(const Scene& scene, const ViewSpec& view);
+inline Camera makeCamera(const Scene& scene) { return makeCamera(scene, scene.view()); }
 
-nlohmann::json resolvedSceneJson(const Scene& scene);
+// The scene as pgt understood it, seen from `view` (summary.json, a study's identity).
+nlohmann::json resolvedSceneJson(const Scene& scene, const ViewSpec& view);
+inline nlohmann::json resolvedSceneJson(const Scene& scene) {
+    return resolvedSceneJson(scene, scene.view());
+}
 
 }  // namespace pgt

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/json_fields.h"
+#include "methods/config.h"
 #include "methods/registry.h"
 #include "study/render.h"
 
@@ -36,21 +37,6 @@ std::vector<double> range(double from, double to, double step) {
     return out;
 }
 
-// The step-count parameter a method's fit varies, if any.
-const char* stepParameter(MethodKind kind) {
-    switch (kind) {
-        case MethodKind::Steep:
-        case MethodKind::Pom:
-            return "layers";
-        case MethodKind::Relief:
-            return "linear_steps";
-        case MethodKind::Iterative:
-            return "iterations";
-        default:
-            return nullptr;
-    }
-}
-
 struct View {
     Image2D<TruthSample> truth;
     FragmentList frags;
@@ -78,73 +64,147 @@ nlohmann::json FitReport::toJson() const {
     return {{"objective", objective}, {"theta", thetas}, {"phi", phis}, {"methods", ms}};
 }
 
+namespace {
+
+// What the "fit" block asks for (README "Fitting").
+struct FitPlan {
+    std::vector<double> factors, ratios, steps;
+    int refine = 4;
+    int width = 128, height = 128;
+    std::vector<MethodConfig> methods;
+};
+
+FitPlan readFitPlan(const Scene& scene, FitReport& rep) {
+    Json block = scene.fit.is_null() ? Json::object() : scene.fit;
+    JsonFields f(block, scene.file, "fit");
+    FitPlan plan;
+    rep.objective = f.choice("objective", {"mean", "p90"}, "mean");
+    rep.thetas = listOr(f, "theta", range(0, 80, 10), 0, 90);
+    rep.phis = listOr(f, "phi", {scene.camera.phi}, -360, 360);
+    plan.factors = listOr(f, "scale_factors", range(0.25, 2.0, 0.25), -10, 10);
+    plan.ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.25), -10, 10);
+    plan.steps = listOr(f, "steps", {8, 16, 32, 64}, 1, 4096);
+    plan.refine = f.integer("refine", 4, 0, 12);
+    if (f.has("resolution")) {
+        std::vector<int> res = f.integers("resolution", 2, 1, 4096);
+        plan.width = res[0], plan.height = res[1];
+    }
+    plan.methods = f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods")
+                                    : scene.methods;
+    f.finish();
+    return plan;
+}
+
+// The fixed truth seen from every view once, and a configuration's score over those views.
+class FitScorer {
+  public:
+    FitScorer(const Scene& scene, const FitReport& rep, const FitPlan& plan)
+        : scene_(scene), objective_(rep.objective), textures_(scene.height, scene.uvExtent) {
+        TruthBuilder builder(scene);
+        TruthPair truths = builder.build(scene.displacement, false);
+        for (double th : rep.thetas)
+            for (double ph : rep.phis) {
+                ViewSpec v = scene.view();
+                v.camera.theta = th, v.camera.phi = ph;
+                v.camera.width = plan.width, v.camera.height = plan.height;
+                Camera cam = makeCamera(scene, v);
+                FragmentList frags = compactFragments(
+                    rasterize(sceneBaseMesh(scene, cam), cam, {scene.cullBackFaces}));
+                views_.push_back(
+                    {truths.truth->traceFrame(cam), std::move(frags), plan.width, plan.height});
+            }
+    }
+
+    Score score(const MethodConfig& cfg) {
+        Score sc;
+        double s = std::isfinite(cfg.scale) ? cfg.scale : scene_.displacement.scale;
+        double b = std::isfinite(cfg.bias) ? cfg.bias : scene_.displacement.bias;
+        const MethodTextures& tex = textures_.get(s, b, needsDerivedMaps(cfg));
+        double obj = 0, mean = 0, p90 = 0;
+        for (const View& v : views_) {
+            auto px = evaluateMethod(cfg, v.frags, tex, v.width, v.height);
+            FrameStats fs = compareWithTruth(v.truth, px, scene_.height.width, scene_.height.height,
+                                             scene_.height.address);
+            // A candidate that yields non-finite UVs is not a default anyone should ship.
+            if (fs.nonfinite > 0 || fs.error.count == 0) return sc;
+            obj += objective_ == "mean" ? fs.error.mean : fs.error.p90;
+            mean += fs.error.mean;
+            p90 += fs.error.p90;
+        }
+        double n = double(views_.size());
+        return {obj / n, mean / n, p90 / n, true};
+    }
+
+  private:
+    const Scene& scene_;
+    std::string objective_;
+    MethodTextureCache textures_;
+    std::vector<View> views_;
+};
+
+// One method at one step count: the grid of (scale factor, bias ratio), then a compass
+// search from its best point.
+FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& scorer, double s0) {
+    FitResult fr;
+    fr.method = listed.label;
+    fr.nativeObjective = scorer.score(listed).objective;
+    const bool usesHeight = listed.kind != MethodKind::None;
+    std::vector<double> fs = usesHeight ? plan.factors : std::vector<double>{1};
+    std::vector<double> rs = usesHeight ? plan.ratios : std::vector<double>{0};
+    MethodConfig best;
+    Score bestScore;
+    bool found = false;
+    auto consider = [&](double factor, double ratio) {
+        MethodConfig c = listed;
+        if (usesHeight) c.scale = s0 * factor, c.bias = s0 * factor * ratio;
+        Score sc = scorer.score(c);
+        ++fr.candidates;
+        if (sc.ok && sc.objective < bestScore.objective) bestScore = sc, best = c, found = true;
+    };
+    for (double fa : fs)
+        for (double ra : rs) consider(fa, ra);
+    // Compass search from the best grid point: move to a better 3 x 3 neighbour while there
+    // is one (at most 32 moves per level), then halve the spacing; `refine` levels in all,
+    // starting at half the grid's spacing.
+    double df = fs.size() > 1 ? fs[1] - fs[0] : 0, dr = rs.size() > 1 ? rs[1] - rs[0] : 0;
+    for (int level = 0; level < plan.refine && found && usesHeight; ++level) {
+        df /= 2, dr /= 2;
+        for (int move = 0; move < 32; ++move) {
+            double before = bestScore.objective;
+            double f0 = best.scale / s0, r0 = best.bias / best.scale;
+            for (int i = -1; i <= 1; ++i)
+                for (int k = -1; k <= 1; ++k)
+                    if (i || k) consider(f0 + i * df, r0 + k * dr);
+            if (!(bestScore.objective < before)) break;
+        }
+    }
+    if (found) {
+        Json out = toJson(best);
+        out.erase("label");
+        fr.best = out;
+        fr.bestObjective = bestScore.objective;
+        fr.bestMean = bestScore.mean;
+        fr.bestP90 = bestScore.p90;
+    }
+    return fr;
+}
+
+}  // namespace
+
 FitReport runFit(const Scene& scene, bool progress) {
     if (scene.camera.type != "orthographic")
         throw InputError(scene.file, "camera.type", scene.camera.type,
                          "fitting sweeps the view angle: it needs an orthographic camera");
-    Json block = scene.fit.is_null() ? Json::object() : scene.fit;
-    JsonFields f(block, scene.file, "fit");
     FitReport rep;
-    rep.objective = f.choice("objective", {"mean", "p90"}, "mean");
-    rep.thetas = listOr(f, "theta", range(0, 80, 10), 0, 90);
-    rep.phis = listOr(f, "phi", {scene.camera.phi}, -360, 360);
-    std::vector<double> factors = listOr(f, "scale_factors", range(0.25, 2.0, 0.25), -10, 10);
-    std::vector<double> ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.25), -10, 10);
-    std::vector<double> steps = listOr(f, "steps", {8, 16, 32, 64}, 1, 4096);
-    int refine = f.integer("refine", 4, 0, 12);
-    std::vector<int> res =
-        f.has("resolution") ? f.integers("resolution", 2, 1, 4096) : std::vector<int>{128, 128};
-    std::vector<MethodConfig> methods =
-        f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods")
-                         : scene.methods;
-    f.finish();
+    const FitPlan plan = readFitPlan(scene, rep);
     // Every view's truth frame and fragments are kept for the whole search: estimated as one
     // frame as tall as all of them, with one method's images at a time.
     const size_t viewCount = rep.thetas.size() * rep.phis.size();
-    checkViewMemory(scene, res[0], int(std::min<size_t>(viewCount * size_t(res[1]), 1u << 30)), 1,
-                    false, false, "fit.resolution");
-
-    // The fixed truth, seen from every view once.
-    TruthBuilder builder(scene);
-    TruthPair truths = builder.build(scene.displacement, false);
-    std::vector<View> views;
-    for (double th : rep.thetas)
-        for (double ph : rep.phis) {
-            Scene v = scene;
-            v.camera.theta = th, v.camera.phi = ph;
-            v.camera.width = res[0], v.camera.height = res[1];
-            Camera cam = makeCamera(v);
-            View view{
-                truths.truth->traceFrame(cam),
-                compactFragments(rasterize(sceneBaseMesh(v, cam), cam, {scene.cullBackFaces})),
-                res[0], res[1]};
-            views.push_back(std::move(view));
-        }
-    MethodTextureCache textures(scene.height, scene.uvExtent);
-    const double s0 = scene.displacement.scale, b0 = scene.displacement.bias;
-
-    auto score = [&](const MethodConfig& cfg) {
-        Score sc;
-        double s = std::isfinite(cfg.scale) ? cfg.scale : s0;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : b0;
-        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
-        double obj = 0, mean = 0, p90 = 0;
-        for (const View& v : views) {
-            auto px = evaluateMethod(cfg, v.frags, tex, v.width, v.height);
-            FrameStats fs = compareWithTruth(v.truth, px, scene.height.width, scene.height.height,
-                                             scene.height.address);
-            // A candidate that yields non-finite UVs is not a default anyone should ship.
-            if (fs.nonfinite > 0 || fs.error.count == 0) return sc;
-            obj += rep.objective == "mean" ? fs.error.mean : fs.error.p90;
-            mean += fs.error.mean;
-            p90 += fs.error.p90;
-        }
-        double n = double(views.size());
-        sc = {obj / n, mean / n, p90 / n, true};
-        return sc;
-    };
-
-    for (const MethodConfig& base : methods) {
+    checkViewMemory(scene, plan.width,
+                    int(std::min<size_t>(viewCount * size_t(plan.height), 1u << 30)), 1, false,
+                    false, "fit.resolution");
+    FitScorer scorer(scene, rep, plan);
+    for (const MethodConfig& base : plan.methods) {
         // Presets are fixed configurations (fit the built-in they stand for instead), and a
         // GLSL method's parameters are its uniforms, which pgt does not vary.
         if (base.glsl || !base.preset.empty()) {
@@ -153,56 +213,12 @@ FitReport runFit(const Scene& scene, bool progress) {
                              base.label.c_str());
             continue;
         }
-        const char* stepKey = stepParameter(base.kind);
-        std::vector<double> stepList = stepKey ? steps : std::vector<double>{0};
-        bool usesHeight = base.kind != MethodKind::None;
-        std::vector<double> fs = usesHeight ? factors : std::vector<double>{1};
-        std::vector<double> rs = usesHeight ? ratios : std::vector<double>{0};
-        for (double stepCount : stepList) {
-            FitResult fr;
-            fr.method = base.label;
+        const bool hasSteps = kindInfo(base.kind) && kindInfo(base.kind)->stepKey;
+        for (double stepCount : hasSteps ? plan.steps : std::vector<double>{0}) {
+            MethodConfig listed = base;
+            if (hasSteps) setStepCount(listed, int(stepCount));
+            FitResult fr = fitOne(listed, plan, scorer, scene.displacement.scale);
             fr.steps = int(stepCount);
-            Json listed = toJson(base);
-            if (stepKey) listed[stepKey] = fr.steps;
-            fr.nativeObjective = score(parseMethod(listed, scene.file, "fit")).objective;
-            Json bestJ;
-            Score best;
-            auto consider = [&](double factor, double ratio) {
-                Json j = listed;
-                if (usesHeight) {
-                    j["scale"] = s0 * factor;
-                    j["bias"] = s0 * factor * ratio;
-                }
-                Score sc = score(parseMethod(j, scene.file, "fit"));
-                ++fr.candidates;
-                if (sc.ok && sc.objective < best.objective) best = sc, bestJ = j;
-            };
-            for (double fa : fs)
-                for (double ra : rs) consider(fa, ra);
-            // Compass search from the best grid point: move to a better 3 x 3 neighbour while
-            // there is one (at most 32 moves per level), then halve the spacing; `refine`
-            // levels in all, starting at half the grid's spacing.
-            double df = fs.size() > 1 ? fs[1] - fs[0] : 0, dr = rs.size() > 1 ? rs[1] - rs[0] : 0;
-            for (int level = 0; level < refine && !bestJ.is_null() && usesHeight; ++level) {
-                df /= 2, dr /= 2;
-                for (int move = 0; move < 32; ++move) {
-                    double before = best.objective;
-                    double f0 = bestJ["scale"].get<double>() / s0;
-                    double r0 = bestJ["bias"].get<double>() / bestJ["scale"].get<double>();
-                    for (int i = -1; i <= 1; ++i)
-                        for (int k = -1; k <= 1; ++k)
-                            if (i || k) consider(f0 + i * df, r0 + k * dr);
-                    if (!(best.objective < before)) break;
-                }
-            }
-            if (!bestJ.is_null()) {
-                Json out = toJson(parseMethod(bestJ, scene.file, "fit"));
-                out.erase("label");
-                fr.best = out;
-                fr.bestObjective = best.objective;
-                fr.bestMean = best.mean;
-                fr.bestP90 = best.p90;
-            }
             if (progress)
                 std::fprintf(stderr,
                              "fit: %s steps %d: %d candidates, best %s %.4f (as listed %.4f)\n",

@@ -23,7 +23,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/json_fields.h"
-#include "methods/registry.h"
+#include "methods/config.h"
 
 namespace pgt {
 
@@ -224,8 +224,8 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
     if (cam.isOrthographic()) {
         Vec3d v = -cam.forward();
         view["view_direction"] = {v.x, v.y, v.z};  // V, toward the eye
-        view["theta"] = scene.camera.theta;
-        view["phi"] = scene.camera.phi;
+        view["theta"] = r.view.camera.theta;
+        view["phi"] = r.view.camera.phi;
         view["target"] = {cam.target().x, cam.target().y, cam.target().z};
         view["view_height"] = cam.viewHeight();
     } else {
@@ -279,7 +279,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
     }
     return {{"tool", "pgt"},
             {"scene_file", scene.file},
-            {"scene", resolvedSceneJson(scene)},
+            {"scene", resolvedSceneJson(scene, r.view)},
             {"view", view},
             {"truth", truth},
             {"raster",

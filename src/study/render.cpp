@@ -11,7 +11,6 @@
 #include "core/error.h"
 #include "core/memory.h"
 #include "gl/glsl_method.h"
-#include "methods/registry.h"
 
 namespace pgt {
 
@@ -22,17 +21,20 @@ BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
     return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
 }
 
-RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPair& truths,
+RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, bool keepImages) {
-    return renderWithTruth(scene, camera, traceTruth(camera, truths), configs, textures, timing,
-                           keepImages);
+    const Camera camera = makeCamera(scene, view);
+    return renderWithTruth(scene, view, camera, traceTruth(camera, truths), configs, textures,
+                           timing, keepImages);
 }
 
-RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFrames&& truth,
-                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
-                             const TimingSpec& timing, bool keepImages) {
+RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
+                             TruthFrames&& truth, const std::vector<MethodConfig>& configs,
+                             MethodTextureCache& textures, const TimingSpec& timing,
+                             bool keepImages) {
     RenderResult r;
+    r.view = view;
     r.camera = camera;
     const int W = camera.width(), H = camera.height();
     r.truthBuild = truth.build;
@@ -57,8 +59,8 @@ RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFram
     auto t3 = Clock::now();
     double timingMs = 0;
     for (const MethodConfig& cfg : configs) {
-        double s = std::isfinite(cfg.scale) ? cfg.scale : scene.displacement.scale;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : scene.displacement.bias;
+        double s = std::isfinite(cfg.scale) ? cfg.scale : view.displacement.scale;
+        double b = std::isfinite(cfg.bias) ? cfg.bias : view.displacement.bias;
         const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
         MethodFrame mf;
         mf.config = cfg;
@@ -133,8 +135,8 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         TruthFrames f;
         if (truthVertices(scene, whole) > budget && traceTruthInBlocks(scene, camera, budget, f)) {
             double truthMs = msSince(t0);
-            RenderResult r =
-                renderWithTruth(scene, camera, std::move(f), scene.methods, textures, timing);
+            RenderResult r = renderWithTruth(scene, scene.view(), camera, std::move(f),
+                                             scene.methods, textures, timing);
             r.timingsMs["truth_total"] = truthMs;
             return r;
         }
@@ -143,7 +145,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     builder.limitToView(camera, scene.displacement);
     TruthPair truths = builder.build(scene.displacement, scene.truth.uncertainty);
     double buildMs = msSince(t0);
-    RenderResult r = renderView(scene, camera, truths, scene.methods, textures, timing);
+    RenderResult r = renderView(scene, scene.view(), truths, scene.methods, textures, timing);
     r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
     r.timingsMs["build"] = r.truthBuild.buildMs;
     r.timingsMs["truth_total"] = buildMs;

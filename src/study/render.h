@@ -36,6 +36,7 @@ struct MethodFrame {
 };
 
 struct RenderResult {
+    ViewSpec view;  // the camera and (s, b) the frame was rendered with
     Camera camera;
     Image2D<TruthSample> truth;
     Image2D<Fragment> fragments;
@@ -48,14 +49,17 @@ struct RenderResult {
     int truthBlocks = 1;  // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
-// Rasterisation, methods and comparison against given truth frames.
-RenderResult renderWithTruth(const Scene& scene, const Camera& camera, TruthFrames&& truth,
-                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
-                             const TimingSpec& timing, bool keepImages = true);
+// Rasterisation, methods and comparison against given truth frames of `camera`, the camera
+// of `view`.
+RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
+                             TruthFrames&& truth, const std::vector<MethodConfig>& configs,
+                             MethodTextureCache& textures, const TimingSpec& timing,
+                             bool keepImages = true);
 
-// One view with given truth surfaces; methods use the scene's (s, b) unless they have their
-// own. `keepImages` = false drops per-pixel images once the statistics are taken.
-RenderResult renderView(const Scene& scene, const Camera& camera, const TruthPair& truths,
+// One view with given truth surfaces (built for the view's (s, b)); methods use the view's
+// (s, b) unless they have their own. `keepImages` = false drops per-pixel images once the
+// statistics are taken.
+RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, bool keepImages = true);
 

@@ -107,10 +107,9 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         TruthBuilder builder(s);
         TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
         MethodTextureCache textures(s.height, s.uvExtent);
-        Camera cam = makeCamera(s);
         // No method timing: the stress table reports counts and errors, not cost.
-        RenderResult r = renderView(s, cam, truths, s.methods, textures, {0, 0, 1}, false);
-        PrecisionCheck pc = truths.truth->checkPrecision(cam, s.height, opt.precisionSamples);
+        RenderResult r = renderView(s, s.view(), truths, s.methods, textures, {0, 0, 1}, false);
+        PrecisionCheck pc = truths.truth->checkPrecision(r.camera, s.height, opt.precisionSamples);
         for (const auto& m : r.methods) {
             const FrameStats& st = m.stats;
             csv += stressTable().line(StressRow{name, r, m, pc});

@@ -22,7 +22,7 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/process.h"
-#include "methods/registry.h"
+#include "methods/config.h"
 #include "study/csv_table.h"
 #include "study/outputs.h"
 
@@ -68,6 +68,7 @@ std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, 
     return out;
 }
 
+// A configuration's parameters as results.csv's `params` column shows them.
 Json methodParams(const MethodConfig& cfg) {
     Json j = toJson(cfg);
     j.erase("name");
@@ -151,27 +152,32 @@ const std::vector<std::string>& resultColumns() {
     return names;
 }
 
-Study parseStudy(const Scene& scene) {
-    const std::string& file = scene.file;
-    if (scene.sweep.is_null())
-        throw InputError(file, "sweep", "(missing)", "the scene has no \"sweep\" block");
-    if (scene.camera.type != "orthographic")
-        throw InputError(file, "camera.type", scene.camera.type,
-                         "studies sweep the view angle: they need an orthographic camera");
-    JsonFields f(scene.sweep, file, "sweep");
-    Study st;
-    std::vector<double> thetas =
+namespace {
+
+// The study's axes: the values of each of theta, phi, scale and bias (or b/s ratios).
+struct StudyAxes {
+    std::vector<double> thetas, phis, scales, biases;
+    bool ratios = false;  // `biases` are b / s
+};
+
+StudyAxes readAxes(JsonFields& f, const Scene& scene) {
+    StudyAxes a;
+    a.thetas =
         f.has("theta") ? valueList(f, "theta", 0, 90) : std::vector<double>{scene.camera.theta};
-    std::vector<double> phis =
-        f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{scene.camera.phi};
-    std::vector<double> scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
-                                                : std::vector<double>{scene.displacement.scale};
+    a.phis = f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{scene.camera.phi};
+    a.scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
+                              : std::vector<double>{scene.displacement.scale};
     if (f.has("bias") && f.has("bias_ratio"))
         f.fail("bias_ratio", "give either \"bias\" or \"bias_ratio\", not both");
-    bool ratios = f.has("bias_ratio");
-    std::vector<double> biases = ratios          ? valueList(f, "bias_ratio", -1e3, 1e3)
-                                 : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
-                                                 : std::vector<double>{scene.displacement.bias};
+    a.ratios = f.has("bias_ratio");
+    a.biases = a.ratios        ? valueList(f, "bias_ratio", -1e3, 1e3)
+               : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
+                               : std::vector<double>{scene.displacement.bias};
+    return a;
+}
+
+// Resolution, pixel samples and the timing settings of a study.
+void readFrameSettings(JsonFields& f, const Scene& scene, Study& st) {
     if (f.has("resolution")) {
         auto res = f.integers("resolution", 2, 1, 16384);
         st.width = res[0], st.height = res[1];
@@ -180,19 +186,23 @@ Study parseStudy(const Scene& scene) {
     }
     st.jitter = f.choice("samples", {"centre", "jittered"},
                          scene.camera.jitter ? "jittered" : "centre") == "jittered";
+    // 3 repeats over at most 4096 fragments: a median of a few ms per method and case.
     st.timing.repeats = 3;
     st.timing.maxFragments = 4096;
     if (f.has("timing")) {
-        JsonFields t(f.raw("timing"), file, "sweep.timing");
+        JsonFields t(f.raw("timing"), f.file(), "sweep.timing");
         st.timing.repeats = t.integer("repeats", 3, 0, 100);
         st.timing.maxFragments = t.integer("fragments", 4096, 0, 1 << 26);
         t.finish();
     }
+}
 
-    // Per-method parameter lists: "NAME.PARAM": [values] for every method whose name or
-    // label is NAME; the configurations are the product of a method's lists.
+// "NAME.PARAM": [values] for every method whose name or label is NAME: the lists in the
+// order written, by NAME. Returns the dotted keys (for JsonFields::finish).
+using ParameterLists = std::map<std::string, std::vector<std::pair<std::string, Json>>>;
+std::vector<std::string> readParameterLists(JsonFields& f, const Scene& scene,
+                                            ParameterLists& lists) {
     std::vector<std::string> dotted;
-    std::map<std::string, std::vector<std::pair<std::string, Json>>> lists;  // prefix -> lists
     for (auto it = scene.sweep.begin(); it != scene.sweep.end(); ++it) {
         auto dot = it.key().find('.');
         if (dot == std::string::npos) continue;
@@ -209,82 +219,114 @@ Study parseStudy(const Scene& scene) {
                                  "\" in \"methods\" (presets and GLSL methods are fixed)");
         lists[prefix].push_back({param, values});
     }
-    f.finish(dotted);
+    return dotted;
+}
 
-    Json expanded = Json::array();
-    for (size_t i = 0; i < scene.methods.size(); ++i) {
-        const MethodConfig& m = scene.methods[i];
-        // Presets and GLSL methods are fixed configurations: taken as the user wrote them.
-        if (m.glsl || !m.preset.empty()) {
-            expanded.push_back(scene.json["methods"][i]);
-            continue;
-        }
-        std::vector<Json> entries = {toJson(m)};
+// The configurations of a study: each built-in method times the product of its lists
+// (a varied configuration's label is generated from its parameters); presets and GLSL
+// methods as they are.
+std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
+                                        const ParameterLists& lists) {
+    std::vector<MethodConfig> out;
+    for (const MethodConfig& m : scene.methods) {
+        std::vector<MethodConfig> configs = {m};
         bool varied = false;
         for (const std::string& prefix : {m.name, m.label}) {
-            if (!lists.count(prefix) || (prefix == m.label && m.label == m.name && varied))
+            if (m.glsl || !m.preset.empty() || !lists.count(prefix) ||
+                (prefix == m.label && m.label == m.name && varied))
                 continue;
             for (const auto& [param, values] : lists.at(prefix)) {
-                if (double(entries.size()) * double(values.size()) > double(kMaxStudyConfigs))
+                if (double(configs.size()) * double(values.size()) > double(kMaxStudyConfigs))
                     f.fail(prefix + "." + param,
                            "the parameter lists of \"" + prefix + "\" make more than " +
                                std::to_string(kMaxStudyConfigs) + " configurations");
-                std::vector<Json> next;
-                for (const auto& e : entries)
-                    for (const auto& v : values) {
-                        Json j = e;
-                        j[param] = v;
-                        // Validate now, naming the sweep key: unknown parameters, ranges.
-                        parseMethod(j, file, "sweep." + prefix + "." + param);
-                        next.push_back(j);
+                std::vector<MethodConfig> next;
+                for (const MethodConfig& c : configs)
+                    for (const Json& v : values) {
+                        // Validated as the method entry would be, naming the sweep key.
+                        const Json entry = {{param, v}};
+                        JsonFields p(entry, f.file(), "sweep." + prefix);
+                        MethodConfig one = c;
+                        readMethodParameters(p, one);
+                        p.finish();
+                        next.push_back(std::move(one));
                     }
-                entries = next;
+                configs = std::move(next);
                 varied = true;
             }
         }
-        for (auto& e : entries) {
-            if (varied) e.erase("label");  // labels then carry the parameters
-            expanded.push_back(e);
+        for (MethodConfig& c : configs) {
+            if (varied) c.label.clear();  // labels then carry the parameters
+            out.push_back(std::move(c));
         }
     }
-    st.configs = parseMethods(expanded, file, "methods");
+    assignLabels(out, f.file(), "methods");
+    return out;
+}
 
+// The cases in order: grouped by (scale, bias), then theta, phi.
+std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
     // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
-    double caseCount =
-        double(scales.size()) * double(biases.size()) * double(thetas.size()) * double(phis.size());
+    double caseCount = double(a.scales.size()) * double(a.biases.size()) * double(a.thetas.size()) *
+                       double(a.phis.size());
     if (caseCount > double(kMaxStudyCases))
         throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
                          "a study has at most " + std::to_string(kMaxStudyCases) +
                              " cases (theta x phi x scale x bias); split it into several");
+    std::vector<StudyCase> cases;
     int index = 0;
-    for (double s : scales)
-        for (double bv : biases)
-            for (double th : thetas)
-                for (double ph : phis) {
+    for (double s : a.scales)
+        for (double bv : a.biases)
+            for (double th : a.thetas)
+                for (double ph : a.phis) {
                     StudyCase c;
                     c.index = index++;
                     c.theta = th, c.phi = ph, c.scale = s;
-                    c.bias = ratios ? bv * s : bv;
-                    c.biasRatio = ratios ? bv : (s != 0 ? c.bias / s : NAN);
-                    st.cases.push_back(c);
+                    c.bias = a.ratios ? bv * s : bv;
+                    c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
+                    cases.push_back(c);
                 }
+    return cases;
+}
 
-    checkViewMemory(scene, st.width, st.height, st.configs.size(), false, false,
-                    f.has("resolution") ? "sweep.resolution" : "camera.resolution");
+// What identifies a study: everything the user wrote that can change a number (not the
+// description, not the fit block) beside the resolved scene, which adds the content hashes
+// of its files.
+Json studyIdentity(const Scene& scene, const Study& st) {
     Json cfgs = Json::array();
     for (const auto& c : st.configs) cfgs.push_back(toJson(c));
-    // Everything the user wrote that can change a number (not the description, not the
-    // fit block) beside the resolved scene, which adds the content hashes of its files.
     Json given = scene.json;
     given.erase("description");
     given.erase("fit");
-    st.resolved = {{"scene", resolvedSceneJson(scene)},
-                   {"given", given},
-                   {"sweep", scene.sweep},
-                   {"configurations", cfgs},
-                   {"cases", st.cases.size()},
-                   {"resolution", {st.width, st.height}},
-                   {"samples", st.jitter ? "jittered" : "centre"}};
+    return {{"scene", resolvedSceneJson(scene)},
+            {"given", given},
+            {"sweep", scene.sweep},
+            {"configurations", cfgs},
+            {"cases", st.cases.size()},
+            {"resolution", {st.width, st.height}},
+            {"samples", st.jitter ? "jittered" : "centre"}};
+}
+
+}  // namespace
+
+Study parseStudy(const Scene& scene) {
+    const std::string& file = scene.file;
+    if (scene.sweep.is_null())
+        throw InputError(file, "sweep", "(missing)", "the scene has no \"sweep\" block");
+    if (scene.camera.type != "orthographic")
+        throw InputError(file, "camera.type", scene.camera.type,
+                         "studies sweep the view angle: they need an orthographic camera");
+    JsonFields f(scene.sweep, file, "sweep");
+    Study st;
+    StudyAxes axes = readAxes(f, scene);
+    readFrameSettings(f, scene, st);
+    ParameterLists lists;
+    f.finish(readParameterLists(f, scene, lists));
+    st.configs = expandConfigs(f, scene, lists);
+    st.cases = makeCases(axes, file);
+    checkViewMemory(scene, st.width, st.height, st.configs.size(), false, false,
+                    f.has("resolution") ? "sweep.resolution" : "camera.resolution");
+    st.resolved = studyIdentity(scene, st);
     return st;
 }
 
@@ -478,20 +520,20 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
                 textures.clear();
                 sum.stageMs["truth_build"] += msSince(tb);
             }
-            Scene view = scene;
+            ViewSpec view = scene.view();
             view.camera.theta = c->theta;
             view.camera.phi = c->phi;
             view.camera.width = study.width;
             view.camera.height = study.height;
             view.camera.jitter = study.jitter;
             view.displacement = {c->scale, c->bias};
-            RenderResult r = renderView(view, makeCamera(view), *truths, study.configs, textures,
-                                        study.timing, opt.images);
+            RenderResult r =
+                renderView(scene, view, *truths, study.configs, textures, study.timing, opt.images);
             for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
             if (opt.images) {
                 char dir[32];
                 std::snprintf(dir, sizeof dir, "case_%05d", c->index);
-                writeRenderOutputs(view, r, (fs::path(opt.outDir) / "images" / dir).string());
+                writeRenderOutputs(scene, r, (fs::path(opt.outDir) / "images" / dir).string());
             }
             appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
             ++sum.done;

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "methods/config.h"
 #include "methods/registry.h"
 #include "scene/scene.h"
 #include "study/render.h"

@@ -1,0 +1,231 @@
+// Method entries <-> MethodConfig (methods/config.h).
+#include "methods/config.h"
+
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "core/format.h"
+#include "core/json_read.h"
+#include "methods/glsl_spec.h"
+#include "methods/presets.h"
+#include "methods/registry.h"
+
+namespace pgt {
+
+namespace {
+
+// A method's own (s, b) in UV units: MODEL.md §3's displacement is at most a few UV units;
+// 1e3 bounds a typo without limiting any real setting.
+constexpr double kMaxOwnDisplacement = 1e3;
+
+// "uniforms": {name: number | [2..4 numbers] | "scale" | "bias"}.
+std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
+    std::vector<GlslSpec::Uniform> out;
+    const Json& u = f.raw("uniforms");
+    if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
+    for (const auto& [name, value] : u.items()) {
+        GlslSpec::Uniform un;
+        un.name = name;
+        if (value.is_string() && (value == "scale" || value == "bias")) {
+            un.bind = value.get<std::string>();
+        } else if (value.is_number()) {
+            un.values.push_back(value.get<double>());
+            un.isInt = value.is_number_integer();
+        } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
+            for (const auto& x : value) {
+                if (!x.is_number()) f.fail("uniforms." + name, "expected numbers");
+                un.values.push_back(x.get<double>());
+            }
+        } else {
+            f.fail("uniforms." + name,
+                   "expected a number, an array of 2 to 4 numbers, \"scale\" or \"bias\"");
+        }
+        for (double x : un.values)
+            if (!std::isfinite(x)) f.fail("uniforms." + name, "is not finite");
+        out.push_back(un);
+    }
+    return out;
+}
+
+// {"name": "mine", "glsl": FILE, "function": F, "sampler": S, "texture": "height"|"depth",
+//  "uniforms": {...}}: the file is read now, relative to the scene file's folder.
+MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
+    MethodConfig cfg;
+    cfg.kind = MethodKind::Glsl;
+    cfg.name = f.string("name", "");
+    checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
+    auto spec = std::make_shared<GlslSpec>();
+    std::string rel = f.string("glsl", "");
+    std::filesystem::path p(rel);
+    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+    spec->path = p.lexically_normal().string();
+    if (rel.empty()) f.fail("glsl", "cannot read the shader file " + spec->path);
+    // A shader is a few KB; 16 MiB bounds a stray file.
+    spec->source = readTextFile(spec->path, file, f.fieldPath("glsl"), "shader file", 16u << 20);
+    spec->function = f.string("function", "ParallaxMapping");
+    spec->sampler = f.string("sampler", "depthMap");
+    // 003's derived maps for shaders that read them (iterative, tangent_plane): the unit
+    // normal (RGB) and m_z * (s*h + b), built for the truth's (s, b).
+    spec->normalSampler = f.string("normal_sampler", "");
+    spec->parallaxSampler = f.string("parallax_sampler", "");
+    spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
+    if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
+    cfg.discardOutside = f.boolean("discard_outside", false);
+    cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.label = f.string("label", "");
+    if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
+    f.finish();
+    cfg.glsl = std::move(spec);
+    return cfg;
+}
+
+// {"preset": NAME, "label": optional}: the preset's configuration, labelled NAME.
+MethodConfig parsePreset(const Json& object, const std::string& file, const std::string& path) {
+    JsonFields f(object, file, path);
+    std::vector<std::string> names;
+    for (const auto& p : methodPresets()) names.push_back(p.name);
+    std::string name = f.choice("preset", names, "");
+    std::string label = f.string("label", name);
+    checkLabel(label, file, f.fieldPath("label"));
+    f.finish();
+    for (const auto& p : methodPresets())
+        if (p.name == name) return presetConfig(p, label, file, f.fieldPath("preset"));
+    PGT_CHECK(false);  // choice() accepted only these names
+    return {};
+}
+
+// The parameters of a generated label: the kind's own, then precision, discard and (s, b).
+std::string parameterSuffix(const MethodConfig& c) {
+    const MethodKindInfo* info = kindInfo(c.kind);
+    std::string s = info && info->labelParameters ? info->labelParameters(c) : "";
+    auto add = [&s](const char* part, const std::string& value = "") {
+        if (!s.empty()) s += '_';
+        s += part;
+        s += value;
+    };
+    if (c.doublePrecision) add("f64");
+    if (c.discardOutside) add("discard");
+    // Numbers as an ostream's default %g shows them.
+    if (std::isfinite(c.scale)) add("s", formatNumber(c.scale, 6));
+    if (std::isfinite(c.bias)) add("b", formatNumber(c.bias, 6));
+    return s;
+}
+
+}  // namespace
+
+void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
+    if (const MethodKindInfo* info = kindInfo(cfg.kind))
+        for (const IntParameter& p : info->parameters) {
+            if (!f.has(p.key)) continue;
+            cfg.*p.field = f.integer(p.key, p.lo, p.hi);
+            if (p.alsoField) cfg.*p.alsoField = cfg.*p.field;
+        }
+    cfg.discardOutside = f.boolean("discard_outside", cfg.discardOutside);
+    cfg.scale = f.number("scale", cfg.scale, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.bias = f.number("bias", cfg.bias, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.doublePrecision = f.choice("precision", {"float", "double"},
+                                   cfg.doublePrecision ? "double" : "float") == "double";
+}
+
+MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
+    Json object = entry.is_string() ? Json{{"name", entry}} : entry;
+    if (!object.is_object())
+        throw InputError(file, path, shortDump(entry), "expected a method name or object");
+    if (object.contains("preset")) return parsePreset(object, file, path);
+    JsonFields f(object, file, path);
+    if (object.contains("glsl")) return parseGlslMethod(f, file);
+    MethodConfig cfg;
+    cfg.name = f.choice("name", methodNames(), "");
+    for (const auto& k : methodKinds())
+        if (cfg.name == k.name) cfg.kind = k.kind;
+    readMethodParameters(f, cfg);
+    cfg.label = f.string("label", "");
+    if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
+    f.finish();
+    return cfg;
+}
+
+std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file,
+                                       const std::string& path) {
+    if (!list.is_array()) throw InputError(file, path, shortDump(list), "expected an array");
+    if (list.empty())
+        throw InputError(file, path, "[]",
+                         "the method list is empty; known methods: " + joinNames(methodNames()));
+    std::vector<MethodConfig> out;
+    for (size_t i = 0; i < list.size(); ++i)
+        out.push_back(parseMethod(list[i], file, path + "[" + std::to_string(i) + "]"));
+    assignLabels(out, file, path);
+    return out;
+}
+
+void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
+                  const std::string& path) {
+    std::map<std::string, int> nameCount;
+    for (const auto& m : configs) nameCount[m.name]++;
+    // Labels name CSV rows, EXR channels and PNG files: user labels are checked where they
+    // are written (checkLabel) and must be unique; generated ones are made unique with a
+    // counter that skips every label already taken.
+    std::set<std::string> taken;
+    for (size_t i = 0; i < configs.size(); ++i) {
+        if (configs[i].label.empty()) continue;
+        if (!taken.insert(configs[i].label).second)
+            throw InputError(file, path + "[" + std::to_string(i) + "].label", configs[i].label,
+                             "two methods have this label; labels name the rows and files of "
+                             "each method and must differ");
+    }
+    for (auto& m : configs) {
+        if (!m.label.empty()) continue;
+        std::string label = m.name;
+        std::string suffix = parameterSuffix(m);
+        if (nameCount[m.name] > 1 && !suffix.empty()) label += "_" + suffix;
+        std::string unique = label;
+        for (int k = 2; taken.count(unique); ++k) unique = label + "_" + std::to_string(k);
+        m.label = unique;
+        taken.insert(unique);
+    }
+}
+
+void checkLabel(const std::string& label, const std::string& file, const std::string& field) {
+    bool ok = !label.empty() && label.size() <= kMaxLabelLength;
+    for (char c : label)
+        ok =
+            ok && (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '+');
+    if (!ok)
+        throw InputError(file, field, label,
+                         "a label is 1 to " + std::to_string(kMaxLabelLength) +
+                             " characters of A-Z a-z 0-9 _ - + (it names CSV rows, EXR channels "
+                             "and files)");
+}
+
+Json toJson(const MethodConfig& c) {
+    Json j = {{"name", c.name}, {"label", c.label}};
+    if (!c.preset.empty()) j["preset"] = c.preset;
+    if (c.glsl) {
+        j["glsl"] = c.glsl->path;
+        j["function"] = c.glsl->function;
+        j["sampler"] = c.glsl->sampler;
+        j["texture"] = c.glsl->depthTexture ? "depth" : "height";
+        Json u = Json::object();
+        for (const auto& un : c.glsl->uniforms)
+            u[un.name] = !un.bind.empty()        ? Json(un.bind)
+                         : un.values.size() == 1 ? Json(un.values[0])
+                                                 : Json(un.values);
+        j["uniforms"] = u;
+        // The shader's text is part of the identity: an edited file is another method.
+        j["source_sha1"] = textSha1(c.glsl->source);
+    }
+    if (const MethodKindInfo* info = kindInfo(c.kind))
+        for (const IntParameter& p : info->parameters)
+            if (p.written) j[p.key] = c.*p.field;
+    j["discard_outside"] = c.discardOutside;
+    if (std::isfinite(c.scale)) j["scale"] = c.scale;
+    if (std::isfinite(c.bias)) j["bias"] = c.bias;
+    j["precision"] = c.doublePrecision ? "double" : "float";
+    return j;
+}
+
+}  // namespace pgt

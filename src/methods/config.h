@@ -1,0 +1,37 @@
+// Method configurations and JSON: the scene's "methods" list parsed into MethodConfig values
+// (built-in kinds through the table of methods/registry.h, GLSL methods, presets), the
+// labels that name their rows and files, and a configuration written back as JSON (for
+// summary.json, results.csv's params and a study's identity).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/json_fields.h"
+#include "methods/method.h"
+
+namespace pgt {
+
+// Parses a "methods" array: each entry a name or an object {"name": ..., parameters}.
+// Labels are unique: a method listed twice gets its parameters in the label ("pom_32").
+std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::string& file,
+                                       const std::string& path);
+MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
+                         const std::string& path);
+// Reads the parameters of `cfg`'s kind that `f` holds (its integer parameters, scale, bias,
+// discard_outside, precision) over cfg's current values. The caller calls f.finish(), which
+// rejects every other key. A study varies a configuration through this.
+void readMethodParameters(JsonFields& f, MethodConfig& cfg);
+// Gives every configuration without a label one (unique, with its parameters when its
+// name is listed twice) and checks that the labels are unique; `path` names the list.
+void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
+                  const std::string& path);
+nlohmann::json toJson(const MethodConfig& cfg);
+
+// A label a user writes (or a GLSL method's name): 1..kMaxLabelLength characters of
+// A-Z a-z 0-9 _ - +, since it names CSV rows, EXR channels and files. Throws InputError.
+constexpr size_t kMaxLabelLength = 64;
+void checkLabel(const std::string& label, const std::string& file, const std::string& field);
+
+}  // namespace pgt

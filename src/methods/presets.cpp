@@ -1,0 +1,117 @@
+// The presets (methods/presets.h): each with the document or engine setting it stands for.
+#include "methods/presets.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/json_read.h"
+#include "methods/registry.h"
+
+namespace pgt {
+
+namespace {
+
+// A single-fetch built-in (parallax, offset_limited) with its own (s, b).
+MethodConfig singleFetch(MethodKind kind, double scale, double bias) {
+    MethodConfig c;
+    c.kind = kind;
+    c.name = toString(kind);
+    c.scale = scale, c.bias = bias;
+    return c;
+}
+
+// Steep or pom with a layer range, a step cap (0 = none) and its own (s, b).
+MethodConfig layered(MethodKind kind, int minLayers, int maxLayers, int maxSteps, double scale,
+                     double bias) {
+    MethodConfig c = singleFetch(kind, scale, bias);
+    c.minLayers = minLayers, c.maxLayers = maxLayers, c.maxSteps = maxSteps;
+    return c;
+}
+
+MethodPreset builtinPreset(const char* name, const char* source, MethodConfig config) {
+    return {name, source, std::move(config), {}, ""};
+}
+
+GlslSpec::Uniform uniform(const char* name, double value, bool isInt = false) {
+    return {name, {value}, isInt, ""};
+}
+
+// A GLSL preset: the shader file under shaderDir(), its function, sampler and uniforms.
+MethodPreset glslPreset(const char* name, const char* source, const char* file,
+                        const char* function, const char* sampler, bool depthTexture,
+                        std::vector<GlslSpec::Uniform> uniforms) {
+    MethodPreset p{name, source, {}, {}, file};
+    p.config.kind = MethodKind::Glsl;
+    p.glsl.function = function;
+    p.glsl.sampler = sampler;
+    p.glsl.depthTexture = depthTexture;
+    p.glsl.uniforms = std::move(uniforms);
+    return p;
+}
+
+}  // namespace
+
+const std::vector<MethodPreset>& methodPresets() {
+    // LearnOpenGL's height_scale 0.1 on a depth map d = 1 - h is s = 0.1, b = -0.1 (MODEL.md
+    // §3); 004's height scale 0.15 likewise.
+    using K = MethodKind;
+    static const std::vector<MethodPreset> presets = {
+        builtinPreset("welsh", "000 (Welsh 2004): parallax mapping at its own s 0.04, b -0.02",
+                      singleFetch(K::Parallax, 0.04, -0.02)),
+        builtinPreset("learnopengl_parallax",
+                      "002 (LearnOpenGL): ParallaxMapping, height_scale 0.1 on a depth map",
+                      singleFetch(K::Parallax, 0.1, -0.1)),
+        builtinPreset("learnopengl_steep",
+                      "002 (LearnOpenGL): steep parallax, 8-32 layers, height_scale 0.1",
+                      layered(K::Steep, 8, 32, 0, 0.1, -0.1)),
+        builtinPreset("learnopengl_pom",
+                      "002 (LearnOpenGL): parallax occlusion, 8-32 layers, height_scale 0.1",
+                      layered(K::Pom, 8, 32, 0, 0.1, -0.1)),
+        builtinPreset("deferred_blog",
+                      "004 (the deferred-renderer blog): numSteps 100 at height scale 0.15",
+                      layered(K::Steep, 100, 100, 100, 0.15, -0.15)),
+        glslPreset("godot",
+                   "Godot 4 BaseMaterial3D, height mapping on, deep parallax off: "
+                   "heightmap_scale 5",
+                   "presets/godot.glsl", "GodotParallax", "heightMap", false,
+                   {uniform("heightmap_scale", 5.0)}),
+        glslPreset("godot_deep",
+                   "Godot 4 BaseMaterial3D deep parallax: heightmap_scale 5, 8-32 layers",
+                   "presets/godot.glsl", "GodotDeepParallax", "heightMap", false,
+                   {uniform("heightmap_max_layers", 32.0), uniform("heightmap_min_layers", 8.0),
+                    uniform("heightmap_scale", 5.0)}),
+        glslPreset("bevy_occlusion",
+                   "Bevy StandardMaterial: depth scale 0.1, 16 layers, Occlusion (default)",
+                   "presets/bevy.glsl", "BevyOcclusion", "depthMap", true,
+                   {uniform("depth_scale", 0.1), uniform("max_layer_count", 16.0)}),
+        glslPreset("bevy_relief",
+                   "Bevy StandardMaterial: depth scale 0.1, 16 layers, Relief with 5 steps",
+                   "presets/bevy.glsl", "BevyRelief", "depthMap", true,
+                   {uniform("depth_scale", 0.1), uniform("max_layer_count", 16.0),
+                    uniform("max_steps", 5, true)}),
+    };
+    return presets;
+}
+
+MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
+                          const std::string& file, const std::string& field) {
+    MethodConfig cfg = preset.config;
+    cfg.label = label;
+    cfg.preset = preset.name;
+    if (cfg.kind == MethodKind::Glsl) {
+        cfg.name = preset.name;
+        auto spec = std::make_shared<GlslSpec>(preset.glsl);
+        spec->path = (std::filesystem::path(shaderDir()) / preset.shaderFile).lexically_normal();
+        // A shader is a few KB; 16 MiB bounds a stray file.
+        spec->source = readTextFile(spec->path, file, field, "shader file", 16u << 20);
+        cfg.glsl = std::move(spec);
+    }
+    return cfg;
+}
+
+std::string shaderDir() {
+    const char* env = std::getenv("PGT_SHADER_DIR");
+    return env ? env : PGT_SHADER_DIR;
+}
+
+}  // namespace pgt

@@ -1,0 +1,31 @@
+// Named configurations: engine defaults and the source documents' own settings, used as
+// {"preset": NAME} in a method list (README "Engine presets" gives each one's source).
+// Built-in presets are MethodConfig values; GLSL presets are our re-implementations of the
+// engines' shader code paths, in src/shaders/presets/, read when a scene names them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "methods/glsl_spec.h"
+#include "methods/method.h"
+
+namespace pgt {
+
+struct MethodPreset {
+    std::string name, source;
+    MethodConfig config;     // a built-in's configuration (kind != Glsl), or the GLSL method's
+    GlslSpec glsl;           // GLSL presets: everything but the source text
+    std::string shaderFile;  // GLSL presets: the file under shaderDir(); "" for built-ins
+};
+const std::vector<MethodPreset>& methodPresets();
+
+// The configuration a preset stands for, labelled `label`; a GLSL preset's shader is read
+// now (an error names `file` and `field`).
+MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
+                          const std::string& file, const std::string& field);
+
+// Where the shipped GLSL files are (src/shaders; PGT_SHADER_DIR in the environment wins).
+std::string shaderDir();
+
+}  // namespace pgt
