@@ -156,5 +156,59 @@ TEST(Methods, LabelsAreUniqueAndCarryParameters) {
     EXPECT_EQ(list[3].label, "steep_8_32_2");
 }
 
+// The kind table (methods/registry.h) is what parse, labels, JSON and the fit read: each row
+// sits at its enum value, and a configuration with every parameter moved off its default
+// survives toJson -> parseMethod unchanged.
+TEST(Registry, EveryKindRoundTripsThroughItsJson) {
+    ASSERT_EQ(methodKinds().size(), methodNames().size());
+    EXPECT_EQ(kindInfo(MethodKind::Glsl), nullptr);
+    for (const MethodKindInfo& k : methodKinds()) {
+        ASSERT_EQ(kindInfo(k.kind), &k) << k.name;
+        MethodConfig cfg = parseMethod(nlohmann::json(k.name), "s", "m");
+        EXPECT_EQ(cfg.kind, k.kind);
+        int value = 2;
+        for (const IntParameter& p : k.parameters)
+            if (p.written) cfg.*p.field = std::min(p.hi, p.lo + value++);
+        cfg.scale = 0.07, cfg.bias = -0.01, cfg.doublePrecision = true;
+        cfg.label = std::string(1, 'x');  // (a literal here trips GCC 12's -Wrestrict)
+        nlohmann::json j = toJson(cfg);
+        EXPECT_EQ(toJson(parseMethod(j, "s", "m")), j) << k.name;
+    }
+}
+
+// A fit's step count sets every field its key sets: a fixed layer count is min = max.
+TEST(Registry, StepCountSetsTheFitsParameter) {
+    MethodConfig pom = parseMethod(nlohmann::json("pom"), "s", "m");
+    ASSERT_TRUE(setStepCount(pom, 48));
+    EXPECT_EQ(pom.minLayers, 48);
+    EXPECT_EQ(pom.maxLayers, 48);
+    MethodConfig relief = parseMethod(nlohmann::json("relief"), "s", "m");
+    ASSERT_TRUE(setStepCount(relief, 7));
+    EXPECT_EQ(relief.linearSteps, 7);
+    MethodConfig parallax = parseMethod(nlohmann::json("parallax"), "s", "m");
+    EXPECT_FALSE(setStepCount(parallax, 7));
+}
+
+// The built-in presets are the documents' settings (README "Engine presets"), written out.
+TEST(Presets, BuiltInPresetsAreTheDocumentsSettings) {
+    auto same = [](const char* preset, const char* entry) {
+        MethodConfig p = parseMethod(nlohmann::json::parse(preset), "s", "m");
+        MethodConfig e = parseMethod(nlohmann::json::parse(entry), "s", "m");
+        nlohmann::json pj = toJson(p), ej = toJson(e);
+        EXPECT_EQ(pj["preset"], nlohmann::json::parse(preset)["preset"]);
+        pj.erase("preset"), pj.erase("label"), ej.erase("label");
+        EXPECT_EQ(pj, ej) << preset;
+    };
+    same(R"({"preset": "welsh"})", R"({"name": "parallax", "scale": 0.04, "bias": -0.02})");
+    same(R"({"preset": "learnopengl_parallax"})",
+         R"({"name": "parallax", "scale": 0.1, "bias": -0.1})");
+    same(R"({"preset": "learnopengl_steep"})",
+         R"({"name": "steep", "min_layers": 8, "max_layers": 32, "scale": 0.1, "bias": -0.1})");
+    same(R"({"preset": "learnopengl_pom"})",
+         R"({"name": "pom", "min_layers": 8, "max_layers": 32, "scale": 0.1, "bias": -0.1})");
+    same(R"({"preset": "deferred_blog"})",
+         R"({"name": "steep", "layers": 100, "max_steps": 100, "scale": 0.15, "bias": -0.15})");
+}
+
 }  // namespace
 }  // namespace pgt

@@ -6,6 +6,7 @@
 #include "compare/statistics.h"
 #include "scene/scene.h"
 #include "test_util.h"
+#include "truth/builder.h"
 #include "truth/truth.h"
 
 namespace pgt {
@@ -156,6 +157,30 @@ TEST(TruthPerf, ViewWindowTracesLikeTheWholePlane) {
     FrameDiff d = diff(a.traceFrame(cam), b.traceFrame(cam), 64);
     EXPECT_EQ(d.hitMismatch, 0);
     EXPECT_LT(d.maxTexels, 1e-4);  // the float rays start at different points
+}
+
+// One lattice size formula: the memory estimate and the block planner (truthVertices) count
+// exactly the vertices the tessellation builds, whole or windowed, at the rate and 2x.
+TEST(TruthPerf, VertexCountsAgreeWithTheTessellation) {
+    Scene s;
+    s.height = wavyMap(48);
+    s.plane.tiling = 1.3;  // not whole texels per tile: ceil matters
+    s.plane.infinite = true;
+    s.truth.rate = 3;
+    s.truth.uncertainty = true;
+    auto count = [&](const TruthWindow& w) {
+        return double(tessellatePlane(s.height, s.plane, 3, w)->vertexCount() +
+                      tessellatePlane(s.height, s.plane, 6, w)->vertexCount());
+    };
+    EXPECT_EQ(truthVertices(s, TruthWindow{}), count(TruthWindow{}));
+    TruthWindow w;
+    w.limited = true;
+    w.uvMin = Vec2d(-0.213, 0.4017);  // an infinite plane's window may leave the tile
+    w.uvMax = Vec2d(0.377, 1.52);
+    EXPECT_EQ(truthVertices(s, w), count(w));
+    s.truth.uncertainty = false;
+    EXPECT_EQ(truthVertices(s, TruthWindow{}),
+              double(tessellatePlane(s.height, s.plane, 3)->vertexCount()));
 }
 
 }  // namespace

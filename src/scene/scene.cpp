@@ -207,9 +207,8 @@ void parseTruth(Scene& s, JsonFields& root) {
     }
     if (!s.isMesh) {
         // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
-        double r = s.truth.rate * (s.truth.uncertainty ? 2.0 : 1.0);
-        double verts = (std::ceil(r * s.height.width * s.plane.tiling) + 1) *
-                       (std::ceil(r * s.height.height * s.plane.tiling) + 1);
+        double verts = PlaneLattice(s.plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1))
+                           .vertices();
         if (verts > double(1u << 31))
             throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
                              "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +

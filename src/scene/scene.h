@@ -2,6 +2,8 @@
 // displacement (MODEL.md §3), camera (§4), methods (§6b) and truth settings (§5).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -34,6 +36,36 @@ struct PlaneBase {
     Vec3d center{0, 0, 0};  // plane centre; the plane lies in z = center.z
     bool infinite = false;  // the tile repeats forever in x and y (repeat, integer tiling)
     double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
+};
+
+// The truth's vertex lattice over a plane at `rate` samples per texel per axis (MODEL.md §5):
+// ceil(rate x map size x tiling) segments per axis across the tile. The scene's size limit,
+// the memory estimate, the block planner and the tessellation all count with this one
+// formula. Counts are doubles: a lattice too large for an int is refused, not wrapped.
+struct PlaneLattice {
+    double nu = 1, nv = 1;  // segments across the whole tile
+    double tiling = 1;
+    PlaneLattice(const PlaneBase& plane, const Texture& height, int rate)
+        : nu(segments(rate, height.width, plane.tiling)),
+          nv(segments(rate, height.height, plane.tiling)),
+          tiling(plane.tiling) {}
+    double vertices() const { return (nu + 1) * (nv + 1); }
+    // The whole cells covering UV [lo, hi] on one axis (segments `n` across the tile): the
+    // first cell's index and the count (a window's lattice is the tile's, cut).
+    struct Span {
+        double first = 0, count = 1;
+    };
+    Span span(double lo, double hi, double n) const {
+        const double perUv = n / tiling, first = std::floor(lo * perUv);
+        return {first, std::max(1.0, std::ceil(hi * perUv) - first)};
+    }
+    double vertices(Vec2d lo, Vec2d hi) const {
+        return (span(lo.x, hi.x, nu).count + 1) * (span(lo.y, hi.y, nv).count + 1);
+    }
+    // 1e-9 absorbs the rounding of rate x size x tiling (a tiling of 0.3 on 10 texels).
+    static double segments(int rate, int texels, double tiling) {
+        return std::max(1.0, std::ceil(double(rate) * texels * tiling - 1e-9));
+    }
 };
 
 // A curved base: a control mesh refined by OpenSubdiv.

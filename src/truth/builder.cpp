@@ -79,11 +79,8 @@ double truthVertices(const Scene& scene, const TruthWindow& w) {
     double sum = 0;
     for (int r : {scene.truth.rate, scene.truth.uncertainty ? 2 * scene.truth.rate : 0}) {
         if (r == 0) continue;
-        double u =
-            r * scene.height.width * (w.limited ? w.uvMax.x - w.uvMin.x : scene.plane.tiling);
-        double v =
-            r * scene.height.height * (w.limited ? w.uvMax.y - w.uvMin.y : scene.plane.tiling);
-        sum += (u + 2) * (v + 2);
+        PlaneLattice lattice(scene.plane, scene.height, r);
+        sum += w.limited ? lattice.vertices(w.uvMin, w.uvMax) : lattice.vertices();
     }
     return sum;
 }

@@ -86,14 +86,11 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     PGT_CHECK(factory.InitFaceVaryingSurface(0, &uvSurface));
 
     // `rate` samples per texel per axis over the texels the plane covers.
-    double nu = std::ceil(rate * height.width * tiling - 1e-9);
-    double nv = std::ceil(rate * height.height * tiling - 1e-9);
+    const PlaneLattice lattice(plane, height, rate);
     // The scene parser bounds the vertex count; this keeps the int conversion defined.
-    PGT_CHECK_LT((nu + 1) * (nv + 1), double(int64_t(1) << 31));
-    m.nu = std::max(1, int(nu));
-    m.nv = std::max(1, int(nv));
-    m.fullNu = m.nu;
-    m.fullNv = m.nv;
+    PGT_CHECK_LT(lattice.vertices(), double(int64_t(1) << 31));
+    m.nu = m.fullNu = int(lattice.nu);
+    m.nv = m.fullNv = int(lattice.nv);
     m.invNu = 1.0 / m.nu;
     m.invNv = 1.0 / m.nv;
     int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
@@ -133,11 +130,10 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     if (window.limited) {
         // The lattice vertices covering the window (whole cells of the tile's lattice, so
         // the window's sheet is the very same surface as the tile's).
-        const double perUvU = m.fullNu / tiling, perUvV = m.fullNv / tiling;
-        m.offsetI = int(std::floor(window.uvMin.x * perUvU));
-        m.offsetJ = int(std::floor(window.uvMin.y * perUvV));
-        m.nu = std::max(1, int(std::ceil(window.uvMax.x * perUvU)) - m.offsetI);
-        m.nv = std::max(1, int(std::ceil(window.uvMax.y * perUvV)) - m.offsetJ);
+        const PlaneLattice::Span su = lattice.span(window.uvMin.x, window.uvMax.x, lattice.nu);
+        const PlaneLattice::Span sv = lattice.span(window.uvMin.y, window.uvMax.y, lattice.nv);
+        m.offsetI = int(su.first), m.nu = int(su.count);
+        m.offsetJ = int(sv.first), m.nv = int(sv.count);
     }
     m.tessellateMs = msSince(t0);
     return out;
