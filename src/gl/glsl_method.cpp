@@ -1,304 +1,24 @@
-// Headless OpenGL through EGL (surfaceless Mesa platform, or an EGL device), the GLSL
-// wrapper around a user's parallax function, and the run over a fragment list.
+// A GLSL method's run over a fragment list: the inputs uploaded as textures, the maps bound,
+// the draw (timed when asked) and the outputs read back.
 #include "gl/glsl_method.h"
 
-#define EGL_EGLEXT_PROTOTYPES
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
-#define GL_GLEXT_PROTOTYPES
-#include <GL/glcorearb.h>
-
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cstring>
-#include <exception>
 #include <map>
-#include <mutex>
-#include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "gl/gl_api.h"
+#include "gl/program.h"
 
 namespace pgt {
 
+using namespace gl;
+
 namespace {
 
-std::mutex gMutex;
-std::string gDevice;
-bool gTried = false;
-std::exception_ptr gFailurePtr;  // why the context could not be made (rethrown each use)
-GlInfo gInfo;
-EGLDisplay gDisplay = EGL_NO_DISPLAY;
-EGLContext gContext = EGL_NO_CONTEXT;
-
-std::string eglErrorString() {
-    std::ostringstream os;
-    os << "EGL error 0x" << std::hex << eglGetError();
-    return os.str();
-}
-
-// "egl-device:N" -> N; a malformed value is bad input naming the option.
-int deviceIndex(const std::string& device) {
-    const std::string prefix = "egl-device:";
-    const std::string digits = device.rfind(prefix, 0) == 0 ? device.substr(prefix.size()) : "";
-    if (digits.empty() || digits.size() > 3 ||
-        digits.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError("command line", "--gl-device", device,
-                         "expected egl-device:N (N from 0), or no option for EGL surfaceless");
-    return std::stoi(digits);
-}
-
-EGLDisplay openDisplay(const std::string& device) {
-    if (device.empty())
-        return eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    const int index = deviceIndex(device);
-    auto query =
-        reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-    if (!query)
-        throw std::runtime_error("EGL has no eglQueryDevicesEXT (EGL_EXT_device_enumeration)");
-    EGLDeviceEXT devices[16];
-    EGLint n = 0;
-    if (!query(16, devices, &n) || index < 0 || index >= n)
-        throw InputError("command line", "--gl-device", device,
-                         "EGL lists " + std::to_string(n) + " device(s) on this machine");
-    return eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[index], nullptr);
-}
-
-void createContext() {
-    gTried = true;
-    EGLDisplay dpy = openDisplay(gDevice);
-    if (dpy == EGL_NO_DISPLAY) throw std::runtime_error("no EGL display: " + eglErrorString());
-    EGLint major = 0, minor = 0;
-    if (!eglInitialize(dpy, &major, &minor))
-        throw std::runtime_error("eglInitialize failed: " + eglErrorString() +
-                                 " (is Mesa's EGL installed? libegl-mesa0, libgl1-mesa-dri)");
-    if (!eglBindAPI(EGL_OPENGL_API)) throw std::runtime_error("eglBindAPI(OpenGL) failed");
-    const EGLint configAttribs[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
-                                    EGL_OPENGL_BIT, EGL_NONE};
-    EGLConfig config;
-    EGLint count = 0;
-    if (!eglChooseConfig(dpy, configAttribs, &config, 1, &count) || count < 1)
-        throw std::runtime_error("no EGL config for desktop OpenGL: " + eglErrorString());
-    const EGLint ctxAttribs[] = {EGL_CONTEXT_MAJOR_VERSION,
-                                 4,
-                                 EGL_CONTEXT_MINOR_VERSION,
-                                 5,
-                                 EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                 EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
-                                 EGL_NONE};
-    EGLContext ctx = eglCreateContext(dpy, config, EGL_NO_CONTEXT, ctxAttribs);
-    if (ctx == EGL_NO_CONTEXT)
-        throw std::runtime_error("cannot create an OpenGL 4.5 core context: " + eglErrorString());
-    if (!eglMakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx))
-        throw std::runtime_error("eglMakeCurrent without a surface failed: " + eglErrorString());
-    gDisplay = dpy;
-    gContext = ctx;
-    auto str = [](GLenum e) {
-        const GLubyte* s = glGetString(e);
-        return s ? std::string(reinterpret_cast<const char*>(s)) : std::string("?");
-    };
-    gInfo.renderer = str(GL_RENDERER);
-    gInfo.version = str(GL_VERSION);
-    gInfo.vendor = str(GL_VENDOR);
-    for (const char* sw : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
-        if (gInfo.renderer.find(sw) != std::string::npos) gInfo.software = true;
-}
-
-// Makes the context current on this thread (the caller holds gMutex).
-void ensureContext() {
-    if (!gTried) {
-        try {
-            createContext();
-        } catch (const InputError&) {
-            gFailurePtr = std::current_exception();
-        } catch (const std::exception& e) {
-            gFailurePtr = std::make_exception_ptr(
-                std::runtime_error(std::string("OpenGL unavailable: ") + e.what()));
-        }
-    }
-    if (gFailurePtr) std::rethrow_exception(gFailurePtr);
-    if (eglGetCurrentContext() != gContext)
-        eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, gContext);
-}
-
-// The wrapper: a prelude that counts texture() calls, the user's file (its #version line
-// blanked, so its lines keep their numbers), and a main() that feeds the function one
-// fragment per output pixel.
-constexpr const char* kPrelude = R"(#version 450 core
-int pgt_fetches = 0;
-vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
-vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s, p, b); }
-vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
-vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
-    pgt_fetches++; return textureGrad(s, p, dx, dy); }
-#define texture pgt_texture
-#define textureLod pgt_textureLod
-#define textureGrad pgt_textureGrad
-)";
-
-constexpr const char* kMain = R"(
-uniform sampler2D pgt_uv0;   // RG32F: uv0 of fragment k at texel (k % w, k / w)
-uniform sampler2D pgt_view;  // RGBA32F: tangent-space V
-uniform int pgt_count;
-uniform int pgt_width;
-layout(location = 0) out vec2 pgt_out_uv;
-layout(location = 1) out float pgt_out_fetches;
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    if (p.y * pgt_width + p.x >= pgt_count) discard;
-    vec2 uv0 = texelFetch(pgt_uv0, p, 0).xy;
-    vec3 v = texelFetch(pgt_view, p, 0).xyz;
-    pgt_fetches = 0;
-    pgt_out_uv = PGT_FUNCTION(uv0, v);
-    pgt_out_fetches = float(pgt_fetches);
-}
-)";
-
-constexpr const char* kVertex = R"(#version 450 core
-void main() {  // one triangle covering the viewport
-    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
-
-std::string stripVersion(const std::string& src) {
-    std::istringstream in(src);
-    std::ostringstream out;
-    std::string line;
-    while (std::getline(in, line)) {
-        size_t first = line.find_first_not_of(" \t");
-        if (first != std::string::npos && line.compare(first, 8, "#version") == 0) line.clear();
-        out << line << "\n";
-    }
-    return out.str();
-}
-
-// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with L a line of the
-// whole fragment shader: lines (first, first + count] are the user's file (Mesa does not
-// keep #line's source numbers on every message, so lines are mapped by position).
-std::string translateLog(const std::string& log, const std::string& file, int first, int count) {
-    std::istringstream in(log);
-    std::ostringstream out;
-    std::string line;
-    auto digitsAt = [](const std::string& t, size_t& i) {
-        size_t start = i;
-        while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
-        return t.substr(start, i - start);
-    };
-    while (std::getline(in, line)) {
-        size_t i = 0;
-        std::string src = digitsAt(line, i), ln, col;
-        (void)src;
-        bool ok = !src.empty() && i < line.size();
-        if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
-            ++i;
-            ln = digitsAt(line, i);
-            ok = !ln.empty() && i < line.size() && line[i] == '(';
-            if (ok) {
-                ++i;
-                col = digitsAt(line, i);
-                ok = i + 2 < line.size() && line.compare(i, 3, "): ") == 0;
-                i += 3;
-            }
-        } else if (ok && line[i] == '(') {  // S(L) : rest
-            ++i;
-            ln = digitsAt(line, i);
-            ok = !ln.empty() && line.compare(i, 1, ")") == 0;
-            ++i;
-            while (ok && i < line.size() && (line[i] == ' ' || line[i] == ':')) ++i;
-        } else {
-            ok = false;
-        }
-        if (!ok) {
-            if (!line.empty()) out << line << "\n";
-            continue;
-        }
-        int n = std::stoi(ln);
-        std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
-        if (n > first && n <= first + count) n -= first;
-        out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
-            << "\n";
-    }
-    return out.str();
-}
-
-bool isIdentifier(const std::string& s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-    for (char c : s)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
-    return true;
-}
-
-int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
-
-// A shader's or program's info log (glGet{Shader,Program}iv + ...InfoLog).
-template <class GetIv, class GetLog>
-std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
-    GLint len = 0;
-    getIv(object, GL_INFO_LOG_LENGTH, &len);
-    std::string log(size_t(std::max(len, 1)), '\0');
-    getLog(object, len, nullptr, log.data());
-    return log.c_str();  // up to the terminating NUL
-}
-
-// `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
-GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
-               int userCount = 1 << 30) {
-    GLuint s = glCreateShader(type);
-    const char* p = src.c_str();
-    glShaderSource(s, 1, &p, nullptr);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
-        glDeleteShader(s);
-        throw InputError(
-            file, "glsl", "",
-            "the shader does not compile:\n" + translateLog(log, file, userFirst, userCount));
-    }
-    return s;
-}
-
-struct Program {
-    GLuint id = 0;
-};
-
-// Programs by (file, source, function): compiled once per process.
-std::map<std::string, Program> gPrograms;
 GLuint gVao = 0;
-
-GLuint programFor(const GlslSpec& spec) {
-    std::string key = spec.path + "\n" + spec.function + "\n" + spec.source;
-    auto it = gPrograms.find(key);
-    if (it != gPrograms.end()) return it->second.id;
-    if (!isIdentifier(spec.function))
-        throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
-    const std::string user = stripVersion(spec.source);
-    const int first = countLines(kPrelude), count = countLines(user);
-    std::string fs =
-        std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
-    GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
-    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
-    GLuint prog = glCreateProgram();
-    glAttachShader(prog, vs);
-    glAttachShader(prog, f);
-    glLinkProgram(prog);
-    glDeleteShader(vs);
-    glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        std::string log = infoLog(prog, glGetProgramiv, glGetProgramInfoLog);
-        glDeleteProgram(prog);
-        throw InputError(
-            spec.path, "glsl", "",
-            "the shader does not link:\n" + translateLog(log, spec.path, first, count));
-    }
-    gPrograms[key] = {prog};
-    return prog;
-}
 
 GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* data, GLenum filter,
                    GLenum wrap) {
@@ -318,29 +38,6 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
 // content (keyed by a hash of the texels, never by address), bilinear, the map's address mode
 // (MODEL.md §1: texel centres at (i + 0.5) / W, as GL samples).
 std::map<std::tuple<uint64_t, int, int, int, bool, int>, GLuint> gMaps;
-
-void checkGl(const std::string& what) {
-    GLenum e = glGetError();
-    if (e != GL_NO_ERROR) {
-        std::ostringstream os;
-        os << "OpenGL error 0x" << std::hex << e << " in " << what;
-        throw std::runtime_error(os.str());
-    }
-}
-
-// GL_MAX_TEXTURE_SIZE of the current context (texels per side).
-int maxTextureSide() {
-    GLint side = 0;
-    glGetIntegerv(GL_MAX_TEXTURE_SIZE, &side);
-    return int(side);
-}
-
-// Any GL error left by an earlier call is reported there; start each step clean so that a
-// later check blames only its own calls.
-void drainGlErrors() {
-    for (int k = 0; k < 16 && glGetError() != GL_NO_ERROR; ++k) {
-    }
-}
 
 GLuint mapTexture(const Texture& t, bool depth) {
     uint64_t hash = 1469598103934665603ull;  // FNV-1a over the texel bits
@@ -378,7 +75,7 @@ void checkMapFits(const GlslSpec& spec, const std::string& field, const std::str
                              std::to_string(t->height) +
                              " texels, more than this GL's "
                              "GL_MAX_TEXTURE_SIZE " +
-                             std::to_string(maxSide) + " (" + gInfo.renderer +
+                             std::to_string(maxSide) + " (" + contextInfo().renderer +
                              "); use a smaller height map or no GLSL method");
 }
 
@@ -397,25 +94,6 @@ void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
     glUniform1i(loc, unit);
     checkGl("uploading the map of " + field + " " + name);
 }
-
-}  // namespace
-
-void setGlDevice(const std::string& device) {
-    if (!device.empty()) deviceIndex(device);  // the form now; the device at first use
-    std::lock_guard<std::mutex> lock(gMutex);
-    if (gTried && device != gDevice)
-        throw std::runtime_error("the GL device is chosen before the first GL method runs");
-    gDevice = device;
-}
-
-const GlInfo& glContext(const std::string& device) {
-    std::lock_guard<std::mutex> lock(gMutex);
-    if (!device.empty() && !gTried) gDevice = device;
-    ensureContext();
-    return gInfo;
-}
-
-namespace {
 
 // One draw over at most kChunkFragments fragments (runGlsl splits longer lists).
 GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture* normal,

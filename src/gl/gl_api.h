@@ -1,0 +1,33 @@
+// Internal to gl/: the OpenGL and EGL headers, the process's one headless context and the
+// GL error helpers that gl/context.cpp, gl/program.cpp and gl/glsl_method.cpp share.
+#pragma once
+
+#define EGL_EGLEXT_PROTOTYPES
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#define GL_GLEXT_PROTOTYPES
+#include <GL/glcorearb.h>
+
+#include <mutex>
+#include <string>
+
+#include "gl/glsl_method.h"
+
+namespace pgt::gl {
+
+// Held by every caller of GL: one context serves the process.
+extern std::mutex gMutex;
+// Creates the context on first use and makes it current on this thread (the caller holds
+// gMutex); rethrows why it could not be made.
+void ensureContext();
+// The context's renderer, as glContext() returns it (after ensureContext()).
+const GlInfo& contextInfo();
+// Throws std::runtime_error naming `what` when GL reports an error.
+void checkGl(const std::string& what);
+// Any GL error left by an earlier call is reported there; start each step clean so that a
+// later check blames only its own calls.
+void drainGlErrors();
+// GL_MAX_TEXTURE_SIZE of the current context (texels per side).
+int maxTextureSide();
+
+}  // namespace pgt::gl

@@ -1,0 +1,195 @@
+// The GLSL wrapper and its compilation (gl/program.h).
+#include "gl/program.h"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/error.h"
+
+namespace pgt::gl {
+
+namespace {
+
+// The wrapper: a prelude that counts texture() calls, the user's file (its #version line
+// blanked, so its lines keep their numbers), and a main() that feeds the function one
+// fragment per output pixel.
+constexpr const char* kPrelude = R"(#version 450 core
+int pgt_fetches = 0;
+vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
+vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s, p, b); }
+vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
+vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
+    pgt_fetches++; return textureGrad(s, p, dx, dy); }
+#define texture pgt_texture
+#define textureLod pgt_textureLod
+#define textureGrad pgt_textureGrad
+)";
+
+constexpr const char* kMain = R"(
+uniform sampler2D pgt_uv0;   // RG32F: uv0 of fragment k at texel (k % w, k / w)
+uniform sampler2D pgt_view;  // RGBA32F: tangent-space V
+uniform int pgt_count;
+uniform int pgt_width;
+layout(location = 0) out vec2 pgt_out_uv;
+layout(location = 1) out float pgt_out_fetches;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    if (p.y * pgt_width + p.x >= pgt_count) discard;
+    vec2 uv0 = texelFetch(pgt_uv0, p, 0).xy;
+    vec3 v = texelFetch(pgt_view, p, 0).xyz;
+    pgt_fetches = 0;
+    pgt_out_uv = PGT_FUNCTION(uv0, v);
+    pgt_out_fetches = float(pgt_fetches);
+}
+)";
+
+constexpr const char* kVertex = R"(#version 450 core
+void main() {  // one triangle covering the viewport
+    vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}
+)";
+
+std::string stripVersion(const std::string& src) {
+    std::istringstream in(src);
+    std::ostringstream out;
+    std::string line;
+    while (std::getline(in, line)) {
+        size_t first = line.find_first_not_of(" \t");
+        if (first != std::string::npos && line.compare(first, 8, "#version") == 0) line.clear();
+        out << line << "\n";
+    }
+    return out.str();
+}
+
+// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with L a line of the
+// whole fragment shader: lines (first, first + count] are the user's file (Mesa does not
+// keep #line's source numbers on every message, so lines are mapped by position).
+std::string translateLog(const std::string& log, const std::string& file, int first, int count) {
+    std::istringstream in(log);
+    std::ostringstream out;
+    std::string line;
+    auto digitsAt = [](const std::string& t, size_t& i) {
+        size_t start = i;
+        while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+        return t.substr(start, i - start);
+    };
+    while (std::getline(in, line)) {
+        size_t i = 0;
+        std::string src = digitsAt(line, i), ln, col;
+        (void)src;
+        bool ok = !src.empty() && i < line.size();
+        if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
+            ++i;
+            ln = digitsAt(line, i);
+            ok = !ln.empty() && i < line.size() && line[i] == '(';
+            if (ok) {
+                ++i;
+                col = digitsAt(line, i);
+                ok = i + 2 < line.size() && line.compare(i, 3, "): ") == 0;
+                i += 3;
+            }
+        } else if (ok && line[i] == '(') {  // S(L) : rest
+            ++i;
+            ln = digitsAt(line, i);
+            ok = !ln.empty() && line.compare(i, 1, ")") == 0;
+            ++i;
+            while (ok && i < line.size() && (line[i] == ' ' || line[i] == ':')) ++i;
+        } else {
+            ok = false;
+        }
+        if (!ok) {
+            if (!line.empty()) out << line << "\n";
+            continue;
+        }
+        int n = std::stoi(ln);
+        std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
+        if (n > first && n <= first + count) n -= first;
+        out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
+            << "\n";
+    }
+    return out.str();
+}
+
+bool isIdentifier(const std::string& s) {
+    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+    for (char c : s)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
+    return true;
+}
+
+int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// A shader's or program's info log (glGet{Shader,Program}iv + ...InfoLog).
+template <class GetIv, class GetLog>
+std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
+    GLint len = 0;
+    getIv(object, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    getLog(object, len, nullptr, log.data());
+    return log.c_str();  // up to the terminating NUL
+}
+
+// `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
+GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
+               int userCount = 1 << 30) {
+    GLuint s = glCreateShader(type);
+    const char* p = src.c_str();
+    glShaderSource(s, 1, &p, nullptr);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
+        glDeleteShader(s);
+        throw InputError(
+            file, "glsl", "",
+            "the shader does not compile:\n" + translateLog(log, file, userFirst, userCount));
+    }
+    return s;
+}
+
+struct Program {
+    GLuint id = 0;
+};
+
+// Programs by (file, source, function): compiled once per process.
+std::map<std::string, Program> gPrograms;
+
+}  // namespace
+
+GLuint programFor(const GlslSpec& spec) {
+    std::string key = spec.path + "\n" + spec.function + "\n" + spec.source;
+    auto it = gPrograms.find(key);
+    if (it != gPrograms.end()) return it->second.id;
+    if (!isIdentifier(spec.function))
+        throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
+    const std::string user = stripVersion(spec.source);
+    const int first = countLines(kPrelude), count = countLines(user);
+    std::string fs =
+        std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
+    GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, f);
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(f);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        std::string log = infoLog(prog, glGetProgramiv, glGetProgramInfoLog);
+        glDeleteProgram(prog);
+        throw InputError(
+            spec.path, "glsl", "",
+            "the shader does not link:\n" + translateLog(log, spec.path, first, count));
+    }
+    gPrograms[key] = {prog};
+    return prog;
+}
+
+}  // namespace pgt::gl
