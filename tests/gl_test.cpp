@@ -175,6 +175,37 @@ TEST(Gl, HeadOnShadersReturnUv0) {
         EXPECT_LT(glm::length(Vec2d(run.uv[k]) - Vec2d(in.uv0[k])), 2e-7) << k;
 }
 
+// Map textures belong to their owner (a study's method textures for one (s, b)): uploaded
+// once per owner and map, deleted with it; a call without an owner frees its own at return.
+TEST(Gl, MapUploadsAreOwnedAndFreed) {
+    Texture t = test::smoothTexture(32, 32), other = test::smoothTexture(16, 16);
+    Inputs in = randomInputs(200, 4);
+    MethodConfig parallax =
+        glslMethod(R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping",
+        "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.025}})");
+    auto run = [&](const Texture& map, GlMapUploads* uploads) {
+        return runGlsl(*parallax.glsl, map, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view, 0,
+                       uploads);
+    };
+    const GlslRun fresh = run(t, nullptr);
+    const size_t before = GlMapUploads::liveTextures();
+    {
+        GlMapUploads a, b;
+        EXPECT_EQ(run(t, &a).uv, fresh.uv);
+        EXPECT_EQ(run(t, &a).uv, fresh.uv);  // the same texture, not a second upload
+        EXPECT_EQ(a.size(), 1u);
+        EXPECT_EQ(GlMapUploads::liveTextures(), before + 1);
+        run(other, &a);
+        run(t, &b);
+        EXPECT_EQ(a.size(), 2u);
+        EXPECT_EQ(b.size(), 1u);
+        EXPECT_EQ(GlMapUploads::liveTextures(), before + 3);
+    }
+    EXPECT_EQ(GlMapUploads::liveTextures(), before);
+    run(t, nullptr);
+    EXPECT_EQ(GlMapUploads::liveTextures(), before);
+}
+
 std::string writeShader(const std::string& name, const std::string& text) {
     auto dir = test::tempDir("gl");
     std::string path = (dir / name).string();

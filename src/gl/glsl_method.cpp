@@ -34,21 +34,10 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
     return t;
 }
 
-// Map textures (height or depth R32F, 003's RGB normal map, the parallax map): one upload per
-// content (keyed by a hash of the texels, never by address), bilinear, the map's address mode
-// (MODEL.md §1: texel centres at (i + 0.5) / W, as GL samples).
-std::map<std::tuple<uint64_t, int, int, int, bool, int>, GLuint> gMaps;
-
-GLuint mapTexture(const Texture& t, bool depth) {
-    uint64_t hash = 1469598103934665603ull;  // FNV-1a over the texel bits
-    for (float x : t.texels) {
-        uint32_t bits;
-        std::memcpy(&bits, &x, 4);
-        hash = (hash ^ bits) * 1099511628211ull;
-    }
-    auto key = std::make_tuple(hash, t.width, t.height, t.channels, depth, int(t.address));
-    auto it = gMaps.find(key);
-    if (it != gMaps.end()) return it->second;
+// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
+// bilinear, the map's address mode (MODEL.md §1: texel centres at (i + 0.5) / W, as GL
+// samples).
+GLuint uploadMap(const Texture& t, bool depth) {
     const int c = t.channels >= 3 ? 3 : 1;
     std::vector<float> data(size_t(t.width) * t.height * size_t(c));
     for (size_t k = 0; k < size_t(t.width) * t.height; ++k)
@@ -56,12 +45,13 @@ GLuint mapTexture(const Texture& t, bool depth) {
             float h = t.texels[k * size_t(t.channels) + size_t(ch)];
             data[k * size_t(c) + size_t(ch)] = depth ? 1.0f - h : h;
         }
-    GLuint id = makeTexture(c == 3 ? GL_RGB32F : GL_R32F, c == 3 ? GL_RGB : GL_RED, t.width,
-                            t.height, data.data(), GL_LINEAR,
-                            t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
-    gMaps[key] = id;
-    return id;
+    return makeTexture(c == 3 ? GL_RGB32F : GL_R32F, c == 3 ? GL_RGB : GL_RED, t.width, t.height,
+                       data.data(), GL_LINEAR,
+                       t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
 }
+
+// Map textures alive in the process, over every GlMapUploads (for tests).
+size_t gLiveMaps = 0;
 
 // A map the GL cannot hold is bad input, named before any upload, not a GL error that a
 // later call would report.
@@ -80,7 +70,8 @@ void checkMapFits(const GlslSpec& spec, const std::string& field, const std::str
 }
 
 void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
-                 const std::string& name, int unit, const Texture* t, bool depth) {
+                 const std::string& name, int unit, const Texture* t, bool depth,
+                 GlMapUploads& maps) {
     if (name.empty()) return;
     GLint loc = glGetUniformLocation(prog, name.c_str());
     if (loc < 0)
@@ -90,92 +81,147 @@ void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
                              spec.function + ")");
     PGT_CHECK(t != nullptr);
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-    glBindTexture(GL_TEXTURE_2D, mapTexture(*t, depth));
+    glBindTexture(GL_TEXTURE_2D, maps.texture(*t, depth));
     glUniform1i(loc, unit);
     checkGl("uploading the map of " + field + " " + name);
 }
 
-// One draw over at most kChunkFragments fragments (runGlsl splits longer lists).
-GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                     const Texture* parallax, double scale, double bias,
-                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                     int timingRepeats) {
-    GlslRun run;
-    const int n = int(uv0.size());
-    if (n == 0) return run;
-    GLuint prog = programFor(spec);
-    glUseProgram(prog);
-    if (!gVao) glGenVertexArrays(1, &gVao);
-    glBindVertexArray(gVao);
+}  // namespace
 
-    // Fragment k at texel (k % w, k / w) of the input and output images.
-    const int w = std::min(n, 2048), h = (n + w - 1) / w;
-    std::vector<float> uvData(size_t(w) * h * 2, 0.0f), viewData(size_t(w) * h * 4, 0.0f);
-    for (int k = 0; k < n; ++k) {
-        uvData[2 * size_t(k)] = uv0[size_t(k)].x;
-        uvData[2 * size_t(k) + 1] = uv0[size_t(k)].y;
-        viewData[4 * size_t(k)] = view[size_t(k)].x;
-        viewData[4 * size_t(k) + 1] = view[size_t(k)].y;
-        viewData[4 * size_t(k) + 2] = view[size_t(k)].z;
+unsigned GlMapUploads::texture(const Texture& map, bool depth) {
+    auto key = std::make_pair(&map, depth);
+    auto it = ids_.find(key);
+    if (it != ids_.end()) return it->second;
+    GLuint id = uploadMap(map, depth);
+    ids_[key] = id;
+    ++gLiveMaps;
+    return id;
+}
+
+GlMapUploads::~GlMapUploads() {
+    if (ids_.empty()) return;
+    std::lock_guard<std::mutex> lock(gMutex);
+    try {
+        ensureContext();  // current on this thread
+        for (const auto& [key, id] : ids_) {
+            GLuint t = id;
+            glDeleteTextures(1, &t);
+            --gLiveMaps;
+        }
+    } catch (const std::exception&) {
+        // No context any more: the textures went with it.
     }
-    GLuint uvTex = makeTexture(GL_RG32F, GL_RG, w, h, uvData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-    GLuint viewTex =
-        makeTexture(GL_RGBA32F, GL_RGBA, w, h, viewData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-    GLuint outUv = makeTexture(GL_RG32F, GL_RG, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
-    GLuint outFetch = makeTexture(GL_R32F, GL_RED, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
-    GLuint fbo = 0;
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, outUv, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, outFetch, 0);
-    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glDrawBuffers(2, bufs);
-    PGT_CHECK(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+}
 
-    // Units: 0 = the height/depth map, 1 = uv0, 2 = V, 3 = normal map, 4 = parallax map.
-    bindSampler(prog, spec, "sampler", spec.sampler, 0, &height, spec.depthTexture);
-    bindSampler(prog, spec, "normal_sampler", spec.normalSampler, 3, normal, false);
-    bindSampler(prog, spec, "parallax_sampler", spec.parallaxSampler, 4, parallax, false);
+size_t GlMapUploads::liveTextures() { return gLiveMaps; }
+
+namespace {
+
+// What a draw samples besides its fragments: the maps (uploaded through `uploads`) and the
+// case's (s, b) for uniforms bound to them.
+struct DrawMaps {
+    const Texture& height;
+    const Texture* normal;
+    const Texture* parallax;
+    double scale, bias;
+    GlMapUploads& uploads;
+};
+
+// A chunk's fragments as two input images and its two outputs: fragment k at texel
+// (k % w, k / w); deleted with this object.
+struct FragmentImages {
+    int n = 0, w = 0, h = 0;
+    GLuint uv0 = 0, view = 0, outUv = 0, outFetches = 0, fbo = 0;
+
+    FragmentImages(const std::vector<Vec2f>& uvs, const std::vector<Vec3f>& views)
+        : n(int(uvs.size())), w(std::min(n, 2048)), h((n + w - 1) / w) {
+        std::vector<float> uvData(size_t(w) * h * 2, 0.0f), viewData(size_t(w) * h * 4, 0.0f);
+        for (size_t k = 0; k < uvs.size(); ++k) {
+            uvData[2 * k] = uvs[k].x, uvData[2 * k + 1] = uvs[k].y;
+            viewData[4 * k] = views[k].x, viewData[4 * k + 1] = views[k].y;
+            viewData[4 * k + 2] = views[k].z;
+        }
+        uv0 = makeTexture(GL_RG32F, GL_RG, w, h, uvData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+        view =
+            makeTexture(GL_RGBA32F, GL_RGBA, w, h, viewData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+        outUv = makeTexture(GL_RG32F, GL_RG, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        outFetches = makeTexture(GL_R32F, GL_RED, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, outUv, 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, outFetches, 0);
+        const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glDrawBuffers(2, bufs);
+        PGT_CHECK(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+    }
+    ~FragmentImages() {
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glDeleteFramebuffers(1, &fbo);
+        GLuint textures[4] = {uv0, view, outUv, outFetches};
+        glDeleteTextures(4, textures);
+    }
+    FragmentImages(const FragmentImages&) = delete;
+    FragmentImages& operator=(const FragmentImages&) = delete;
+};
+
+// One user uniform: its value(s), or the case's s or b; a type mismatch names the uniform.
+void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
+                const DrawMaps& maps) {
+    GLint u = glGetUniformLocation(prog, un.name.c_str());
+    if (u < 0)
+        throw InputError(spec.path, "uniforms." + un.name, "",
+                         "is not an active uniform of the shader (misspelt, or unused by " +
+                             spec.function + ")");
+    std::vector<float> f(un.values.begin(), un.values.end());
+    drainGlErrors();  // only this uniform's own error may be blamed on it
+    if (un.bind == "scale") f = {float(maps.scale)};
+    if (un.bind == "bias") f = {float(maps.bias)};
+    if (un.isInt)
+        glUniform1i(u, int(un.values[0]));
+    else if (f.size() == 1)
+        glUniform1f(u, f[0]);
+    else if (f.size() == 2)
+        glUniform2f(u, f[0], f[1]);
+    else if (f.size() == 3)
+        glUniform3f(u, f[0], f[1], f[2]);
+    else
+        glUniform4f(u, f[0], f[1], f[2], f[3]);
+    if (glGetError() != GL_NO_ERROR)
+        throw InputError(spec.path, "uniforms." + un.name, "",
+                         "does not match the uniform's type in the shader");
+}
+
+// Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
+// 3 = normal map, 4 = parallax map.
+void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
+                const FragmentImages& img) {
+    bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
+                maps.uploads);
+    bindSampler(prog, spec, "normal_sampler", spec.normalSampler, 3, maps.normal, false,
+                maps.uploads);
+    bindSampler(prog, spec, "parallax_sampler", spec.parallaxSampler, 4, maps.parallax, false,
+                maps.uploads);
     glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, uvTex);
+    glBindTexture(GL_TEXTURE_2D, img.uv0);
     glUniform1i(glGetUniformLocation(prog, "pgt_uv0"), 1);
     glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, viewTex);
+    glBindTexture(GL_TEXTURE_2D, img.view);
     glUniform1i(glGetUniformLocation(prog, "pgt_view"), 2);
-    glUniform1i(glGetUniformLocation(prog, "pgt_count"), n);
-    glUniform1i(glGetUniformLocation(prog, "pgt_width"), w);
-    for (const GlslSpec::Uniform& un : spec.uniforms) {
-        GLint u = glGetUniformLocation(prog, un.name.c_str());
-        if (u < 0)
-            throw InputError(spec.path, "uniforms." + un.name, "",
-                             "is not an active uniform of the shader (misspelt, or unused by " +
-                                 spec.function + ")");
-        std::vector<float> f(un.values.begin(), un.values.end());
-        drainGlErrors();  // only this uniform's own error may be blamed on it
-        if (un.bind == "scale") f = {float(scale)};
-        if (un.bind == "bias") f = {float(bias)};
-        if (un.isInt)
-            glUniform1i(u, int(un.values[0]));
-        else if (f.size() == 1)
-            glUniform1f(u, f[0]);
-        else if (f.size() == 2)
-            glUniform2f(u, f[0], f[1]);
-        else if (f.size() == 3)
-            glUniform3f(u, f[0], f[1], f[2]);
-        else
-            glUniform4f(u, f[0], f[1], f[2], f[3]);
-        if (glGetError() != GL_NO_ERROR)
-            throw InputError(spec.path, "uniforms." + un.name, "",
-                             "does not match the uniform's type in the shader");
-    }
-    glViewport(0, 0, w, h);
+    glUniform1i(glGetUniformLocation(prog, "pgt_count"), img.n);
+    glUniform1i(glGetUniformLocation(prog, "pgt_width"), img.w);
+    for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
+}
+
+// The draw, `timingRepeats` times when timed (each between two glFinish and inside a
+// GL_TIME_ELAPSED query; every draw writes the same outputs), once otherwise. Sets the
+// medians per fragment in `run`.
+void drawTimed(const FragmentImages& img, int timingRepeats, GlslRun& run) {
+    glViewport(0, 0, img.w, img.h);
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     const float clear[4] = {NAN, NAN, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_COLOR, 1, clear + 2);
-    // The draw, `timingRepeats` times when timed (each between two glFinish and inside a
-    // GL_TIME_ELAPSED query; every draw writes the same outputs), once otherwise.
     GLuint query = 0;
     if (timingRepeats > 0) glGenQueries(1, &query);
     std::vector<double> gpuNs, wallNs;
@@ -190,39 +236,50 @@ GlslRun runGlslChunk(const GlslSpec& spec, const Texture& height, const Texture*
         wallNs.push_back(
             std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0)
                 .count() /
-            n);
+            img.n);
         GLuint64 t = 0;
         glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
-        gpuNs.push_back(double(t) / n);
+        gpuNs.push_back(double(t) / img.n);
     }
-    if (query) {
-        glDeleteQueries(1, &query);
-        std::sort(gpuNs.begin(), gpuNs.end());
-        std::sort(wallNs.begin(), wallNs.end());
-        run.gpuNsPerPixel = gpuNs[gpuNs.size() / 2];
-        run.wallNsPerPixel = wallNs[wallNs.size() / 2];
-    }
-    checkGl("the draw of " + spec.path);
+    if (!query) return;
+    glDeleteQueries(1, &query);
+    std::sort(gpuNs.begin(), gpuNs.end());
+    std::sort(wallNs.begin(), wallNs.end());
+    run.gpuNsPerPixel = gpuNs[gpuNs.size() / 2];
+    run.wallNsPerPixel = wallNs[wallNs.size() / 2];
+}
 
-    std::vector<float> outUvData(size_t(w) * h * 2), outFetchData(size_t(w) * h);
+// uv' and the fetch count of every fragment, from the two outputs.
+void readBack(const FragmentImages& img, GlslRun& run) {
+    std::vector<float> uvData(size_t(img.w) * img.h * 2), fetchData(size_t(img.w) * img.h);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RG, GL_FLOAT, outUvData.data());
+    glReadPixels(0, 0, img.w, img.h, GL_RG, GL_FLOAT, uvData.data());
     glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, outFetchData.data());
-    checkGl("reading back " + spec.path);
-    run.uv.resize(size_t(n));
-    run.fetches.resize(size_t(n));
-    for (int k = 0; k < n; ++k) {
-        run.uv[size_t(k)] = Vec2f(outUvData[2 * size_t(k)], outUvData[2 * size_t(k) + 1]);
-        run.fetches[size_t(k)] = uint32_t(std::max(0.0f, outFetchData[size_t(k)]));
+    glReadPixels(0, 0, img.w, img.h, GL_RED, GL_FLOAT, fetchData.data());
+    run.uv.resize(size_t(img.n));
+    run.fetches.resize(size_t(img.n));
+    for (size_t k = 0; k < size_t(img.n); ++k) {
+        run.uv[k] = Vec2f(uvData[2 * k], uvData[2 * k + 1]);
+        run.fetches[k] = uint32_t(std::max(0.0f, fetchData[k]));
     }
+}
 
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo);
-    GLuint textures[4] = {uvTex, viewTex, outUv, outFetch};
-    glDeleteTextures(4, textures);
-    checkGl("cleaning up after " + spec.path);
+// One draw over at most kChunkFragments fragments (runGlsl splits longer lists).
+GlslRun runGlslChunk(const GlslSpec& spec, const DrawMaps& maps, const std::vector<Vec2f>& uv0,
+                     const std::vector<Vec3f>& view, int timingRepeats) {
+    GlslRun run;
+    if (uv0.empty()) return run;
+    GLuint prog = programFor(spec);
+    glUseProgram(prog);
+    if (!gVao) glGenVertexArrays(1, &gVao);
+    glBindVertexArray(gVao);
+    FragmentImages img(uv0, view);
+    bindInputs(prog, spec, maps, img);
+    drawTimed(img, timingRepeats, run);
+    checkGl("the draw of " + spec.path);
+    readBack(img, run);
+    checkGl("reading back " + spec.path);
     return run;
 }
 
@@ -234,23 +291,23 @@ constexpr size_t kChunkFragments = size_t(2048) * 4096;
 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats) {
+                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads) {
     PGT_CHECK_EQ(uv0.size(), view.size());
+    GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();
     drainGlErrors();
     checkMapFits(spec, "sampler", spec.sampler, &height);
     checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
     checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
-    if (uv0.size() <= kChunkFragments)
-        return runGlslChunk(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats);
+    const DrawMaps maps{height, normal, parallax, scale, bias, uploads ? *uploads : once};
+    if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
     GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
     for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
         size_t last = std::min(uv0.size(), first + kChunkFragments);
         std::vector<Vec2f> u(uv0.begin() + long(first), uv0.begin() + long(last));
         std::vector<Vec3f> v(view.begin() + long(first), view.begin() + long(last));
-        GlslRun part =
-            runGlslChunk(spec, height, normal, parallax, scale, bias, u, v, timingRepeats);
+        GlslRun part = runGlslChunk(spec, maps, u, v, timingRepeats);
         double weight = double(last - first) / double(uv0.size());
         run.gpuNsPerPixel += part.gpuNsPerPixel * weight;
         run.wallNsPerPixel += part.wallNsPerPixel * weight;

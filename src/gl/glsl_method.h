@@ -4,6 +4,7 @@
 // The only module that includes OpenGL/EGL headers.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -29,6 +30,27 @@ const GlInfo& glContext(const std::string& device = "");
 // Selects the device before the first use (CLI --gl-device).
 void setGlDevice(const std::string& device);
 
+// The GL textures of one owner's maps, uploaded on first use and deleted with this object.
+// A study keeps one per (s, b) beside its method textures (study/evaluate.h), so each map is
+// uploaded once per (s, b) and no texture outlives its map. Keyed by the map's address: the
+// owner keeps its maps alive and unchanged while it holds this.
+class GlMapUploads {
+  public:
+    GlMapUploads() = default;
+    ~GlMapUploads();
+    GlMapUploads(const GlMapUploads&) = delete;
+    GlMapUploads& operator=(const GlMapUploads&) = delete;
+    // The texture of `map` (as depth d = 1 - h when `depth`); uploads it on first use.
+    // Called by runGlsl, under the GL lock.
+    unsigned texture(const Texture& map, bool depth);
+    size_t size() const { return ids_.size(); }
+    // Map textures alive in the process, over every owner.
+    static size_t liveTextures();
+
+  private:
+    std::map<std::pair<const Texture*, bool>, unsigned> ids_;
+};
+
 // One run of a GLSL method over a list of fragments.
 struct GlslRun {
     std::vector<Vec2f> uv;          // uv' per fragment
@@ -38,12 +60,14 @@ struct GlslRun {
 };
 
 // Compiles the spec's shader (cached per source, function and sampler) and runs it over the
-// fragments. Compile and link errors throw InputError naming the user's file and line.
-// `timingRepeats` > 0 also times the draw with GL timer queries.
-// `normal` and `parallax` are 003's derived maps (needed when the spec names their samplers).
-// `scale`, `bias`: the (s, b) of the case, for uniforms bound to them.
+// fragments. The maps are uploaded through `uploads` (kept by the caller with its maps), or,
+// without one, for this call only. Compile and link errors throw InputError naming the user's file
+// and line. `timingRepeats` > 0 also times the draw with GL timer queries. `normal` and `parallax`
+// are 003's derived maps (needed when the spec names their samplers). `scale`, `bias`: the (s, b)
+// of the case, for uniforms bound to them.
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats = 0);
+                const std::vector<Vec3f>& view, int timingRepeats = 0,
+                GlMapUploads* uploads = nullptr);
 
 }  // namespace pgt

@@ -85,9 +85,10 @@ double glNsPerPixel(const GlslRun& run) {
 // A GLSL method over fragment inputs, with the maps and (s, b) of `tex`.
 GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex,
                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view, int repeats) {
+    if (!tex.glMaps) tex.glMaps = std::make_shared<GlMapUploads>();
     return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
                    tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias, uv0, view,
-                   repeats);
+                   repeats, tex.glMaps.get());
 }
 
 }  // namespace

@@ -16,12 +16,16 @@
 
 namespace pgt {
 
+class GlMapUploads;  // gl/glsl_method.h
+
 // Inputs every method needs for one (s, b): the height map and, when asked for, 003's maps.
 struct MethodTextures {
     const Texture* height = nullptr;
     std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
+    // GLSL methods: these maps' GL textures, uploaded on first use, deleted with this object.
+    mutable std::shared_ptr<GlMapUploads> glMaps;
 };
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
                                   const UvExtent& uvExtent, bool needDerived);
