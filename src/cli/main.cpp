@@ -99,78 +99,75 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
     std::printf("wrote %s/fit.json\n", outDir.c_str());
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    using pgt::SweepOptions;
-    CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
-    app.require_subcommand(1);
-    std::string scenePath, outDir;
+// Everything the command line sets, and which command it chose.
+struct CommandLine {
+    std::string scenePath, outDir, glDevice;
     int repeats = 3;
-    auto* render = app.add_subcommand("render", "Render one scene: truth, methods, error");
-    render->add_option("scene", scenePath, "Scene file (JSON)")->required();
-    render->add_option("--out", outDir, "Output directory")->required();
-    render->add_option("--timing-repeats", repeats, "Timing passes per method (median)")
-        ->check(CLI::Range(1, 100));
-
-    SweepOptions sweepOpt;
+    pgt::SweepOptions sweepOpt;
     bool noReport = false;
-    auto* sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
-    sweep->add_option("scene", scenePath, "Scene file (JSON) with a \"sweep\" block")->required();
-    sweep->add_option("--out", sweepOpt.outDir, "Output directory (resumed if it exists)")
-        ->required();
-    sweep->add_flag("--images", sweepOpt.images, "Also write every case's images");
-    sweep->add_flag("--fresh", sweepOpt.fresh, "Discard earlier results instead of resuming");
-    sweep->add_flag("--no-report", noReport, "Do not run analysis/report.py at the end");
-    sweep->add_option("--max-cases", sweepOpt.maxCases, "Stop after this many new cases");
-
-    auto* fit =
-        app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
-    fit->add_option("scene", scenePath, "Scene file (JSON), optional \"fit\" block")->required();
-    fit->add_option("--out", outDir, "Output directory for fit.json")->required();
     std::vector<std::string> stressPaths;
     pgt::StressOptions stressOpt;
-    auto* stress = app.add_subcommand("stress", "Run the stiff suite (scenes/stress/)");
-    stress->add_option("scenes", stressPaths, "Scene files or folders of them")->required();
-    stress->add_option("--out", stressOpt.outDir, "Output directory for stress.csv")->required();
-    stress->add_option("--resolution", stressOpt.resolution, "Override every scene's resolution")
+    uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
+    CLI::App *render = nullptr, *sweep = nullptr, *fit = nullptr, *stress = nullptr;
+};
+
+void defineCommands(CLI::App& app, CommandLine& c) {
+    app.require_subcommand(1);
+    c.render = app.add_subcommand("render", "Render one scene: truth, methods, error");
+    c.render->add_option("scene", c.scenePath, "Scene file (JSON)")->required();
+    c.render->add_option("--out", c.outDir, "Output directory")->required();
+    c.render->add_option("--timing-repeats", c.repeats, "Timing passes per method (median)")
+        ->check(CLI::Range(1, 100));
+
+    c.sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
+    c.sweep->add_option("scene", c.scenePath, "Scene file (JSON) with a \"sweep\" block")
+        ->required();
+    c.sweep->add_option("--out", c.sweepOpt.outDir, "Output directory (resumed if it exists)")
+        ->required();
+    c.sweep->add_flag("--images", c.sweepOpt.images, "Also write every case's images");
+    c.sweep->add_flag("--fresh", c.sweepOpt.fresh, "Discard earlier results instead of resuming");
+    c.sweep->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
+    c.sweep->add_option("--max-cases", c.sweepOpt.maxCases, "Stop after this many new cases");
+
+    c.fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
+    c.fit->add_option("scene", c.scenePath, "Scene file (JSON), optional \"fit\" block")
+        ->required();
+    c.fit->add_option("--out", c.outDir, "Output directory for fit.json")->required();
+
+    c.stress = app.add_subcommand("stress", "Run the stiff suite (scenes/stress/)");
+    c.stress->add_option("scenes", c.stressPaths, "Scene files or folders of them")->required();
+    c.stress->add_option("--out", c.stressOpt.outDir, "Output directory for stress.csv")
+        ->required();
+    c.stress
+        ->add_option("--resolution", c.stressOpt.resolution, "Override every scene's resolution")
         ->check(CLI::Range(1, 4096));
     // GLSL methods: the GL they run in. Default: Mesa's EGL surfaceless platform
     // (llvmpipe without a GPU); egl-device:N picks the N-th EGL device (a hardware GPU).
-    std::string glDevice;
-    for (CLI::App* sub : {render, sweep, stress})
-        sub->add_option("--gl-device", glDevice,
+    for (CLI::App* sub : {c.render, c.sweep, c.stress})
+        sub->add_option("--gl-device", c.glDevice,
                         "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
-    uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
-    for (CLI::App* sub : {render, sweep, fit, stress})
-        sub->add_option("--memory-limit", memoryLimitMb,
+    for (CLI::App* sub : {c.render, c.sweep, c.fit, c.stress})
+        sub->add_option("--memory-limit", c.memoryLimitMb,
                         "Refuse inputs estimated to need more memory than this (MB)")
             ->check(CLI::Range(uint64_t(64), uint64_t(1) << 30))
-            ->default_val(memoryLimitMb);
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        // Command-line mistakes are bad input like any other: exit 2, one line.
-        std::cerr << "pgt: error: command line: " << pgt::printable(e.what(), 480) << "\n";
-        return 2;
-    }
+            ->default_val(c.memoryLimitMb);
+}
 
+// Runs the chosen command; the exit status: 2 bad input, 3 an output that cannot be
+// written, 1 anything else (README "Exit status").
+int runCommand(const CommandLine& c) {
     try {
-        pgt::setMemoryLimitMb(memoryLimitMb);
-        if (!glDevice.empty()) pgt::setGlDevice(glDevice);
-        if (*render) {
-            renderCommand(scenePath, outDir, repeats);
-        } else if (*sweep) {
-            sweepCommand(scenePath, sweepOpt, noReport);
-        } else if (*stress) {
-            int n = pgt::runStress(stressPaths, stressOpt);
-            std::printf("%d scenes: %s/stress.csv\n", n, stressOpt.outDir.c_str());
-        } else if (*fit) {
-            fitCommand(scenePath, outDir);
+        pgt::setMemoryLimitMb(c.memoryLimitMb);
+        if (!c.glDevice.empty()) pgt::setGlDevice(c.glDevice);
+        if (*c.render) {
+            renderCommand(c.scenePath, c.outDir, c.repeats);
+        } else if (*c.sweep) {
+            sweepCommand(c.scenePath, c.sweepOpt, c.noReport);
+        } else if (*c.stress) {
+            int n = pgt::runStress(c.stressPaths, c.stressOpt);
+            std::printf("%d scenes: %s/stress.csv\n", n, c.stressOpt.outDir.c_str());
+        } else if (*c.fit) {
+            fitCommand(c.scenePath, c.outDir);
         }
     } catch (const pgt::InputError& e) {
         std::cerr << "pgt: error: " << e.what() << "\n";
@@ -183,4 +180,24 @@ int main(int argc, char** argv) {
         return 1;
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
+    CommandLine commandLine;
+    defineCommands(app, commandLine);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // Command-line mistakes are bad input like any other: exit 2, one line.
+        std::cerr << "pgt: error: command line: " << pgt::printable(e.what(), 480) << "\n";
+        return 2;
+    }
+    return runCommand(commandLine);
 }

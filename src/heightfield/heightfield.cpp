@@ -123,50 +123,60 @@ HeightImageHeader probeHeightImage(const std::string& path, int channel,
     return {in->spec().width, in->spec().height, in->spec().nchannels};
 }
 
-Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
-                        const std::string& field, bool channelGiven) {
-    using namespace OIIO;
-    auto in = openHeightImage(path, channel, sceneFile, field);
-    const ImageSpec& spec = in->spec();
-    int w = spec.width, h = spec.height, nc = spec.nchannels;
+namespace {
 
-    // Normalise as MODEL.md §1 says: 8-bit / 255, 16-bit / 65535, float as is. Reading the
-    // native integer type and dividing here keeps the exact quotient (no table lookup).
-    std::vector<double> values(size_t(w) * h * nc);
+// Every channel of every pixel, normalised as MODEL.md §1 says: 8-bit / 255, 16-bit / 65535,
+// float as is. Reading the native integer type and dividing here keeps the exact quotient
+// (no table lookup).
+std::vector<double> decodeNormalised(OIIO::ImageInput& in, const std::string& path,
+                                     const std::string& sceneFile, const std::string& field) {
+    using OIIO::TypeDesc;
+    const OIIO::ImageSpec& spec = in.spec();
+    const int nc = spec.nchannels;
+    std::vector<double> values(size_t(spec.width) * spec.height * nc);
     bool ok = false;
     StderrCapture capture;
     if (spec.format == TypeDesc::UINT8) {
         std::vector<uint8_t> raw(values.size());
-        ok = in->read_image(0, 0, 0, nc, TypeDesc::UINT8, raw.data());
+        ok = in.read_image(0, 0, 0, nc, TypeDesc::UINT8, raw.data());
         for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 255.0;
     } else if (spec.format == TypeDesc::UINT16) {
         std::vector<uint16_t> raw(values.size());
-        ok = in->read_image(0, 0, 0, nc, TypeDesc::UINT16, raw.data());
+        ok = in.read_image(0, 0, 0, nc, TypeDesc::UINT16, raw.data());
         for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 65535.0;
     } else {
         std::vector<float> raw(values.size());
-        ok = in->read_image(0, 0, 0, nc, TypeDesc::FLOAT, raw.data());
+        ok = in.read_image(0, 0, 0, nc, TypeDesc::FLOAT, raw.data());
         for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k];
     }
     std::string printed = capture.restore();
     if (!ok)
         throw InputError(sceneFile, field + ".file", path,
-                         "cannot decode image: " + whyUnreadable(in->geterror(), printed));
+                         "cannot decode image: " + whyUnreadable(in.geterror(), printed));
+    return values;
+}
 
-    // A colour image without an explicit channel is accepted only when its colour channels
-    // agree (a grey image saved as RGB); otherwise the choice is ambiguous.
-    if (!channelGiven && nc > 1) {
-        int colour = std::min(nc, 3);
-        if (nc == 2) colour = 1;  // grey + alpha
-        for (size_t p = 0; p < size_t(w) * h && colour > 1; ++p)
-            for (int c = 1; c < colour; ++c)
-                if (values[p * nc + c] != values[p * nc]) {
-                    throw InputError(sceneFile, field + ".channel", "(missing)",
-                                     "image " + path + " has " + std::to_string(nc) +
-                                         " channels that differ; choose one with \"channel\"");
-                }
-    }
+// A colour image without an explicit channel is accepted only when its colour channels
+// agree (a grey image saved as RGB); otherwise the choice is ambiguous.
+void checkChannelsAgree(const std::vector<double>& values, int nc, const std::string& path,
+                        const std::string& sceneFile, const std::string& field) {
+    int colour = nc == 2 ? 1 : std::min(nc, 3);  // grey + alpha: one colour channel
+    for (size_t p = 0; p < values.size() / size_t(nc) && colour > 1; ++p)
+        for (int c = 1; c < colour; ++c)
+            if (values[p * nc + c] != values[p * nc])
+                throw InputError(sceneFile, field + ".channel", "(missing)",
+                                 "image " + path + " has " + std::to_string(nc) +
+                                     " channels that differ; choose one with \"channel\"");
+}
 
+}  // namespace
+
+Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
+                        const std::string& field, bool channelGiven) {
+    auto in = openHeightImage(path, channel, sceneFile, field);
+    const int w = in->spec().width, h = in->spec().height, nc = in->spec().nchannels;
+    std::vector<double> values = decodeNormalised(*in, path, sceneFile, field);
+    if (!channelGiven && nc > 1) checkChannelsAgree(values, nc, path, sceneFile, field);
     Texture t;
     t.width = w;
     t.height = h;

@@ -26,6 +26,12 @@ std::string layerLabel(const MethodConfig& c) {
     return s;
 }
 
+std::string reliefLabel(const MethodConfig& c) {
+    return std::to_string(c.linearSteps) + "_" + std::to_string(c.binarySteps);
+}
+
+std::string iterativeLabel(const MethodConfig& c) { return std::to_string(c.iterations); }
+
 const std::vector<IntParameter> kLayerParameters = {
     {"min_layers", &MethodConfig::minLayers, nullptr, 1, kMaxLayers},
     {"max_layers", &MethodConfig::maxLayers, nullptr, 1, kMaxLayers},
@@ -34,20 +40,23 @@ const std::vector<IntParameter> kLayerParameters = {
     {"max_steps", &MethodConfig::maxSteps, nullptr, 0, kSafetyStepCap},
 };
 
+const std::vector<IntParameter> kReliefParameters = {
+    {"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
+    {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64},  // 64 halvings: past a double
+};
+
+const std::vector<IntParameter> kIterativeParameters = {
+    {"iterations", &MethodConfig::iterations, nullptr, 1, 1024},
+};
+
 }  // namespace
 
 const std::vector<MethodKindInfo>& methodKinds() {
+    using K = MethodKind;
     static const std::vector<MethodKindInfo> kinds = {
-        {"none",
-         MethodKind::None,
-         {},
-         nullptr,
-         nullptr,
-         false,
-         methodNone<float>,
-         methodNone<double>},
+        {"none", K::None, {}, nullptr, nullptr, false, methodNone<float>, methodNone<double>},
         {"parallax",
-         MethodKind::Parallax,
+         K::Parallax,
          {},
          nullptr,
          nullptr,
@@ -55,39 +64,23 @@ const std::vector<MethodKindInfo>& methodKinds() {
          methodParallax<float>,
          methodParallax<double>},
         {"offset_limited",
-         MethodKind::OffsetLimited,
+         K::OffsetLimited,
          {},
          nullptr,
          nullptr,
          false,
          methodOffsetLimited<float>,
          methodOffsetLimited<double>},
-        {"steep", MethodKind::Steep, kLayerParameters, "layers", layerLabel, false,
-         methodSteep<float>, methodSteep<double>},
-        {"pom", MethodKind::Pom, kLayerParameters, "layers", layerLabel, false, methodPom<float>,
+        {"steep", K::Steep, kLayerParameters, "layers", layerLabel, false, methodSteep<float>,
+         methodSteep<double>},
+        {"pom", K::Pom, kLayerParameters, "layers", layerLabel, false, methodPom<float>,
          methodPom<double>},
-        {"relief",
-         MethodKind::Relief,
-         {{"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
-          // 64 halvings exhaust a double's mantissa
-          {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64}},
-         "linear_steps",
-         [](const MethodConfig& c) {
-             return std::to_string(c.linearSteps) + "_" + std::to_string(c.binarySteps);
-         },
-         false,
-         methodRelief<float>,
-         methodRelief<double>},
-        {"iterative",
-         MethodKind::Iterative,
-         {{"iterations", &MethodConfig::iterations, nullptr, 1, 1024}},
-         "iterations",
-         [](const MethodConfig& c) { return std::to_string(c.iterations); },
-         true,
-         methodIterative<float>,
-         methodIterative<double>},
+        {"relief", K::Relief, kReliefParameters, "linear_steps", reliefLabel, false,
+         methodRelief<float>, methodRelief<double>},
+        {"iterative", K::Iterative, kIterativeParameters, "iterations", iterativeLabel, true,
+         methodIterative<float>, methodIterative<double>},
         {"tangent_plane",
-         MethodKind::TangentPlane,
+         K::TangentPlane,
          {},
          nullptr,
          nullptr,

@@ -58,37 +58,38 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
     }
 }
 
-void parseMeshBase(Scene& s, JsonFields& f) {
+// The control mesh of a mesh base: a built-in cage or an OBJ file beside the scene.
+ControlMesh readCage(Scene& s, JsonFields& f) {
     MeshBase& m = s.mesh;
     if (f.has("cage") == f.has("file"))
         f.fail(
             "cage",
             "a mesh base needs exactly one of \"cage\" (cube, cylinder, torus) or \"file\" (OBJ)");
-    ControlMesh cage;
     std::vector<double> tiling =
         f.has("tiling") ? f.numbers("tiling", 2, 1e-6, 1e6) : std::vector<double>{1.0, 1.0};
-    if (f.has("cage")) {
-        m.source = f.choice("cage", {"cube", "cylinder", "torus"}, "cube");
-        if (m.source == "cube") {
-            cage = makeCubeCage(f.number("size", 1.0, 1e-6, 1e9), tiling[0]);
-        } else if (m.source == "cylinder") {
-            cage = makeCylinderCage(f.number("radius", 0.5, 1e-6, 1e9),
-                                    f.number("height", 1.0, 1e-6, 1e9),
-                                    f.integer("segments", 16, 3, 4096), tiling[0], tiling[1]);
-        } else {
-            std::vector<int> seg =
-                f.has("segments") ? f.integers("segments", 2, 3, 4096) : std::vector<int>{16, 8};
-            cage = makeTorusCage(f.number("major_radius", 0.5, 1e-6, 1e9),
-                                 f.number("minor_radius", 0.2, 1e-6, 1e9), seg[0], seg[1],
-                                 tiling[0], tiling[1]);
-        }
-    } else {
+    if (f.has("file")) {
         std::string rel = f.string("file");
         fs::path p =
             fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
-        cage = loadObjMesh(p.string(), s.file, "base.file");
         m.source = rel;
+        return loadObjMesh(p.string(), s.file, "base.file");
     }
+    m.source = f.choice("cage", {"cube", "cylinder", "torus"}, "cube");
+    if (m.source == "cube") return makeCubeCage(f.number("size", 1.0, 1e-6, 1e9), tiling[0]);
+    if (m.source == "cylinder")
+        return makeCylinderCage(f.number("radius", 0.5, 1e-6, 1e9),
+                                f.number("height", 1.0, 1e-6, 1e9),
+                                f.integer("segments", 16, 3, 4096), tiling[0], tiling[1]);
+    std::vector<int> seg =
+        f.has("segments") ? f.integers("segments", 2, 3, 4096) : std::vector<int>{16, 8};
+    return makeTorusCage(f.number("major_radius", 0.5, 1e-6, 1e9),
+                         f.number("minor_radius", 0.2, 1e-6, 1e9), seg[0], seg[1], tiling[0],
+                         tiling[1]);
+}
+
+void parseMeshBase(Scene& s, JsonFields& f) {
+    MeshBase& m = s.mesh;
+    const ControlMesh cage = readCage(s, f);
     // Bound the work before refining: the drawn mesh has about faces x 4^refine faces (a
     // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
     if (cage.numFaces() > (1 << 20))

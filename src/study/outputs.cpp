@@ -215,7 +215,10 @@ Json toJson(const FrameStats& s) {
     };
 }
 
-Json summaryJson(const Scene& scene, const RenderResult& r) {
+namespace {
+
+// summary.json's "view": the camera as built (and the view angles it was built from).
+Json viewJson(const RenderResult& r) {
     const Camera& cam = r.camera;
     Json view = {{"type", cam.isOrthographic() ? "orthographic" : "pinhole"},
                  {"resolution", {cam.width(), cam.height()}},
@@ -233,17 +236,23 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
         view["target"] = {cam.target().x, cam.target().y, cam.target().z};
         view["fov"] = cam.fovDegrees();
     }
-    auto build = [](const TruthBuildStats& b) {
-        return Json{{"segments", {b.segmentsU, b.segmentsV}},
-                    {"vertices", b.vertices},
-                    {"primitives", b.primitives},
-                    {"geometry_bytes", b.geometryBytes},
-                    {"tessellate_ms", b.tessellateMs},
-                    {"build_ms", b.buildMs}};
-    };
+    return view;
+}
+
+Json buildJson(const TruthBuildStats& b) {
+    return Json{{"segments", {b.segmentsU, b.segmentsV}},
+                {"vertices", b.vertices},
+                {"primitives", b.primitives},
+                {"geometry_bytes", b.geometryBytes},
+                {"tessellate_ms", b.tessellateMs},
+                {"build_ms", b.buildMs}};
+}
+
+// summary.json's "truth": its settings, build, hits and the truth-vs-truth uncertainty.
+Json truthJson(const Scene& scene, const RenderResult& r) {
     Json truth = {{"rate", scene.truth.rate},
                   {"geometry", scene.truth.geometry == TruthGeometry::Grid ? "grid" : "triangles"},
-                  {"build", build(r.truthBuild)},
+                  {"build", buildJson(r.truthBuild)},
                   // > 1: traced in blocks over windows; build is then the largest block's
                   {"blocks", r.truthBlocks}};
     int64_t hits = 0;
@@ -258,30 +267,39 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
                                 {"p50_texels", finiteOrNull(u.p50Texels)},
                                 {"p99_texels", finiteOrNull(u.p99Texels)},
                                 {"max_texels", finiteOrNull(u.maxTexels)}};
-        truth["build_fine"] = build(r.truthBuildFine);
+        truth["build_fine"] = buildJson(r.truthBuildFine);
     }
+    return truth;
+}
+
+// One method's entry of summary.json's "methods".
+Json methodJson(const MethodFrame& m) {
+    Json j = toJson(m.stats);
+    j["label"] = m.config.label;
+    if (m.haveExactFrame) {
+        // The error with the exact frame is the method's own; the rest of the mean is
+        // what the per-vertex tangent frame adds.
+        j["exact_frame"] = toJson(m.statsExactFrame);
+        double a = m.stats.error.mean, e = m.statsExactFrame.error.mean;
+        j["frame_share_of_mean"] =
+            a > 0 && std::isfinite(a) && std::isfinite(e) ? Json(1.0 - e / a) : Json(nullptr);
+    }
+    j["config"] = toJson(m.config);
+    j["ns_per_px"] = m.nsPerPixel;
+    j["timing_backend"] = m.timingBackend;
+    return j;
+}
+
+}  // namespace
+
+Json summaryJson(const Scene& scene, const RenderResult& r) {
     Json methods = Json::array();
-    for (const auto& m : r.methods) {
-        Json j = toJson(m.stats);
-        j["label"] = m.config.label;
-        if (m.haveExactFrame) {
-            // The error with the exact frame is the method's own; the rest of the mean is
-            // what the per-vertex tangent frame adds.
-            j["exact_frame"] = toJson(m.statsExactFrame);
-            double a = m.stats.error.mean, e = m.statsExactFrame.error.mean;
-            j["frame_share_of_mean"] =
-                a > 0 && std::isfinite(a) && std::isfinite(e) ? Json(1.0 - e / a) : Json(nullptr);
-        }
-        j["config"] = toJson(m.config);
-        j["ns_per_px"] = m.nsPerPixel;
-        j["timing_backend"] = m.timingBackend;
-        methods.push_back(j);
-    }
+    for (const auto& m : r.methods) methods.push_back(methodJson(m));
     return {{"tool", "pgt"},
             {"scene_file", scene.file},
             {"scene", resolvedSceneJson(scene, r.view)},
-            {"view", view},
-            {"truth", truth},
+            {"view", viewJson(r)},
+            {"truth", truthJson(scene, r)},
             {"raster",
              {{"covered_pixels", r.raster.covered},
               {"no_exact_frame_pixels", r.raster.noExactFrame},

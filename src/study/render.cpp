@@ -29,6 +29,48 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
                            timing, keepImages);
 }
 
+namespace {
+
+// One method over the view's fragments: its pixels, its comparison with the truth (and, on
+// meshes, the same fed the exact frame) and, when asked, its single-threaded cost on
+// `timed` (a GLSL method is timed in the same call as its evaluation: one upload, every
+// fragment, since a GL draw has a fixed cost). `timingMs` gets the time spent timing.
+MethodFrame measureMethod(const Scene& scene, const ViewSpec& view, const MethodConfig& cfg,
+                          const FragmentList& frags, const FragmentList& timed,
+                          MethodTextureCache& textures, const TimingSpec& timing, RenderResult& r,
+                          bool keepImages, double& timingMs) {
+    const int W = r.camera.width(), H = r.camera.height();
+    double s = std::isfinite(cfg.scale) ? cfg.scale : view.displacement.scale;
+    double b = std::isfinite(cfg.bias) ? cfg.bias : view.displacement.bias;
+    const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
+    MethodFrame mf;
+    mf.config = cfg;
+    mf.timingBackend = timingBackend(cfg);
+    auto te = Clock::now();
+    const bool gl = cfg.kind == MethodKind::Glsl;
+    mf.pixels = gl ? evaluateGlsl(cfg, frags, tex, W, H, false,
+                                  timing.repeats > 0 ? &mf.nsPerPixel : nullptr, timing.repeats)
+                   : evaluateMethod(cfg, frags, tex, W, H);
+    r.timingsMs["methods_eval"] += msSince(te);
+    const Texture& map = scene.height;
+    mf.stats = compareWithTruth(r.truth, mf.pixels, map.width, map.height, map.address,
+                                keepImages ? &mf.errTexels : nullptr);
+    if (scene.isMesh) {
+        auto exact = evaluateMethod(cfg, frags, tex, W, H, true);
+        mf.statsExactFrame = compareWithTruth(r.truth, exact, map.width, map.height, map.address);
+        mf.haveExactFrame = true;
+    }
+    if (timing.repeats > 0 && !gl) {
+        auto tt = Clock::now();
+        mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);
+        timingMs += msSince(tt);
+    }
+    if (!keepImages) mf.pixels = {};
+    return mf;
+}
+
+}  // namespace
+
 RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
                              TruthFrames&& truth, const std::vector<MethodConfig>& configs,
                              MethodTextureCache& textures, const TimingSpec& timing,
@@ -36,7 +78,6 @@ RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Cam
     RenderResult r;
     r.view = view;
     r.camera = camera;
-    const int W = camera.width(), H = camera.height();
     r.truthBuild = truth.build;
     r.truthBlocks = truth.blocks;
     r.truth = std::move(truth.truth);
@@ -58,37 +99,9 @@ RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Cam
 
     auto t3 = Clock::now();
     double timingMs = 0;
-    for (const MethodConfig& cfg : configs) {
-        double s = std::isfinite(cfg.scale) ? cfg.scale : view.displacement.scale;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : view.displacement.bias;
-        const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
-        MethodFrame mf;
-        mf.config = cfg;
-        mf.timingBackend = timingBackend(cfg);
-        auto te = Clock::now();
-        // A GLSL method is timed in the same call (one upload; every fragment, since a GL
-        // draw has a fixed cost); C++ methods below, on the timed subset.
-        const bool gl = cfg.kind == MethodKind::Glsl;
-        mf.pixels = gl ? evaluateGlsl(cfg, frags, tex, W, H, false,
-                                      timing.repeats > 0 ? &mf.nsPerPixel : nullptr, timing.repeats)
-                       : evaluateMethod(cfg, frags, tex, W, H);
-        r.timingsMs["methods_eval"] += msSince(te);
-        mf.stats = compareWithTruth(r.truth, mf.pixels, scene.height.width, scene.height.height,
-                                    scene.height.address, keepImages ? &mf.errTexels : nullptr);
-        if (scene.isMesh) {
-            auto exact = evaluateMethod(cfg, frags, tex, W, H, true);
-            mf.statsExactFrame = compareWithTruth(r.truth, exact, scene.height.width,
-                                                  scene.height.height, scene.height.address);
-            mf.haveExactFrame = true;
-        }
-        if (timing.repeats > 0 && !gl) {
-            auto tt = Clock::now();
-            mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);
-            timingMs += msSince(tt);
-        }
-        if (!keepImages) mf.pixels = {};
-        r.methods.push_back(std::move(mf));
-    }
+    for (const MethodConfig& cfg : configs)
+        r.methods.push_back(measureMethod(scene, view, cfg, frags, timed, textures, timing, r,
+                                          keepImages, timingMs));
     r.timingsMs["methods"] = msSince(t3) - timingMs;
     r.timingsMs["method_timing"] = timingMs;
     if (!keepImages) r.fragments = {};

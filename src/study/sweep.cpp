@@ -445,14 +445,13 @@ std::string hms(double seconds) {
 
 }  // namespace
 
-SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
-    auto start = Clock::now();
+namespace {
+
+// The study directory ready to append to: study.json written or checked against this study,
+// results.csv cut to its complete cases. Returns the keys of the cases already there.
+std::set<std::string> openStudyDir(const Study& study, const SweepOptions& opt,
+                                   const std::string& csvPath, const std::string& studyPath) {
     std::error_code ec;
-    prepareOutputDir(opt.outDir);
-    // One run per directory at a time: two runs would both append every case.
-    StudyLock lock(opt.outDir);
-    const std::string csvPath = (fs::path(opt.outDir) / "results.csv").string();
-    const std::string studyPath = (fs::path(opt.outDir) / "study.json").string();
     for (const std::string& path : {csvPath, studyPath})
         if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
             throw OutputError("cannot use " + path + ": it is not a regular file");
@@ -477,6 +476,89 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     }
     std::set<std::string> finished = loadFinished(csvPath, study);
     if (!fs::exists(csvPath)) writeTextFile(csvPath, header());
+    return finished;
+}
+
+// "sweep: 12/40 cases (4 resumed), 1.50 cases/s, ETA 0:00:19" on stderr: in place on a
+// terminal, about 20 lines in all otherwise.
+class SweepProgress {
+  public:
+    SweepProgress(const SweepSummary& sum, size_t todo, bool enabled)
+        : sum_(sum), every_(std::max(1, int(todo) / 20)), enabled_(enabled), tty_(::isatty(2)) {}
+    void show(bool last) const {
+        if (!enabled_) return;
+        int done = sum_.resumed + sum_.done;
+        double el = std::chrono::duration<double>(Clock::now() - start_).count();
+        double rate = el > 0 ? sum_.done / el : 0;
+        double eta = rate > 0 ? (sum_.total - done) / rate : 0;
+        if (!tty_ && !last && sum_.done % every_ != 0) return;
+        std::fprintf(stderr, "%ssweep: %d/%d cases (%d resumed), %.2f cases/s, ETA %s%s",
+                     tty_ ? "\r" : "", done, sum_.total, sum_.resumed, rate, hms(eta).c_str(),
+                     tty_ && !last ? "" : "\n");
+        std::fflush(stderr);
+    }
+
+  private:
+    const SweepSummary& sum_;
+    Clock::time_point start_ = Clock::now();
+    int every_;
+    bool enabled_, tty_;
+};
+
+// The view of one case: the scene's camera at the case's angles and the study's frame.
+ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
+    ViewSpec view = scene.view();
+    view.camera.theta = c.theta;
+    view.camera.phi = c.phi;
+    view.camera.width = study.width;
+    view.camera.height = study.height;
+    view.camera.jitter = study.jitter;
+    view.displacement = {c.scale, c.bias};
+    return view;
+}
+
+// Runs the cases in order, appending each case's rows to `fd` as it finishes.
+void runCases(const Scene& scene, const Study& study, const SweepOptions& opt,
+              const std::vector<const StudyCase*>& todo, int fd, const std::string& csvPath,
+              SweepSummary& sum, const SweepProgress& progress) {
+    TruthBuilder builder(scene);
+    MethodTextureCache textures(scene.height, scene.uvExtent);
+    const TruthPair* truths = nullptr;
+    std::pair<double, double> built(NAN, NAN);
+    for (const StudyCase* c : todo) {
+        if (opt.maxCases >= 0 && sum.done >= opt.maxCases) break;
+        if (!(built.first == c->scale && built.second == c->bias)) {
+            // One truth per (s, b), reused for every view of that surface.
+            auto tb = Clock::now();
+            truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
+            built = {c->scale, c->bias};
+            textures.clear();
+            sum.stageMs["truth_build"] += msSince(tb);
+        }
+        RenderResult r = renderView(scene, caseView(scene, study, *c), *truths, study.configs,
+                                    textures, study.timing, opt.images);
+        for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
+        if (opt.images) {
+            char dir[32];
+            std::snprintf(dir, sizeof dir, "case_%05d", c->index);
+            writeRenderOutputs(scene, r, (fs::path(opt.outDir) / "images" / dir).string());
+        }
+        appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
+        ++sum.done;
+        progress.show(false);
+    }
+}
+
+}  // namespace
+
+SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
+    auto start = Clock::now();
+    prepareOutputDir(opt.outDir);
+    // One run per directory at a time: two runs would both append every case.
+    StudyLock lock(opt.outDir);
+    const std::string csvPath = (fs::path(opt.outDir) / "results.csv").string();
+    const std::string studyPath = (fs::path(opt.outDir) / "study.json").string();
+    std::set<std::string> finished = openStudyDir(study, opt, csvPath, studyPath);
     int fd = ::open(csvPath.c_str(), O_WRONLY | O_APPEND);
     if (fd < 0) throw OutputError("cannot open " + csvPath + " for appending");
 
@@ -489,63 +571,17 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
         else
             todo.push_back(&c);
     }
-    const bool tty = ::isatty(2);
-    auto progress = [&](bool last) {
-        if (!opt.progress) return;
-        int done = sum.resumed + sum.done;
-        double el = std::chrono::duration<double>(Clock::now() - start).count();
-        double rate = el > 0 ? sum.done / el : 0;
-        double eta = rate > 0 ? (sum.total - done) / rate : 0;
-        int every = std::max(1, int(todo.size()) / 20);
-        if (!tty && !last && sum.done % every != 0) return;
-        std::fprintf(stderr, "%ssweep: %d/%d cases (%d resumed), %.2f cases/s, ETA %s%s",
-                     tty ? "\r" : "", done, sum.total, sum.resumed, rate, hms(eta).c_str(),
-                     tty && !last ? "" : "\n");
-        std::fflush(stderr);
-    };
-    progress(todo.empty());
-
-    TruthBuilder builder(scene);
-    MethodTextureCache textures(scene.height, scene.uvExtent);
-    const TruthPair* truths = nullptr;
-    std::pair<double, double> built(NAN, NAN);
+    SweepProgress progress(sum, todo.size(), opt.progress);
+    progress.show(todo.empty());
     try {
-        for (const StudyCase* c : todo) {
-            if (opt.maxCases >= 0 && sum.done >= opt.maxCases) break;
-            if (!(built.first == c->scale && built.second == c->bias)) {
-                // One truth per (s, b), reused for every view of that surface.
-                auto tb = Clock::now();
-                truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
-                built = {c->scale, c->bias};
-                textures.clear();
-                sum.stageMs["truth_build"] += msSince(tb);
-            }
-            ViewSpec view = scene.view();
-            view.camera.theta = c->theta;
-            view.camera.phi = c->phi;
-            view.camera.width = study.width;
-            view.camera.height = study.height;
-            view.camera.jitter = study.jitter;
-            view.displacement = {c->scale, c->bias};
-            RenderResult r =
-                renderView(scene, view, *truths, study.configs, textures, study.timing, opt.images);
-            for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
-            if (opt.images) {
-                char dir[32];
-                std::snprintf(dir, sizeof dir, "case_%05d", c->index);
-                writeRenderOutputs(scene, r, (fs::path(opt.outDir) / "images" / dir).string());
-            }
-            appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
-            ++sum.done;
-            progress(false);
-        }
+        runCases(scene, study, opt, todo, fd, csvPath, sum, progress);
     } catch (...) {
         ::close(fd);
         throw;
     }
     ::close(fd);
     sum.finished = sum.resumed + sum.done == sum.total;
-    if (!todo.empty()) progress(true);
+    if (!todo.empty()) progress.show(true);
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (sum.finished && opt.report) {  // still under the lock: the rows cannot change
         sum.reportPath = writeStudyReport(opt.outDir, &sum.reportWhy);
