@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace pgt {
 
@@ -73,25 +74,163 @@ double edgeFunction(Vec2d a, Vec2d b, Vec2d p) {
     return swap ? -e : e;
 }
 
+// Pinhole near plane: a thousandth of the eye's distance to the nearest vertex keeps
+// clipped triangles well conditioned while losing nothing visible in practice.
+double nearPlane(const BaseMesh& mesh, const Camera& camera) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& v : mesh.vertices)
+        nearest = std::min(nearest, glm::length(v.position - camera.eye()));
+    return std::max(1e-9, nearest * 1e-3);
+}
+
+// The drawn triangle's exact dS/du and dS/dv (003 Eq. 7.37 without averaging); false when
+// its UVs are degenerate.
+struct SurfaceDerivatives {
+    Vec3d dSdu{0}, dSdv{0};
+    bool exact = false;
+};
+SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v) {
+    SurfaceDerivatives d;
+    Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
+    Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
+    double det = d1.x * d2.y - d2.x * d1.y;
+    double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
+    if (std::fabs(det) > 1e-12 * scale && std::isfinite(det)) {
+        d.dSdu = (e1 * d2.y - e2 * d1.y) / det;
+        d.dSdv = (e2 * d1.x - e1 * d2.x) / det;
+        d.exact = true;
+    }
+    return d;
+}
+
+// The triangle in camera space, clipped (Sutherland-Hodgman) against forward >= nearZ for
+// a pinhole camera: 0, 3 or 4 vertices.
+std::vector<ClipVertex> clipToNear(const std::array<const BaseVertex*, 3>& v, const Camera& camera,
+                                   double nearZ) {
+    std::vector<ClipVertex> poly;
+    for (auto* p : v)
+        poly.push_back({camera.toCamera(p->position), p->position, p->uv, p->tangent, p->bitangent,
+                        p->normal, p->handedness});
+    if (camera.isOrthographic()) return poly;
+    std::vector<ClipVertex> out;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        const ClipVertex& a = poly[i];
+        const ClipVertex& c = poly[(i + 1) % poly.size()];
+        bool ina = a.cam.z >= nearZ, inc = c.cam.z >= nearZ;
+        if (ina) out.push_back(a);
+        if (ina != inc) out.push_back(lerp(a, c, (nearZ - a.cam.z) / (c.cam.z - a.cam.z)));
+    }
+    return out;
+}
+
+// One screen-space triangle of a clipped polygon, oriented so that its edge functions are
+// positive inside, with the pixel range its samples can fall in.
+struct ScreenTriangle {
+    std::array<const ClipVertex*, 3> c;
+    std::array<Vec2d, 3> s;
+    std::array<double, 3> invW;
+    std::array<bool, 3> topLeft;  // edge i is opposite vertex i: s[(i+1)%3] -> s[(i+2)%3]
+    double area = 0;
+    int px0 = 0, px1 = -1, py0 = 0, py1 = -1;
+
+    // False for a degenerate (zero or non-finite area) triangle.
+    bool setup(const Camera& camera, std::array<const ClipVertex*, 3> verts) {
+        c = verts;
+        const bool ortho = camera.isOrthographic();
+        for (int i = 0; i < 3; ++i) {
+            s[i] = camera.toScreen(c[i]->cam);
+            invW[i] = ortho ? 1.0 : 1.0 / c[i]->cam.z;
+        }
+        area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[1].y - s[0].y) * (s[2].x - s[0].x);
+        if (area == 0 || !std::isfinite(area)) return false;
+        if (area < 0) {
+            std::swap(c[1], c[2]);
+            std::swap(s[1], s[2]);
+            std::swap(invW[1], invW[2]);
+            area = -area;
+        }
+        double x0 = std::min({s[0].x, s[1].x, s[2].x}), x1 = std::max({s[0].x, s[1].x, s[2].x});
+        double y0 = std::min({s[0].y, s[1].y, s[2].y}), y1 = std::max({s[0].y, s[1].y, s[2].y});
+        // Every pixel whose sample position (centre or jittered, inside the pixel) can fall
+        // in the bounding box (clamped in double first: a triangle clipped just in front of
+        // a pinhole eye can project to beyond +-2^31 pixels, where an int conversion is
+        // undefined).
+        auto index = [](double x, int lo, int hi) { return x <= lo ? lo : x >= hi ? hi : int(x); };
+        const int W = camera.width(), H = camera.height();
+        px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
+        py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);
+        for (int i = 0; i < 3; ++i) topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
+        return true;
+    }
+
+    // Perspective-correct barycentrics of sample p, or false when p is outside (top-left
+    // rule on the edges).
+    bool covers(Vec2d p, std::array<double, 3>& bary) const {
+        std::array<double, 3> e;
+        for (int i = 0; i < 3; ++i) {
+            e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
+            if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) return false;
+        }
+        // Screen weights divided by w.
+        double b0 = e[0] / area * invW[0], b1 = e[1] / area * invW[1], b2 = e[2] / area * invW[2];
+        double sum = b0 + b1 + b2;
+        bary = {b0 / sum, b1 / sum, b2 / sum};
+        return true;
+    }
+};
+
+// The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
+// (003 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
+void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
+           const SurfaceDerivatives& d, const Camera& camera) {
+    const auto& c = tri.c;
+    f.covered = true;
+    f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
+    f.position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
+    // 003 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent, n));
+    // b = cross(normal, tangent) * sigma.
+    Vec3d n = glm::normalize(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
+    Vec3d t = c[0]->t * b[0] + c[1]->t * b[1] + c[2]->t * b[2];
+    double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];
+    t = glm::normalize(t - n * glm::dot(n, t));
+    Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
+    Vec3d view = camera.viewVector(f.position);
+    f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
+    f.viewTangentExact = f.viewTangent;
+    f.exactFrame = d.exact;
+    if (d.exact) {
+        Vec3d te = glm::normalize(d.dSdu - n * glm::dot(n, d.dSdu));
+        Vec3d be = d.dSdv - n * glm::dot(n, d.dSdv);
+        be = glm::normalize(be - te * glm::dot(te, be));
+        f.viewTangentExact =
+            glm::normalize(Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
+    }
+}
+
+// Every sample the triangle covers, nearest first (depth test on camera-space forward).
+void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera,
+          Image2D<Fragment>& frags, Image2D<double>& depth) {
+    std::array<double, 3> b;
+    for (int py = tri.py0; py <= tri.py1; ++py)
+        for (int px = tri.px0; px <= tri.px1; ++px) {
+            if (!tri.covers(camera.samplePosition(px, py), b)) continue;
+            const auto& c = tri.c;
+            double z = b[0] * c[0]->cam.z + b[1] * c[1]->cam.z + b[2] * c[2]->cam.z;
+            if (!(z < depth.at(px, py))) continue;
+            depth.at(px, py) = z;
+            shade(frags.at(px, py), tri, b, d, camera);
+        }
+}
+
 }  // namespace
 
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats) {
-    const int W = camera.width(), H = camera.height();
-    Image2D<Fragment> frags(W, H);
-    Image2D<double> depth(W, H, std::numeric_limits<double>::infinity());
+    Image2D<Fragment> frags(camera.width(), camera.height());
+    Image2D<double> depth(camera.width(), camera.height(), std::numeric_limits<double>::infinity());
     RasterStats st;
     const bool ortho = camera.isOrthographic();
-    // Pinhole near plane: a thousandth of the eye's distance to the nearest vertex keeps
-    // clipped triangles well conditioned while losing nothing visible in practice.
-    double nearZ = 0;
-    if (!ortho) {
-        double nearest = std::numeric_limits<double>::infinity();
-        for (const auto& v : mesh.vertices)
-            nearest = std::min(nearest, glm::length(v.position - camera.eye()));
-        nearZ = std::max(1e-9, nearest * 1e-3);
-    }
-
+    const double nearZ = ortho ? 0 : nearPlane(mesh, camera);
     for (size_t tri = 0; tri + 2 < mesh.indices.size(); tri += 3) {
         std::array<const BaseVertex*, 3> v = {&mesh.vertices[mesh.indices[tri]],
                                               &mesh.vertices[mesh.indices[tri + 1]],
@@ -99,119 +238,17 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
         // Facing: the geometric normal against the direction to the eye.
         Vec3d faceN = glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position);
         Vec3d toEye = ortho ? -camera.forward() : camera.eye() - v[0]->position;
-        bool front = glm::dot(faceN, toEye) > 0;
-        if (!front && options.cullBackFaces) {
+        if (!(glm::dot(faceN, toEye) > 0) && options.cullBackFaces) {
             ++st.trianglesCulled;
             continue;
         }
         ++st.trianglesDrawn;
-
-        // The drawn triangle's exact dS/du and dS/dv (003 Eq. 7.37 without averaging).
-        Vec3d dSdu(0), dSdv(0);
-        bool exact = false;
-        {
-            Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
-            Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
-            double det = d1.x * d2.y - d2.x * d1.y;
-            double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
-            if (std::fabs(det) > 1e-12 * scale && std::isfinite(det)) {
-                dSdu = (e1 * d2.y - e2 * d1.y) / det;
-                dSdv = (e2 * d1.x - e1 * d2.x) / det;
-                exact = true;
-            }
-        }
-        std::vector<ClipVertex> poly;
-        for (auto* p : v)
-            poly.push_back({camera.toCamera(p->position), p->position, p->uv, p->tangent,
-                            p->bitangent, p->normal, p->handedness});
-        if (!ortho) {  // Sutherland-Hodgman against forward >= nearZ
-            std::vector<ClipVertex> out;
-            for (size_t i = 0; i < poly.size(); ++i) {
-                const ClipVertex& a = poly[i];
-                const ClipVertex& c = poly[(i + 1) % poly.size()];
-                bool ina = a.cam.z >= nearZ, inc = c.cam.z >= nearZ;
-                if (ina) out.push_back(a);
-                if (ina != inc) out.push_back(lerp(a, c, (nearZ - a.cam.z) / (c.cam.z - a.cam.z)));
-            }
-            poly.swap(out);
-        }
+        const SurfaceDerivatives d = surfaceDerivatives(v);
+        const std::vector<ClipVertex> poly = clipToNear(v, camera, nearZ);
         for (size_t k = 1; k + 1 < poly.size(); ++k) {
-            std::array<const ClipVertex*, 3> c = {&poly[0], &poly[k], &poly[k + 1]};
-            std::array<Vec2d, 3> s;
-            std::array<double, 3> invW;
-            for (int i = 0; i < 3; ++i) {
-                s[i] = camera.toScreen(c[i]->cam);
-                invW[i] = ortho ? 1.0 : 1.0 / c[i]->cam.z;
-            }
-            double area =
-                (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[1].y - s[0].y) * (s[2].x - s[0].x);
-            if (area == 0 || !std::isfinite(area)) continue;
-            // Normalise orientation so that all edge functions are positive inside.
-            if (area < 0) {
-                std::swap(c[1], c[2]);
-                std::swap(s[1], s[2]);
-                std::swap(invW[1], invW[2]);
-                area = -area;
-            }
-            double x0 = std::min({s[0].x, s[1].x, s[2].x}), x1 = std::max({s[0].x, s[1].x, s[2].x});
-            double y0 = std::min({s[0].y, s[1].y, s[2].y}), y1 = std::max({s[0].y, s[1].y, s[2].y});
-            // Every pixel whose sample position (centre or jittered, inside the pixel) can
-            // fall in the bounding box.
-            // (clamped in double first: a triangle clipped just in front of a pinhole eye can
-            // project to beyond +-2^31 pixels, where an int conversion is undefined)
-            auto index = [](double x, int lo, int hi) {
-                return x <= lo ? lo : x >= hi ? hi : int(x);
-            };
-            int px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
-            int py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);
-            // Edge i is opposite vertex i: from s[(i+1)%3] to s[(i+2)%3].
-            std::array<bool, 3> topLeft;
-            for (int i = 0; i < 3; ++i) topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
-            for (int py = py0; py <= py1; ++py) {
-                for (int px = px0; px <= px1; ++px) {
-                    Vec2d p = camera.samplePosition(px, py);
-                    std::array<double, 3> e;
-                    bool inside = true;
-                    for (int i = 0; i < 3; ++i) {
-                        // Positive when p is on the interior side (after the orientation
-                        // normalisation above).
-                        e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
-                        if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) inside = false;
-                    }
-                    if (!inside) continue;
-                    // Perspective-correct barycentrics: screen weights divided by w.
-                    double b0 = e[0] / area * invW[0], b1 = e[1] / area * invW[1],
-                           b2 = e[2] / area * invW[2];
-                    double sum = b0 + b1 + b2;
-                    b0 /= sum, b1 /= sum, b2 /= sum;
-                    double z = b0 * c[0]->cam.z + b1 * c[1]->cam.z + b2 * c[2]->cam.z;
-                    if (!(z < depth.at(px, py))) continue;
-                    depth.at(px, py) = z;
-                    Fragment& f = frags.at(px, py);
-                    f.covered = true;
-                    f.uv0 = c[0]->uv * b0 + c[1]->uv * b1 + c[2]->uv * b2;
-                    f.position = c[0]->world * b0 + c[1]->world * b1 + c[2]->world * b2;
-                    // 003 Listing 7.8: n = normalize(normal); t = normalize(tangent -
-                    // n * dot(tangent, n)); b = cross(normal, tangent) * sigma.
-                    Vec3d n = glm::normalize(c[0]->n * b0 + c[1]->n * b1 + c[2]->n * b2);
-                    Vec3d t = c[0]->t * b0 + c[1]->t * b1 + c[2]->t * b2;
-                    double w = c[0]->w * b0 + c[1]->w * b1 + c[2]->w * b2;
-                    t = glm::normalize(t - n * glm::dot(n, t));
-                    Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
-                    Vec3d view = camera.viewVector(f.position);
-                    f.viewTangent = glm::normalize(
-                        Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
-                    f.viewTangentExact = f.viewTangent;
-                    f.exactFrame = exact;
-                    if (exact) {
-                        Vec3d te = glm::normalize(dSdu - n * glm::dot(n, dSdu));
-                        Vec3d be = dSdv - n * glm::dot(n, dSdv);
-                        be = glm::normalize(be - te * glm::dot(te, be));
-                        f.viewTangentExact = glm::normalize(
-                            Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
-                    }
-                }
-            }
+            ScreenTriangle screen;
+            if (screen.setup(camera, {&poly[0], &poly[k], &poly[k + 1]}))
+                scan(screen, d, camera, frags, depth);
         }
     }
     for (const auto& f : frags.data) {
