@@ -6,8 +6,8 @@
 
 #include <string>
 
+#include "mesh/base_mesh.h"
 #include "mesh/control_mesh.h"
-#include "raster/raster.h"
 
 namespace pgt {
 

@@ -9,25 +9,10 @@
 
 #include "core/image.h"
 #include "core/math.h"
+#include "mesh/base_mesh.h"
 #include "scene/camera.h"
 
 namespace pgt {
-
-struct BaseVertex {
-    Vec3d position;
-    Vec2d uv;
-    Vec3d tangent, bitangent, normal;  // per-vertex frame (T along dS/du, B along dS/dv)
-    double handedness = 1.0;           // 003 Listing 7.4's w: sign of det(tangent frame)
-};
-
-struct BaseMesh {
-    std::vector<BaseVertex> vertices;
-    std::vector<uint32_t> indices;  // triangles, counter-clockwise seen from the front (+N)
-};
-
-// The plane of MODEL.md §2 as two triangles; `tilesAround` > 0 extends it by that many
-// whole tiles on every side (an infinite plane's visible part), UVs continuing outward.
-BaseMesh makePlaneMesh(Vec3d center, double size, double tiling, int tilesAround = 0);
 
 // How many tiles around the central one an infinite plane needs so that every pixel ray
 // of `camera` that meets the plane z = center.z meets it inside (at most `cap`).

@@ -9,9 +9,9 @@
 
 #include "core/math.h"
 #include "heightfield/texture.h"
+#include "mesh/base_mesh.h"
 #include "mesh/control_mesh.h"
 #include "mesh/refine.h"
-#include "raster/raster.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
 
