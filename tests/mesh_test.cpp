@@ -193,7 +193,7 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
     // Same framing: the mesh's box is grown by the relief on every side, the plane's only in
     // z; give both the same explicit view.
     for (Scene* s : {&plane, &mesh}) {
-        s->camera.frame = "view";
+        s->camera.frame = Framing::View;
         s->camera.viewHeight = 1.2;
         s->camera.target = Vec3d(0);
     }

@@ -85,7 +85,7 @@ TEST(Render, PinholeParallaxIsExactOnConstantHeight) {
     Scene sc = test::planeScene(
         std::move(t), s, b, 0, 0, 128,
         parseMethods(nlohmann::json::parse(R"(["parallax","pom","none"])"), "t", "methods"));
-    sc.camera.type = "pinhole";
+    sc.camera.type = Projection::Pinhole;
     sc.camera.eye = Vec3d(0.3, -1.1, 0.7);
     sc.camera.target = Vec3d(0, 0.1, 0);
     sc.camera.up = Vec3d(0, 0, 1);

@@ -49,7 +49,7 @@ inline Scene planeScene(Texture height, double scale, double bias, double theta,
     s.height = std::move(height);
     s.heightSource = "test";
     s.displacement = {scale, bias};
-    s.camera.type = "orthographic";
+    s.camera.type = Projection::Orthographic;
     s.camera.theta = theta;
     s.camera.phi = phi;
     s.camera.width = s.camera.height = resolution;

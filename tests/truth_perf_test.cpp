@@ -21,7 +21,7 @@ Camera viewOf(double theta, double phi, int pixels, bool infinite) {
     Scene s;
     s.camera.theta = theta;
     s.camera.phi = phi;
-    s.camera.frame = "fill";
+    s.camera.frame = Framing::Fill;
     s.camera.fillSize = infinite ? 1.0 : 0.6;
     s.camera.width = s.camera.height = pixels;
     s.camera.jitter = true;
@@ -141,7 +141,7 @@ TEST(TruthPerf, ViewWindowTracesLikeTheWholePlane) {
     Scene s;
     s.camera.theta = 65;
     s.camera.phi = 35;
-    s.camera.frame = "fill";
+    s.camera.frame = Framing::Fill;
     s.camera.fillSize = 0.2;
     s.camera.width = s.camera.height = 64;
     s.camera.target = Vec3d(0.45, 0.3, 0);  // across the tile's corner: the window unwraps

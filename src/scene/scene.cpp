@@ -113,7 +113,9 @@ void parseMeshBase(Scene& s, JsonFields& f) {
                 "a mesh of " + std::to_string(cage.numFaces()) + " faces refined " +
                     std::to_string(m.refine) + " times (about " +
                     std::to_string(int64_t(refinedFaces)) + " drawn faces)");
-    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal");
+    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal") == "limit"
+                         ? MeshTruth::Limit
+                         : MeshTruth::Polygonal;
     try {
         m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));
         m.cage = std::make_shared<ControlMesh>(cage);
@@ -160,24 +162,27 @@ void parseBase(Scene& s, JsonFields& root) {
 void parseCamera(Scene& s, JsonFields& root) {
     JsonFields f(root.raw("camera"), s.file, "camera");
     CameraSpec& c = s.camera;
-    c.type = f.choice("type", {"orthographic", "pinhole"}, "orthographic");
+    c.type = f.choice("type", {"orthographic", "pinhole"}, "orthographic") == "pinhole"
+                 ? Projection::Pinhole
+                 : Projection::Orthographic;
     auto res = f.integers("resolution", 2, 1, 16384);
     c.width = res[0];
     c.height = res[1];
     if (double(c.width) * c.height > double(1 << 26)) f.fail("resolution", "more than 2^26 pixels");
     c.jitter = f.choice("samples", {"centre", "jittered"}, "centre") == "jittered";
     c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
-    if (c.type == "orthographic") {
+    if (c.type == Projection::Orthographic) {
         c.theta = f.number("theta", 0.0, 90.0);
         if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
             f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
         c.phi = f.number("phi", 0.0, -360.0, 360.0);
-        c.frame = f.choice("frame", {"plane", "fill"}, "plane");
+        c.frame = f.choice("frame", {"plane", "fill"}, "plane") == "fill" ? Framing::Fill
+                                                                          : Framing::Plane;
         c.fillSize =
             f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2, 1e-9, 1e9);
         if (f.has("view_height")) {
             if (f.has("frame")) f.fail("view_height", "give either \"frame\" or \"view_height\"");
-            c.frame = "view";
+            c.frame = Framing::View;
             c.viewHeight = f.number("view_height", 1e-9, 1e9);
         }
         c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
@@ -218,6 +223,16 @@ void parseTruth(Scene& s, JsonFields& root) {
 }
 
 }  // namespace
+
+std::string toString(MeshTruth truth) { return truth == MeshTruth::Limit ? "limit" : "polygonal"; }
+
+std::string toString(Projection projection) {
+    return projection == Projection::Pinhole ? "pinhole" : "orthographic";
+}
+
+std::string toString(Framing framing) {
+    return framing == Framing::Fill ? "fill" : framing == Framing::View ? "view" : "plane";
+}
 
 Scene parseScene(const Json& json, const std::string& file) {
     Scene s;
@@ -267,16 +282,16 @@ Camera makeCamera(const Scene& s, const ViewSpec& view) {
 namespace {
 Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view) {
     const CameraSpec& c = view.camera;
-    if (c.type == "pinhole")
+    if (c.type == Projection::Pinhole)
         return Camera::pinhole(c.eye, c.target, c.up, c.fov, c.width, c.height);
     // MODEL.md §4: the camera looks along -V; image up is world +z made perpendicular to the
     // view direction, (-cos t cos p, -cos t sin p, sin t), which stays defined at theta = 0.
     Vec3d v = viewFromAngles(c.theta, c.phi);
     double t = radians(c.theta), p = radians(c.phi);
     Vec3d up(-std::cos(t) * std::cos(p), -std::cos(t) * std::sin(p), std::sin(t));
-    if (c.frame == "view")
+    if (c.frame == Framing::View)
         return Camera::orthographic(-v, c.target, up, c.viewHeight, c.width, c.height);
-    if (c.frame == "fill") {
+    if (c.frame == Framing::Fill) {
         // The image's vertical extent on the plane is foreshortened by cos(theta); 1e-4
         // keeps the view non-degenerate at exactly 90 degrees.
         double height = c.fillSize * c.height / c.width * std::max(std::cos(t), 1e-4);
@@ -323,7 +338,7 @@ Json givenBlock(const Scene& s, const char* key) {
 
 Json cameraJson(const CameraSpec& c) {
     Json camera;
-    if (c.type == "pinhole") {
+    if (c.type == Projection::Pinhole) {
         camera = {{"type", "pinhole"},
                   {"eye", {c.eye.x, c.eye.y, c.eye.z}},
                   {"target", {c.target.x, c.target.y, c.target.z}},
@@ -333,10 +348,10 @@ Json cameraJson(const CameraSpec& c) {
         camera = {{"type", "orthographic"},
                   {"theta", c.theta},
                   {"phi", c.phi},
-                  {"frame", c.frame},
+                  {"frame", toString(c.frame)},
                   {"target", {c.target.x, c.target.y, c.target.z}}};
-        if (c.frame == "fill") camera["fill_size"] = c.fillSize;
-        if (c.frame == "view") camera["view_height"] = c.viewHeight;
+        if (c.frame == Framing::Fill) camera["fill_size"] = c.fillSize;
+        if (c.frame == Framing::View) camera["view_height"] = c.viewHeight;
     }
     camera["resolution"] = {c.width, c.height};
     camera["samples"] = c.jitter ? "jittered" : "centre";
@@ -362,7 +377,7 @@ Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
                                  {"given", givenBlock(s, "base")},
                                  {"scheme", toString(s.mesh.scheme)},
                                  {"refine", s.mesh.refine},
-                                 {"truth_surface", s.mesh.truthSurface},
+                                 {"truth_surface", toString(s.mesh.truthSurface)},
                                  {"world_per_uv", s.mesh.worldPerUv},
                                  {"cull_back_faces", s.cullBackFaces}}
                           : Json{{"type", "plane"},

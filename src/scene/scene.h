@@ -68,15 +68,17 @@ struct PlaneLattice {
     }
 };
 
+// What a mesh's truth displaces: "polygonal", the drawn mesh along its vertex normals (the
+// method's own error); "limit", the OpenSubdiv limit surface along its exact normal (the
+// asset as meant: adds faceting and frame error).
+enum class MeshTruth { Polygonal, Limit };
+
 // A curved base: a control mesh refined by OpenSubdiv.
 struct MeshBase {
     std::string source;  // "cube", "cylinder", "torus" or the OBJ path
     Scheme scheme = Scheme::Catmark;
     int refine = 2;  // levels for the mesh the rasteriser draws
-    // "polygonal": the drawn mesh displaced along its vertex normals (the method's own error);
-    // "limit": the OpenSubdiv limit surface displaced along its exact normal (the asset as
-    // meant: adds faceting and frame error).
-    std::string truthSurface = "polygonal";
+    MeshTruth truthSurface = MeshTruth::Polygonal;
     double worldPerUv = 0;                     // l: from the scene, else sqrt(world area / UV area)
     std::shared_ptr<const ControlMesh> cage;   // as read
     std::shared_ptr<const RefinedMesh> drawn;  // built at load time
@@ -87,13 +89,17 @@ struct Displacement {
     double bias = -0.025;  // b, UV units
 };
 
+enum class Projection { Orthographic, Pinhole };
+// Orthographic framing: "plane", "fill" or "view" (CameraSpec::frame).
+enum class Framing { Plane, Fill, View };
+
 struct CameraSpec {
-    std::string type = "orthographic";
+    Projection type = Projection::Orthographic;
     double theta = 60, phi = 0;  // orthographic view angle and azimuth, degrees
     // Orthographic framing: "plane" fits the whole plane and its relief; "fill" covers the
     // image with a plane region `fillSize` world units wide (every pixel sees the surface);
     // "view" uses viewHeight as given.
-    std::string frame = "plane";
+    Framing frame = Framing::Plane;
     double fillSize = 0;  // "fill": default half the plane (the whole tile if infinite)
     Vec3d target{0};
     double viewHeight = 0;
@@ -147,6 +153,10 @@ struct Scene {
 // Reads and validates a scene file; throws InputError (file, field, value) on bad input,
 // with line and column for malformed JSON.
 Scene loadScene(const std::string& path);
+// The scene file's words for the enums.
+std::string toString(MeshTruth truth);
+std::string toString(Projection projection);
+std::string toString(Framing framing);
 // Validates a scene given as JSON; `file` is used for messages and relative paths.
 Scene parseScene(const nlohmann::json& json, const std::string& file);
 

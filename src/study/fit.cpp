@@ -192,8 +192,8 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
 }  // namespace
 
 FitReport runFit(const Scene& scene, bool progress) {
-    if (scene.camera.type != "orthographic")
-        throw InputError(scene.file, "camera.type", scene.camera.type,
+    if (scene.camera.type != Projection::Orthographic)
+        throw InputError(scene.file, "camera.type", toString(scene.camera.type),
                          "fitting sweeps the view angle: it needs an orthographic camera");
     FitReport rep;
     const FitPlan plan = readFitPlan(scene, rep);

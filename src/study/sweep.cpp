@@ -313,8 +313,8 @@ Study parseStudy(const Scene& scene) {
     const std::string& file = scene.file;
     if (scene.sweep.is_null())
         throw InputError(file, "sweep", "(missing)", "the scene has no \"sweep\" block");
-    if (scene.camera.type != "orthographic")
-        throw InputError(file, "camera.type", scene.camera.type,
+    if (scene.camera.type != Projection::Orthographic)
+        throw InputError(file, "camera.type", toString(scene.camera.type),
                          "studies sweep the view angle: they need an orthographic camera");
     JsonFields f(scene.sweep, file, "sweep");
     Study st;

@@ -10,7 +10,7 @@
 namespace pgt {
 
 std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r) const {
-    if (scene_.isMesh && scene_.mesh.truthSurface == "limit")
+    if (scene_.isMesh && scene_.mesh.truthSurface == MeshTruth::Limit)
         return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
                                       scene_.worldPerUv(), r);
     if (scene_.isMesh)

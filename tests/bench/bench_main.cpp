@@ -57,7 +57,7 @@ Scene frameScene(int mapSide, int pixels) {
     s.height = smooth(mapSide);
     s.camera.theta = 60;
     s.camera.phi = 20;
-    s.camera.frame = "fill";
+    s.camera.frame = Framing::Fill;
     s.camera.fillSize = 0.5;
     s.camera.width = s.camera.height = pixels;
     return s;
