@@ -296,9 +296,9 @@ TEST(LimitTruth, TorusSharesEveryPointOffTheSeams) {
     auto tess = tessellateLimitSurface(t, cage, Scheme::Catmark, 1.0, 1);
     const int ru = 2, rv = 4;
     size_t want = 17 * 9 + 144 * (ru - 1) + 136 * (rv - 1) + 128 * (ru - 1) * (rv - 1);
-    EXPECT_EQ(tess->position.size(), want);
-    for (size_t k = 0; k < tess->normal.size(); ++k)
-        ASSERT_NEAR(glm::length(Vec3d(tess->normal[k])), 1.0, 1e-6) << k;
+    EXPECT_EQ(tess->sheet.position.size(), want);
+    for (size_t k = 0; k < tess->sheet.normal.size(); ++k)
+        ASSERT_NEAR(glm::length(Vec3d(tess->sheet.normal[k])), 1.0, 1e-6) << k;
 }
 
 // MODEL.md §5 on a curved surface: the limit cube's truth converges as the rate doubles.

@@ -112,12 +112,12 @@ TEST(TruthPerf, ImplicitGridIsThePlane) {
     plane.tiling = 2.0;
     plane.center = Vec3d(5, -2, 1);
     auto base = tessellatePlane(t, plane, 3);
-    ASSERT_EQ(base->nu, 96);
+    ASSERT_EQ(base->grid->nu, 96);
     ASSERT_EQ(base->vertexCount(), size_t(97 * 97));
     EXPECT_EQ(base->bytes(), t.texels.size() * sizeof(float));  // nothing per vertex
     for (int j : {0, 1, 50, 96})
         for (int i : {0, 7, 95, 96}) {
-            size_t k = base->gridIndex(i, j);
+            size_t k = base->grid->gridIndex(i, j);
             Vec3d p = base->positionAt(k) + base->origin;
             EXPECT_NEAR(p.x, 5 + (i / 96.0 - 0.5) * 3, 1e-12);
             EXPECT_NEAR(p.y, -2 + (j / 96.0 - 0.5) * 3, 1e-12);
@@ -128,7 +128,7 @@ TEST(TruthPerf, ImplicitGridIsThePlane) {
             EXPECT_EQ(base->heightAt(k), sampleBilinear<double>(t, base->uvAt(k)));
         }
     // The last vertex is exactly the tile's edge (the periodic walk relies on it).
-    EXPECT_EQ(base->uvAt(base->gridIndex(96, 96)), Vec2d(2, 2));
+    EXPECT_EQ(base->uvAt(base->grid->gridIndex(96, 96)), Vec2d(2, 2));
 }
 
 // A window of an infinite plane (the part a close view sees) is the same lattice as the

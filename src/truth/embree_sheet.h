@@ -49,8 +49,8 @@ struct TruthSurface::Impl {
 
     // The candidate triangles (vertex indices) of a hit: one, or a grid cell's two.
     int candidates(const RTCRayHit& rh, uint32_t out[2][3]) const {
-        if (!base->triangles.empty()) {
-            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+        if (!base->sheet.triangles.empty()) {
+            const uint32_t* t = &base->sheet.triangles[size_t(rh.hit.primID) * 3];
             out[0][0] = t[0], out[0][1] = t[1], out[0][2] = t[2];
             return 1;
         }
@@ -64,8 +64,8 @@ struct TruthSurface::Impl {
             ci = int((rh.hit.primID / 2) % unsigned(nu));
             cj = int((rh.hit.primID / 2) / unsigned(nu));
         }
-        uint32_t a = uint32_t(base->gridIndex(ci, cj)), b = a + 1;
-        uint32_t c = uint32_t(base->gridIndex(ci, cj + 1)), d = c + 1;
+        uint32_t a = uint32_t(base->grid->gridIndex(ci, cj)), b = a + 1;
+        uint32_t c = uint32_t(base->grid->gridIndex(ci, cj + 1)), d = c + 1;
         out[0][0] = a, out[0][1] = b, out[0][2] = c;
         out[1][0] = d, out[1][1] = c, out[1][2] = b;
         return 2;
@@ -76,12 +76,12 @@ struct TruthSurface::Impl {
     Vec2d cellUv(int ci, int cj, double fx, double fy) const {
         ci = std::clamp(ci, 0, nu - 1);
         cj = std::clamp(cj, 0, nv - 1);
-        const BaseTessellation& t = *base;
+        const PlaneGrid& t = *base->grid;
         // A parallelogram's UVs are affine in (i, j): both triangles of a cell interpolate
         // the same affine function, which is the corners' blend at the hit's lattice point.
         if (t.affineUv)
-            return BaseTessellation::blend(t.cornerUv, (ci + t.offsetI + fx) * t.invNu,
-                                           (cj + t.offsetJ + fy) * t.invNv);
+            return PlaneGrid::blend(t.cornerUv, (ci + t.offsetI + fx) * t.invNu,
+                                    (cj + t.offsetJ + fy) * t.invNv);
         const Vec2d a = t.gridUv(ci, cj), b = t.gridUv(ci + 1, cj);
         const Vec2d c = t.gridUv(ci, cj + 1), d = t.gridUv(ci + 1, cj + 1);
         if (fx + fy <= 1) return a + (b - a) * fx + (c - a) * fy;
@@ -99,10 +99,11 @@ struct TruthSurface::Impl {
             double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
             int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
             s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
-        } else if (!base->triangles.empty()) {
-            const uint32_t* t = &base->triangles[size_t(rh.hit.primID) * 3];
+        } else if (!base->sheet.triangles.empty()) {
+            const uint32_t* t = &base->sheet.triangles[size_t(rh.hit.primID) * 3];
             double u = rh.hit.u, v = rh.hit.v;
-            s.uv = base->uv[t[0]] * (1 - u - v) + base->uv[t[1]] * u + base->uv[t[2]] * v;
+            const std::vector<Vec2d>& uv = base->sheet.uv;
+            s.uv = uv[t[0]] * (1 - u - v) + uv[t[1]] * u + uv[t[2]] * v;
         } else {
             // Two triangles per cell: 2k = (a, b, c), 2k+1 = (d, c, b); Embree's barycentrics
             // weight v1 by u and v2 by v, so in 2k+1 the cell-local point is (1 - u, 1 - v).
@@ -268,7 +269,7 @@ struct TruthSurface::Impl {
     void displaceCanonical(const Displacement& disp) {
         if (!base->isGrid()) return displace(disp);
         displace(Displacement{disp.scale, 0.0});
-        shift = base->planeNormal * (base->worldPerUv * disp.bias);
+        shift = base->grid->planeNormal * (base->worldPerUv * disp.bias);
     }
 
     // Writes P = S + N * l * (s*h + b) (MODEL.md §3, in double, rounded once to float) into

@@ -64,6 +64,7 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     auto t0 = Clock::now();
     auto out = std::make_shared<BaseTessellation>();
     BaseTessellation& m = *out;
+    PlaneGrid& g = m.grid.emplace();
     m.origin = plane.center;
     m.worldPerUv = plane.worldPerUv();
     m.periodWorld = plane.size;
@@ -89,22 +90,22 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     const PlaneLattice lattice(plane, height, rate);
     // The scene parser bounds the vertex count; this keeps the int conversion defined.
     PGT_CHECK_LT(lattice.vertices(), double(int64_t(1) << 31));
-    m.nu = m.fullNu = int(lattice.nu);
-    m.nv = m.fullNv = int(lattice.nv);
-    m.invNu = 1.0 / m.nu;
-    m.invNv = 1.0 / m.nv;
-    int rates[4] = {m.nu, m.nv, m.nu, m.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
+    g.nu = g.fullNu = int(lattice.nu);
+    g.nv = g.fullNv = int(lattice.nv);
+    g.invNu = 1.0 / g.nu;
+    g.invNv = 1.0 / g.nv;
+    int rates[4] = {g.nu, g.nv, g.nu, g.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
     // Bfr's pattern for these rates is the regular lattice the grid indexes (checked where
     // its int count can hold it; windows of larger lattices use the same formula). Bfr
     // clamps an edge rate to kBfrMaxRate (measured: rates 40000 x 4 gave 32768 x 5
     // coordinates), so wider lattices, e.g. a 20000-texel map at 2x rate, are not compared.
     constexpr int kBfrMaxRate = 32767;
-    if (int64_t(m.nu + 1) * (m.nv + 1) < (int64_t(1) << 30) && m.nu <= kBfrMaxRate &&
-        m.nv <= kBfrMaxRate) {
+    if (int64_t(g.nu + 1) * (g.nv + 1) < (int64_t(1) << 30) && g.nu <= kBfrMaxRate &&
+        g.nv <= kBfrMaxRate) {
         Bfr::Tessellation tess(posSurface.GetParameterization(), 4, rates,
                                Bfr::Tessellation::Options().SetFacetSize(4).PreserveQuads(true));
         PGT_CHECK(tess.IsValid());
-        PGT_CHECK_EQ(int64_t(tess.GetNumCoords()), int64_t(m.nu + 1) * (m.nv + 1));
+        PGT_CHECK_EQ(int64_t(tess.GetNumCoords()), int64_t(g.nu + 1) * (g.nv + 1));
     }
 
     std::vector<double> posPatch(size_t(posSurface.GetNumPatchPoints()) * 3);
@@ -118,52 +119,52 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
         double P[3], Du[3], Dv[3], UV[2];
         posSurface.Evaluate(corners[c], posPatch.data(), 3, P, Du, Dv);
         uvSurface.Evaluate(corners[c], uvPatch.data(), 2, UV);
-        m.cornerPosition[c] = Vec3d(P[0], P[1], P[2]);
-        m.cornerUv[c] = Vec2d(UV[0], UV[1]);
+        g.cornerPosition[c] = Vec3d(P[0], P[1], P[2]);
+        g.cornerUv[c] = Vec2d(UV[0], UV[1]);
         if (c == 0)
-            m.planeNormal =
+            g.planeNormal =
                 glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2])));
     }
-    m.heightMap = std::make_shared<const Texture>(height);
-    const Vec2d skew = m.cornerUv[0] + m.cornerUv[3] - m.cornerUv[1] - m.cornerUv[2];
-    m.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(m.cornerUv[3] - m.cornerUv[0]));
+    g.heightMap = std::make_shared<const Texture>(height);
+    const Vec2d skew = g.cornerUv[0] + g.cornerUv[3] - g.cornerUv[1] - g.cornerUv[2];
+    g.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(g.cornerUv[3] - g.cornerUv[0]));
     if (window.limited) {
         // The lattice vertices covering the window (whole cells of the tile's lattice, so
         // the window's sheet is the very same surface as the tile's).
         const PlaneLattice::Span su = lattice.span(window.uvMin.x, window.uvMax.x, lattice.nu);
         const PlaneLattice::Span sv = lattice.span(window.uvMin.y, window.uvMax.y, lattice.nv);
-        m.offsetI = int(su.first), m.nu = int(su.count);
-        m.offsetJ = int(sv.first), m.nv = int(sv.count);
+        g.offsetI = int(su.first), g.nu = int(su.count);
+        g.offsetJ = int(sv.first), g.nv = int(sv.count);
     }
     m.tessellateMs = msSince(t0);
     return out;
 }
 
 Vec3d BaseTessellation::positionAt(size_t k) const {
-    if (!isGrid()) return Vec3d(position[k]);
-    size_t w = size_t(nu) + 1;
-    return blend(cornerPosition, gridS(int(k % w)), gridT(int(k / w)));
+    if (!isGrid()) return Vec3d(sheet.position[k]);
+    size_t w = size_t(grid->nu) + 1;
+    return PlaneGrid::blend(grid->cornerPosition, grid->gridS(int(k % w)), grid->gridT(int(k / w)));
 }
 
 Vec3d BaseTessellation::normalAt(size_t k) const {
-    return isGrid() ? planeNormal : Vec3d(normal[k]);
+    return isGrid() ? grid->planeNormal : Vec3d(sheet.normal[k]);
 }
 
 Vec2d BaseTessellation::uvAt(size_t k) const {
-    if (!isGrid()) return uv[k];
-    size_t w = size_t(nu) + 1;
-    return gridUv(int(k % w), int(k / w));
+    if (!isGrid()) return sheet.uv[k];
+    size_t w = size_t(grid->nu) + 1;
+    return grid->gridUv(int(k % w), int(k / w));
 }
 
 double BaseTessellation::heightAt(size_t k) const {
-    return isGrid() ? sampleBilinear<double>(*heightMap, uvAt(k)) : height[k];
+    return isGrid() ? sampleBilinear<double>(*grid->heightMap, uvAt(k)) : sheet.height[k];
 }
 
 size_t BaseTessellation::bytes() const {
-    return position.size() * sizeof(Vec3f) + normal.size() * sizeof(Vec3f) +
-           uv.size() * sizeof(Vec2d) + height.size() * sizeof(double) +
-           triangles.size() * sizeof(uint32_t) +
-           (heightMap ? heightMap->texels.size() * sizeof(float) : 0);
+    return sheet.position.size() * sizeof(Vec3f) + sheet.normal.size() * sizeof(Vec3f) +
+           sheet.uv.size() * sizeof(Vec2d) + sheet.height.size() * sizeof(double) +
+           sheet.triangles.size() * sizeof(uint32_t) +
+           (isGrid() && grid->heightMap ? grid->heightMap->texels.size() * sizeof(float) : 0);
 }
 
 std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& height,
@@ -201,11 +202,11 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
     std::map<std::pair<int, int>, uint32_t> cornerOf;           // (vertex, uv value)
     std::map<std::tuple<int, int, int, int>, uint32_t> edgeOf;  // (edge, k, uvA, uvB)
     auto push = [&](const Vec3d& p, const Vec3d& n, const Vec2d& uv) {
-        m.position.push_back(Vec3f(p - m.origin));
-        m.normal.push_back(Vec3f(n));
-        m.uv.push_back(uv);
-        m.height.push_back(sampleBilinear<double>(height, uv));
-        return uint32_t(m.position.size() - 1);
+        m.sheet.position.push_back(Vec3f(p - m.origin));
+        m.sheet.normal.push_back(Vec3f(n));
+        m.sheet.uv.push_back(uv);
+        m.sheet.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.sheet.position.size() - 1);
     };
     Bfr::Surface<double> pos, tex;
     std::vector<double> posPatch, uvPatch, coords;
@@ -272,10 +273,11 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
         facets.resize(size_t(tess.GetNumFacets()) * 3);
         tess.GetFacets(facets.data());
         for (size_t k = 0; k + 2 < facets.size(); k += 3)
-            m.triangles.insert(m.triangles.end(),
-                               {index[facets[k]], index[facets[k + 1]], index[facets[k + 2]]});
+            m.sheet.triangles.insert(
+                m.sheet.triangles.end(),
+                {index[facets[k]], index[facets[k + 1]], index[facets[k + 2]]});
     }
-    PGT_CHECK(!m.triangles.empty());
+    PGT_CHECK(!m.sheet.triangles.empty());
     m.tessellateMs = msSince(t0);
     return out;
 }
@@ -306,7 +308,6 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
     int n = std::max(1, int(std::min(std::ceil(rate * longest - 1e-9), double(1 << 15))));
     // Vertices: corners V, edge points E*(n-1), interior T*(n-1)(n-2)/2 <= T*(n+1)(n+2)/2.
     while (n > 1 && double(nTri) * (n + 1) * (n + 2) / 2 > double(maxVertices)) --n;
-    m.nu = m.nv = 0;
 
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeStart;  // first of n-1 edge points
     auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c, double wa,
@@ -316,11 +317,11 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
         double len = glm::length(nrm);
         nrm = len > 0 ? nrm / len : Vec3d(0, 0, 1);
         Vec2d uv = a.uv * wa + b.uv * wb + c.uv * wc;
-        m.position.push_back(Vec3f(p - m.origin));
-        m.normal.push_back(Vec3f(nrm));
-        m.uv.push_back(uv);
-        m.height.push_back(sampleBilinear<double>(height, uv));
-        return uint32_t(m.position.size() - 1);
+        m.sheet.position.push_back(Vec3f(p - m.origin));
+        m.sheet.normal.push_back(Vec3f(nrm));
+        m.sheet.uv.push_back(uv);
+        m.sheet.height.push_back(sampleBilinear<double>(height, uv));
+        return uint32_t(m.sheet.position.size() - 1);
     };
     // Corners first: drawn vertex i is tessellation vertex i.
     for (const auto& v : drawn.vertices) addVertex(v, v, v, 1, 0, 0);
@@ -341,7 +342,7 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
             auto key = std::make_pair(std::min(a, b), std::max(a, b));
             auto it = edgeStart.find(key);
             if (it == edgeStart.end()) {
-                uint32_t first = uint32_t(m.position.size());
+                uint32_t first = uint32_t(m.sheet.position.size());
                 const BaseVertex& lo0 = drawn.vertices[key.first];
                 const BaseVertex& hi0 = drawn.vertices[key.second];
                 for (int k = 1; k < n; ++k)
@@ -359,10 +360,11 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
                                      double(j) / n);
         for (int j = 0; j < n; ++j)
             for (int i = 0; i + j < n; ++i) {
-                m.triangles.insert(m.triangles.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+                m.sheet.triangles.insert(m.sheet.triangles.end(),
+                                         {at(i, j), at(i + 1, j), at(i, j + 1)});
                 if (i + j + 1 < n)
-                    m.triangles.insert(m.triangles.end(),
-                                       {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+                    m.sheet.triangles.insert(m.sheet.triangles.end(),
+                                             {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
             }
     }
     m.tessellateMs = msSince(t0);

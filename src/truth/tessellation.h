@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/math.h"
@@ -17,45 +18,28 @@
 
 namespace pgt {
 
-// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis: everything
-// the truth needs that does not depend on the displacement (s, b), so a study builds it once
-// per rate and reuses it.
-//
-// Planes are a regular (nu + 1) x (nv + 1) vertex grid that is stored implicitly: OpenSubdiv
-// (Bfr) evaluates the quad's corners, and vertex (i, j) is their bilinear blend at
-// (i / nu, j / nv) -- exactly what Bfr's bilinear scheme evaluates there (tested) -- with
-// the height sampled from the map when the surface is displaced. Nothing is stored per
-// vertex, so the only per-vertex memory of a plane's truth is Embree's 12-byte vertex
-// (a 4096^2 map at rate 4 would otherwise need 13 GB). Meshes store explicit
-// vertices and triangles.
-struct BaseTessellation {
-    int nu = 0, nv = 0;  // grid segments (planes); 0 for meshes
+// A plane's regular (nu + 1) x (nv + 1) vertex lattice, stored implicitly: OpenSubdiv (Bfr)
+// evaluates the quad's corners, and vertex (i, j) is their bilinear blend at (i / nu, j / nv)
+// -- exactly what Bfr's bilinear scheme evaluates there (tested) -- with the height sampled
+// from the map when the surface is displaced. Nothing is stored per vertex, so the only
+// per-vertex memory of a plane's truth is Embree's 12-byte vertex (a 4096^2 map at rate 4
+// would otherwise need 13 GB). Its size is PlaneLattice's (scene/scene.h).
+struct PlaneGrid {
+    int nu = 0, nv = 0;  // segments
     // A window of the plane's vertex lattice (TruthWindow): local vertex (i, j) is lattice
     // vertex (i + offsetI, j + offsetJ) of the whole tile's fullNu x fullNv segments
     // (outside [0, fullNu] on an infinite plane: the tile's continuation).
     int offsetI = 0, offsetJ = 0, fullNu = 0, fullNv = 0;
-    Vec3d origin{0};         // positions are relative to this point (float precision)
-    double worldPerUv = 1;   // l (MODEL.md §2)
-    double periodWorld = 1;  // plane side L: the tile period of an infinite plane
-    double periodUv = 1;     // tiling T: the UV period of the tile
-    // Planes: the Bfr-evaluated corners at (s, t) = (0,0), (1,0), (0,1), (1,1), the unit
-    // normal and the height map the vertices sample.
+    double invNu = 1, invNv = 1;
+    // The Bfr-evaluated corners at (s, t) = (0,0), (1,0), (0,1), (1,1), the unit normal and
+    // the height map the vertices sample.
     Vec3d cornerPosition[4]{};
     Vec2d cornerUv[4]{};
     Vec3d planeNormal{0, 0, 1};
     std::shared_ptr<const Texture> heightMap;
-    // Meshes: explicit vertices and triangles over them.
-    std::vector<Vec3f> position;  // S(u, v) - origin
-    std::vector<Vec3f> normal;    // unit N(u, v)
-    std::vector<Vec2d> uv;
-    std::vector<double> height;  // h(u, v) from the shared bilinear sampler
-    std::vector<uint32_t> triangles;
-    double tessellateMs = 0;
+    bool affineUv = false;  // the corners' UVs form a parallelogram (every plane does)
 
-    bool isGrid() const { return triangles.empty(); }
-    size_t vertexCount() const {
-        return isGrid() ? size_t(nu + 1) * size_t(nv + 1) : position.size();
-    }
+    size_t vertexCount() const { return size_t(nu + 1) * size_t(nv + 1); }
     size_t gridIndex(int i, int j) const { return size_t(j) * size_t(nu + 1) + size_t(i); }
     // Vertex (i, j) of the grid: the corners blended at (i / nu, j / nv).
     template <class T>
@@ -72,8 +56,31 @@ struct BaseTessellation {
         j += offsetJ;
         return j == fullNv ? 1.0 : j * invNv;
     }
-    double invNu = 1, invNv = 1;
-    bool affineUv = false;  // the corners' UVs form a parallelogram (every plane does)
+};
+
+// A mesh's explicit vertices (relative to BaseTessellation::origin) and triangles.
+struct TriangleSheet {
+    std::vector<Vec3f> position;  // S(u, v) - origin
+    std::vector<Vec3f> normal;    // unit N(u, v)
+    std::vector<Vec2d> uv;
+    std::vector<double> height;  // h(u, v) from the shared bilinear sampler
+    std::vector<uint32_t> triangles;
+};
+
+// The base surface tessellated with OpenSubdiv at `rate` samples per texel per axis:
+// everything the truth needs that does not depend on the displacement (s, b), so a study
+// builds it once per rate and reuses it. A plane is a PlaneGrid, a mesh a TriangleSheet.
+struct BaseTessellation {
+    std::optional<PlaneGrid> grid;  // planes
+    TriangleSheet sheet;            // meshes (empty for planes)
+    Vec3d origin{0};                // positions are relative to this point (float precision)
+    double worldPerUv = 1;          // l (MODEL.md §2)
+    double periodWorld = 1;         // plane side L: the tile period of an infinite plane
+    double periodUv = 1;            // tiling T: the UV period of the tile
+    double tessellateMs = 0;
+
+    bool isGrid() const { return grid.has_value(); }
+    size_t vertexCount() const { return isGrid() ? grid->vertexCount() : sheet.position.size(); }
     Vec3d positionAt(size_t k) const;
     Vec3d normalAt(size_t k) const;
     Vec2d uvAt(size_t k) const;

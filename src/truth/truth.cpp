@@ -35,8 +35,8 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     m.base = std::move(base);
     m.geometry = geometry;
     m.periodic = periodic;
-    m.nu = m.base->nu;
-    m.nv = m.base->nv;
+    m.nu = m.base->grid->nu;
+    m.nv = m.base->grid->nv;
     const bool meshTriangles = !m.base->isGrid();
     PGT_CHECK(!(meshTriangles && (periodic || geometry == TruthGeometry::Grid)));
     if (periodic) {
@@ -74,7 +74,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
         for (int j0 = 0; j0 < m.nv; j0 += kGridBlock)
             for (int i0 = 0; i0 < m.nu; i0 += kGridBlock) {
                 RTCGrid g;
-                g.startVertexID = unsigned(m.base->gridIndex(i0, j0));
+                g.startVertexID = unsigned(m.base->grid->gridIndex(i0, j0));
                 g.stride = unsigned(m.nu + 1);
                 g.width = static_cast<unsigned short>(std::min(kGridBlock, m.nu - i0) + 1);
                 g.height = static_cast<unsigned short>(std::min(kGridBlock, m.nv - j0) + 1);
@@ -87,7 +87,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
         m.stats.primitives = int64_t(m.grids.size());
         m.stats.geometryBytes += int64_t(m.grids.size() * sizeof(RTCGrid));
     } else if (meshTriangles) {
-        const auto& tri = m.base->triangles;
+        const auto& tri = m.base->sheet.triangles;
         auto* ib = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(m.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(unsigned), tri.size() / 3));
@@ -100,8 +100,8 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
             m.geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nTri));
         tbb::parallel_for(0, m.nv, [&](int cj) {
             for (int ci = 0; ci < m.nu; ++ci) {
-                unsigned a = unsigned(m.base->gridIndex(ci, cj)), b = a + 1;
-                unsigned c = unsigned(m.base->gridIndex(ci, cj + 1)), d = c + 1;
+                unsigned a = unsigned(m.base->grid->gridIndex(ci, cj)), b = a + 1;
+                unsigned c = unsigned(m.base->grid->gridIndex(ci, cj + 1)), d = c + 1;
                 size_t k = (size_t(cj) * m.nu + ci) * 6;
                 ib[k + 0] = a, ib[k + 1] = b, ib[k + 2] = c;  // barycentrics: u on b, v on c
                 ib[k + 3] = d, ib[k + 4] = c, ib[k + 5] = b;  // u on c, v on b
@@ -139,7 +139,7 @@ void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update)
                                                      : TruthUpdate::Refit;
     if (update == TruthUpdate::Translate) {
         PGT_CHECK(translatable);
-        m.shift = m.base->planeNormal * (m.base->worldPerUv * (disp.bias - m.built.bias));
+        m.shift = m.base->grid->planeNormal * (m.base->worldPerUv * (disp.bias - m.built.bias));
         m.lastUpdate = update;
         m.stats.updateMs = msSince(t0);
         return;
