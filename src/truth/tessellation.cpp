@@ -57,21 +57,14 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
     return w;
 }
 
-std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
-                                                        const PlaneBase& plane, int rate,
-                                                        const TruthWindow& window) {
-    using namespace OpenSubdiv;
-    auto t0 = Clock::now();
-    auto out = std::make_shared<BaseTessellation>();
-    BaseTessellation& m = *out;
-    PlaneGrid& g = m.grid.emplace();
-    m.origin = plane.center;
-    m.worldPerUv = plane.worldPerUv();
-    m.periodWorld = plane.size;
-    m.periodUv = plane.tiling;
+namespace {
 
-    // The base plane as a one-quad bilinear control mesh with face-varying UVs; control
-    // points relative to the plane centre (the local frame of the float vertices).
+// The grid's corners, normal and UV shape from OpenSubdiv: the base plane as a one-quad
+// bilinear control mesh with face-varying UVs, control points relative to the plane centre
+// (the local frame of the float vertices). Checks that Bfr's pattern at the grid's rates
+// is the lattice the grid indexes.
+void evaluatePlaneCorners(const PlaneBase& plane, PlaneGrid& g) {
+    using namespace OpenSubdiv;
     const double half = plane.size / 2, tiling = plane.tiling;
     ControlMesh quad;
     quad.positions = {{-half, -half, 0}, {half, -half, 0}, {half, half, 0}, {-half, half, 0}};
@@ -86,14 +79,6 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     PGT_CHECK(factory.InitVertexSurface(0, &posSurface));
     PGT_CHECK(factory.InitFaceVaryingSurface(0, &uvSurface));
 
-    // `rate` samples per texel per axis over the texels the plane covers.
-    const PlaneLattice lattice(plane, height, rate);
-    // The scene parser bounds the vertex count; this keeps the int conversion defined.
-    PGT_CHECK_LT(lattice.vertices(), double(int64_t(1) << 31));
-    g.nu = g.fullNu = int(lattice.nu);
-    g.nv = g.fullNv = int(lattice.nv);
-    g.invNu = 1.0 / g.nu;
-    g.invNv = 1.0 / g.nv;
     int rates[4] = {g.nu, g.nv, g.nu, g.nv};  // quad edges: v0v1 (u), v1v2 (v), v2v3, v3v0
     // Bfr's pattern for these rates is the regular lattice the grid indexes (checked where
     // its int count can hold it; windows of larger lattices use the same formula). Bfr
@@ -112,8 +97,7 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     std::vector<double> uvPatch(size_t(uvSurface.GetNumPatchPoints()) * 2);
     posSurface.PreparePatchPoints(&quad.positions[0].x, 3, posPatch.data(), 3);
     uvSurface.PreparePatchPoints(&quad.uvs[0].x, 2, uvPatch.data(), 2);
-    // The corners of the pattern; every other vertex is their bilinear blend (the grid is
-    // implicit, see BaseTessellation).
+    // The corners of the pattern; every other vertex is their bilinear blend (PlaneGrid).
     const double corners[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
     for (int c = 0; c < 4; ++c) {
         double P[3], Du[3], Dv[3], UV[2];
@@ -125,9 +109,33 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
             g.planeNormal =
                 glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2])));
     }
-    g.heightMap = std::make_shared<const Texture>(height);
     const Vec2d skew = g.cornerUv[0] + g.cornerUv[3] - g.cornerUv[1] - g.cornerUv[2];
     g.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(g.cornerUv[3] - g.cornerUv[0]));
+}
+
+}  // namespace
+
+std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window) {
+    auto t0 = Clock::now();
+    auto out = std::make_shared<BaseTessellation>();
+    BaseTessellation& m = *out;
+    PlaneGrid& g = m.grid.emplace();
+    m.origin = plane.center;
+    m.worldPerUv = plane.worldPerUv();
+    m.periodWorld = plane.size;
+    m.periodUv = plane.tiling;
+    // `rate` samples per texel per axis over the texels the plane covers.
+    const PlaneLattice lattice(plane, height, rate);
+    // The scene parser bounds the vertex count; this keeps the int conversion defined.
+    PGT_CHECK_LT(lattice.vertices(), double(int64_t(1) << 31));
+    g.nu = g.fullNu = int(lattice.nu);
+    g.nv = g.fullNv = int(lattice.nv);
+    g.invNu = 1.0 / g.nu;
+    g.invNv = 1.0 / g.nv;
+    evaluatePlaneCorners(plane, g);
+    g.heightMap = std::make_shared<const Texture>(height);
     if (window.limited) {
         // The lattice vertices covering the window (whole cells of the tile's lattice, so
         // the window's sheet is the very same surface as the tile's).
