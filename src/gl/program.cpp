@@ -133,6 +133,21 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
     return log.c_str();  // up to the terminating NUL
 }
 
+// Deletes the shader or program and throws InputError with its info log, mapped to the
+// user's file, unless `status` (compile or link) succeeded.
+template <class GetIv, class GetLog, class Delete>
+void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
+                   const std::string& file, const char* verb, int userFirst, int userCount) {
+    GLint ok = 0;
+    getIv(object, status, &ok);
+    if (ok) return;
+    std::string log = infoLog(object, getIv, getLog);
+    remove(object);
+    throw InputError(file, "glsl", "",
+                     std::string("the shader does not ") + verb + ":\n" +
+                         translateLog(log, file, userFirst, userCount));
+}
+
 // `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
                int userCount = 1 << 30) {
@@ -140,15 +155,8 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file, int
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
     glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
-        glDeleteShader(s);
-        throw InputError(
-            file, "glsl", "",
-            "the shader does not compile:\n" + translateLog(log, file, userFirst, userCount));
-    }
+    requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, file,
+                  "compile", userFirst, userCount);
     return s;
 }
 
@@ -179,15 +187,8 @@ GLuint programFor(const GlslSpec& spec) {
     glLinkProgram(prog);
     glDeleteShader(vs);
     glDeleteShader(f);
-    GLint ok = 0;
-    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        std::string log = infoLog(prog, glGetProgramiv, glGetProgramInfoLog);
-        glDeleteProgram(prog);
-        throw InputError(
-            spec.path, "glsl", "",
-            "the shader does not link:\n" + translateLog(log, spec.path, first, count));
-    }
+    requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                  spec.path, "link", first, count);
     gPrograms[key] = {prog};
     return prog;
 }
