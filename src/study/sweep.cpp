@@ -1,4 +1,4 @@
-// `pgt sweep`: study expansion, resumable CSV, progress, report hand-off.
+// `pgt sweep`: the resumable results.csv, the study lock, progress and the report hand-off.
 #include "study/sweep.h"
 
 #include <fcntl.h>
@@ -19,7 +19,6 @@
 
 #include "core/clock.h"
 #include "core/format.h"
-#include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/process.h"
 #include "methods/config.h"
@@ -38,36 +37,6 @@ namespace {
 
 std::string num(double x) { return formatNumber(x, 9); }
 
-// A list of values: [a, b, ...], a single number, or {"from": a, "to": b, "step": c}.
-std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, double hi) {
-    const Json& v = f.raw(key);
-    std::vector<double> out;
-    auto check = [&](const Json& e) {
-        if (!e.is_number()) f.failValue(key, v, "expected numbers");
-        double x = e.get<double>();
-        if (!std::isfinite(x) || x < lo || x > hi)
-            f.failValue(key, v, "values must lie in [" + num(lo) + ", " + num(hi) + "]");
-        return x;
-    };
-    if (v.is_number()) {
-        out.push_back(check(v));
-    } else if (v.is_array()) {
-        for (const auto& e : v) out.push_back(check(e));
-    } else if (v.is_object()) {
-        JsonFields r(v, f.file(), f.fieldPath(key));
-        double from = r.number("from", lo, hi), to = r.number("to", lo, hi);
-        double step = r.number("step", 1e-9, 1e9);
-        r.finish();
-        if (to < from) f.failValue(key, v, "\"to\" is below \"from\"");
-        if ((to - from) / step > 10000) f.failValue(key, v, "more than 10000 values");
-        for (int k = 0; from + k * step <= to + 1e-9 * step; ++k) out.push_back(from + k * step);
-    } else {
-        f.failValue(key, v, "expected a number, an array or {from, to, step}");
-    }
-    if (out.empty()) f.failValue(key, v, "no values");
-    return out;
-}
-
 // A configuration's parameters as results.csv's `params` column shows them.
 Json methodParams(const MethodConfig& cfg) {
     Json j = toJson(cfg);
@@ -77,10 +46,6 @@ Json methodParams(const MethodConfig& cfg) {
 }
 
 }  // namespace
-
-std::string StudyCase::key() const {
-    return num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
-}
 
 namespace {
 
@@ -150,184 +115,6 @@ const CsvTable<ResultRow>& resultTable() {
 const std::vector<std::string>& resultColumns() {
     static const std::vector<std::string> names = resultTable().names();
     return names;
-}
-
-namespace {
-
-// The study's axes: the values of each of theta, phi, scale and bias (or b/s ratios).
-struct StudyAxes {
-    std::vector<double> thetas, phis, scales, biases;
-    bool ratios = false;  // `biases` are b / s
-};
-
-StudyAxes readAxes(JsonFields& f, const Scene& scene) {
-    StudyAxes a;
-    a.thetas =
-        f.has("theta") ? valueList(f, "theta", 0, 90) : std::vector<double>{scene.camera.theta};
-    a.phis = f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{scene.camera.phi};
-    a.scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
-                              : std::vector<double>{scene.displacement.scale};
-    if (f.has("bias") && f.has("bias_ratio"))
-        f.fail("bias_ratio", "give either \"bias\" or \"bias_ratio\", not both");
-    a.ratios = f.has("bias_ratio");
-    a.biases = a.ratios        ? valueList(f, "bias_ratio", -1e3, 1e3)
-               : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
-                               : std::vector<double>{scene.displacement.bias};
-    return a;
-}
-
-// Resolution, pixel samples and the timing settings of a study.
-void readFrameSettings(JsonFields& f, const Scene& scene, Study& st) {
-    if (f.has("resolution")) {
-        auto res = f.integers("resolution", 2, 1, 16384);
-        st.width = res[0], st.height = res[1];
-    } else {
-        st.width = scene.camera.width, st.height = scene.camera.height;
-    }
-    st.jitter = f.choice("samples", {"centre", "jittered"},
-                         scene.camera.jitter ? "jittered" : "centre") == "jittered";
-    // 3 repeats over at most 4096 fragments: a median of a few ms per method and case.
-    st.timing.repeats = 3;
-    st.timing.maxFragments = 4096;
-    if (f.has("timing")) {
-        JsonFields t(f.raw("timing"), f.file(), "sweep.timing");
-        st.timing.repeats = t.integer("repeats", 3, 0, 100);
-        st.timing.maxFragments = t.integer("fragments", 4096, 0, 1 << 26);
-        t.finish();
-    }
-}
-
-// "NAME.PARAM": [values] for every method whose name or label is NAME: the lists in the
-// order written, by NAME. Returns the dotted keys (for JsonFields::finish).
-using ParameterLists = std::map<std::string, std::vector<std::pair<std::string, Json>>>;
-std::vector<std::string> readParameterLists(JsonFields& f, const Scene& scene,
-                                            ParameterLists& lists) {
-    std::vector<std::string> dotted;
-    for (auto it = scene.sweep.begin(); it != scene.sweep.end(); ++it) {
-        auto dot = it.key().find('.');
-        if (dot == std::string::npos) continue;
-        dotted.push_back(it.key());
-        std::string prefix = it.key().substr(0, dot), param = it.key().substr(dot + 1);
-        Json values = it.value().is_array() ? it.value() : Json::array({it.value()});
-        if (values.empty()) f.failValue(it.key(), it.value(), "no values");
-        bool known = false;
-        for (const auto& m : scene.methods)
-            known =
-                known || ((m.name == prefix || m.label == prefix) && !m.glsl && m.preset.empty());
-        if (!known)
-            f.fail(it.key(), "no built-in method named or labelled \"" + prefix +
-                                 "\" in \"methods\" (presets and GLSL methods are fixed)");
-        lists[prefix].push_back({param, values});
-    }
-    return dotted;
-}
-
-// The configurations of a study: each built-in method times the product of its lists
-// (a varied configuration's label is generated from its parameters); presets and GLSL
-// methods as they are.
-std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
-                                        const ParameterLists& lists) {
-    std::vector<MethodConfig> out;
-    for (const MethodConfig& m : scene.methods) {
-        std::vector<MethodConfig> configs = {m};
-        bool varied = false;
-        for (const std::string& prefix : {m.name, m.label}) {
-            if (m.glsl || !m.preset.empty() || !lists.count(prefix) ||
-                (prefix == m.label && m.label == m.name && varied))
-                continue;
-            for (const auto& [param, values] : lists.at(prefix)) {
-                if (double(configs.size()) * double(values.size()) > double(kMaxStudyConfigs))
-                    f.fail(prefix + "." + param,
-                           "the parameter lists of \"" + prefix + "\" make more than " +
-                               std::to_string(kMaxStudyConfigs) + " configurations");
-                std::vector<MethodConfig> next;
-                for (const MethodConfig& c : configs)
-                    for (const Json& v : values) {
-                        // Validated as the method entry would be, naming the sweep key.
-                        const Json entry = {{param, v}};
-                        JsonFields p(entry, f.file(), "sweep." + prefix);
-                        MethodConfig one = c;
-                        readMethodParameters(p, one);
-                        p.finish();
-                        next.push_back(std::move(one));
-                    }
-                configs = std::move(next);
-                varied = true;
-            }
-        }
-        for (MethodConfig& c : configs) {
-            if (varied) c.label.clear();  // labels then carry the parameters
-            out.push_back(std::move(c));
-        }
-    }
-    assignLabels(out, f.file(), "methods");
-    return out;
-}
-
-// The cases in order: grouped by (scale, bias), then theta, phi.
-std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
-    // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
-    double caseCount = double(a.scales.size()) * double(a.biases.size()) * double(a.thetas.size()) *
-                       double(a.phis.size());
-    if (caseCount > double(kMaxStudyCases))
-        throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
-                         "a study has at most " + std::to_string(kMaxStudyCases) +
-                             " cases (theta x phi x scale x bias); split it into several");
-    std::vector<StudyCase> cases;
-    int index = 0;
-    for (double s : a.scales)
-        for (double bv : a.biases)
-            for (double th : a.thetas)
-                for (double ph : a.phis) {
-                    StudyCase c;
-                    c.index = index++;
-                    c.theta = th, c.phi = ph, c.scale = s;
-                    c.bias = a.ratios ? bv * s : bv;
-                    c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
-                    cases.push_back(c);
-                }
-    return cases;
-}
-
-// What identifies a study: everything the user wrote that can change a number (not the
-// description, not the fit block) beside the resolved scene, which adds the content hashes
-// of its files.
-Json studyIdentity(const Scene& scene, const Study& st) {
-    Json cfgs = Json::array();
-    for (const auto& c : st.configs) cfgs.push_back(toJson(c));
-    Json given = scene.json;
-    given.erase("description");
-    given.erase("fit");
-    return {{"scene", resolvedSceneJson(scene)},
-            {"given", given},
-            {"sweep", scene.sweep},
-            {"configurations", cfgs},
-            {"cases", st.cases.size()},
-            {"resolution", {st.width, st.height}},
-            {"samples", st.jitter ? "jittered" : "centre"}};
-}
-
-}  // namespace
-
-Study parseStudy(const Scene& scene) {
-    const std::string& file = scene.file;
-    if (scene.sweep.is_null())
-        throw InputError(file, "sweep", "(missing)", "the scene has no \"sweep\" block");
-    if (scene.camera.type != Projection::Orthographic)
-        throw InputError(file, "camera.type", toString(scene.camera.type),
-                         "studies sweep the view angle: they need an orthographic camera");
-    JsonFields f(scene.sweep, file, "sweep");
-    Study st;
-    StudyAxes axes = readAxes(f, scene);
-    readFrameSettings(f, scene, st);
-    ParameterLists lists;
-    f.finish(readParameterLists(f, scene, lists));
-    st.configs = expandConfigs(f, scene, lists);
-    st.cases = makeCases(axes, file);
-    checkViewMemory(scene, st.width, st.height, st.configs.size(), false, false,
-                    f.has("resolution") ? "sweep.resolution" : "camera.resolution");
-    st.resolved = studyIdentity(scene, st);
-    return st;
 }
 
 namespace {

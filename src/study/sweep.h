@@ -1,6 +1,6 @@
-// Studies (`pgt sweep`): the product of view angles, scales, biases and per-method parameter
-// lists from a scene's "sweep" block, one CSV row per (case, method configuration), resumable:
-// each finished case is appended and flushed, and a re-run skips the cases already there.
+// Studies (`pgt sweep`): a study plan (study/plan.h) run case by case into results.csv, one
+// row per (case, method configuration), resumable: each finished case is appended and
+// flushed, and a re-run skips the cases already there.
 #pragma once
 
 #include <map>
@@ -9,28 +9,10 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "study/plan.h"
 #include "study/render.h"
 
 namespace pgt {
-
-struct StudyCase {
-    int index = 0;
-    double theta = 0, phi = 0, scale = 0, bias = 0;
-    double biasRatio = NAN;   // b / s when the study gave ratios
-    std::string key() const;  // identity of the case in results.csv
-};
-
-struct Study {
-    std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
-    std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
-    int width = 0, height = 0;
-    bool jitter = false;  // pixel sample positions (README "Studies")
-    TimingSpec timing;
-    nlohmann::json resolved;  // what identifies the study (scene + sweep)
-};
-
-// Reads the scene's "sweep" block (README "Studies"); throws InputError on bad input.
-Study parseStudy(const Scene& scene);
 
 struct SweepOptions {
     std::string outDir;
@@ -40,10 +22,6 @@ struct SweepOptions {
     bool progress = true;  // progress on stderr
     bool report = false;   // run analysis/report.py when every case is done (still locked)
 };
-
-// Bounds that keep a study's plan small (its lists are allocated whole).
-constexpr int64_t kMaxStudyCases = 1000000;
-constexpr int64_t kMaxStudyConfigs = 10000;
 
 struct SweepSummary {
     int total = 0, resumed = 0, done = 0;

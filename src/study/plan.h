@@ -1,0 +1,41 @@
+// A study's plan: the product of view angles, scales and biases from a scene's "sweep"
+// block (the cases) and the method configurations its per-method parameter lists make, as
+// values; what identifies the study. Run by study/sweep.h.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "methods/method.h"
+#include "scene/scene.h"
+#include "study/evaluate.h"
+
+namespace pgt {
+
+struct StudyCase {
+    int index = 0;
+    double theta = 0, phi = 0, scale = 0, bias = 0;
+    double biasRatio = NAN;   // b / s when the study gave ratios
+    std::string key() const;  // identity of the case in results.csv
+};
+
+struct Study {
+    std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
+    std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
+    int width = 0, height = 0;
+    bool jitter = false;  // pixel sample positions (README "Studies")
+    TimingSpec timing;
+    nlohmann::json resolved;  // what identifies the study (scene + sweep)
+};
+
+// Reads the scene's "sweep" block (README "Studies"); throws InputError on bad input.
+Study parseStudy(const Scene& scene);
+
+// Bounds that keep a study's plan small (its lists are allocated whole).
+constexpr int64_t kMaxStudyCases = 1000000;
+constexpr int64_t kMaxStudyConfigs = 10000;
+
+}  // namespace pgt
