@@ -152,11 +152,7 @@ std::vector<Case> randomCases(int n, double maxTheta, unsigned seed) {
 }
 
 Vec2f ours(const MethodConfig& cfg, const MethodTextures& tex, Case c) {
-    MethodContext<float> ctx;
-    ctx.height = tex.height;
-    if (tex.derived) ctx.normal = &tex.derived->normal, ctx.parallax = &tex.derived->parallax;
-    ctx.scale = float(tex.scale);
-    ctx.bias = float(tex.bias);
+    MethodContext<float> ctx = makeMethodContext<float>(tex);
     return runMethod<float>(cfg, ctx, c.uv0, c.v);
 }
 

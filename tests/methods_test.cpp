@@ -25,10 +25,7 @@ struct MethodRun {
 
 MethodRun runFloat(const MethodConfig& cfg, const MethodTextures& tex, Vec2f uv0, Vec3f v) {
     MethodRun r;
-    r.ctx.height = tex.height;
-    if (tex.derived) r.ctx.normal = &tex.derived->normal, r.ctx.parallax = &tex.derived->parallax;
-    r.ctx.scale = float(tex.scale);
-    r.ctx.bias = float(tex.bias);
+    r.ctx = makeMethodContext<float>(tex);
     r.uv = runMethod<float>(cfg, r.ctx, uv0, v);
     return r;
 }
@@ -131,12 +128,7 @@ TEST(Methods, DoublePrecisionAgreesWithFloatUpToRounding) {
         for (int k = 0; k < 100; ++k) {
             Vec2d uv0(uni(rng), uni(rng));
             Vec3d v = viewFromAngles(60 * uni(rng), 360 * uni(rng));
-            MethodContext<double> cd;
-            cd.height = tex.height;
-            cd.normal = &tex.derived->normal;
-            cd.parallax = &tex.derived->parallax;
-            cd.scale = tex.scale;
-            cd.bias = tex.bias;
+            MethodContext<double> cd = makeMethodContext<double>(tex);
             Vec2d ud = runMethod<double>(cfg, cd, uv0, v);
             MethodRun rf = runFloat(cfg, tex, Vec2f(uv0), Vec3f(v));
             EXPECT_NEAR(ud.x, rf.uv.x, 1e-5) << m;

@@ -63,12 +63,7 @@ TEST_F(ReferenceVectors, MethodsMatchAtNativeSettings) {
                 Vec2d want(it.value()["uv"][k][0].get<double>(),
                            it.value()["uv"][k][1].get<double>());
                 int wantFetches = it.value()["fetches"][k];
-                MethodContext<float> ctx;
-                ctx.height = &tex;
-                ctx.normal = &mt.derived->normal;
-                ctx.parallax = &mt.derived->parallax;
-                ctx.scale = float(s);
-                ctx.bias = float(b);
+                MethodContext<float> ctx = makeMethodContext<float>(mt);
                 Vec2f got = runMethod<float>(cfg, ctx, Vec2f(uv0), Vec3f(vd));
                 double du = std::fabs(got.x - want.x), dv = std::fabs(got.y - want.y);
                 ++compared;

@@ -33,12 +33,7 @@ TEST(Stress, MethodsTerminateWhenVzIsZeroOrNegative) {
         for (Vec3f v : {Vec3f(1, 0, 0), Vec3f(0.6f, 0, -0.8f), Vec3f(0, 0, -1)}) {
             for (const char* m : kAll) {
                 MethodConfig cfg = test::method(m);
-                MethodContext<float> c;
-                c.height = tex.height;
-                c.normal = &tex.derived->normal;
-                c.parallax = &tex.derived->parallax;
-                c.scale = float(tex.scale);
-                c.bias = float(tex.bias);
+                MethodContext<float> c = makeMethodContext<float>(tex);
                 Vec2f uv = runMethod<float>(cfg, c, Vec2f(0.3f, 0.6f), v);
                 // Terminated: a march fetches at most its layers + 2 (or the safety cap).
                 EXPECT_LE(c.fetches, 64 + 2) << m << " V " << v.x << "," << v.z;
@@ -55,10 +50,7 @@ TEST(Stress, PomZeroDenominatorIsFlaggedAndCounted) {
         2, 1, [](int i, int) { return i == 0 ? 0.5 : -0.5; }, Address::Clamp);
     MethodTextures tex = makeMethodTextures(t, 0.5, -0.5, 1.0, false);
     MethodConfig cfg = test::method(R"({"name":"pom","layers":1,"max_steps":1})");
-    MethodContext<float> c;
-    c.height = tex.height;
-    c.scale = 0.5f;
-    c.bias = -0.5f;
+    MethodContext<float> c = makeMethodContext<float>(tex);
     // D = V.xy / V.z * s / n = (-1) * 0.5 = -0.5 in u: from texel 0's centre to texel 1's.
     Vec3f v(-std::sqrt(0.5f), 0, std::sqrt(0.5f));
     Vec2f uv = runMethod<float>(cfg, c, Vec2f(0.25f, 0.5f), v);

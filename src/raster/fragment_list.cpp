@@ -14,12 +14,9 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             const Fragment& f = frags.at(x, y);
             if (!f.covered) continue;
             list.pixel.push_back(y * frags.width + x);
-            list.uv0.push_back(Vec2f(f.uv0));
-            list.view.push_back(Vec3f(f.viewTangent));
-            list.uv0d.push_back(f.uv0);
-            list.viewd.push_back(f.viewTangent);
-            list.viewExact.push_back(Vec3f(f.viewTangentExact));
-            list.viewExactd.push_back(f.viewTangentExact);
+            list.uv0.push_back(f.uv0);
+            list.view.push_back(f.viewTangent);
+            list.viewExact.push_back(f.viewTangentExact);
         }
     return list;
 }
@@ -37,10 +34,7 @@ FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) 
         out.pixel.push_back(all.pixel[k]);
         out.uv0.push_back(all.uv0[k]);
         out.view.push_back(all.view[k]);
-        out.uv0d.push_back(all.uv0d[k]);
-        out.viewd.push_back(all.viewd[k]);
         out.viewExact.push_back(all.viewExact[k]);
-        out.viewExactd.push_back(all.viewExactd[k]);
     }
     return out;
 }

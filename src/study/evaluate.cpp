@@ -35,23 +35,9 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
 namespace {
 
 template <class Real>
-MethodContext<Real> makeContext(const MethodTextures& tex) {
-    MethodContext<Real> c;
-    c.height = tex.height;
-    if (tex.derived) {
-        c.normal = &tex.derived->normal;
-        c.parallax = &tex.derived->parallax;
-    }
-    // s and b are rounded to the method's precision once, as a shader uniform would be.
-    c.scale = Real(tex.scale);
-    c.bias = Real(tex.bias);
-    return c;
-}
-
-template <class Real>
 MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0,
                    Vec3<Real> v) {
-    MethodContext<Real> c = makeContext<Real>(tex);
+    MethodContext<Real> c = makeMethodContext<Real>(tex);
     Vec2<Real> uv = runMethod<Real>(cfg, c, uv0, v);
     MethodPixel p;
     p.covered = true;
@@ -82,13 +68,22 @@ double glNsPerPixel(const GlslRun& run) {
     return glContext().software ? run.wallNsPerPixel : run.gpuNsPerPixel;
 }
 
-// A GLSL method over fragment inputs, with the maps and (s, b) of `tex`.
-GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex,
-                    const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view, int repeats) {
+// A list rounded to float, as a GPU's varyings are.
+template <class To, class From>
+std::vector<To> toFloat(const std::vector<From>& values) {
+    return std::vector<To>(values.begin(), values.end());
+}
+
+// A GLSL method over the fragments (V in the exact frame or not), with the maps and (s, b)
+// of `tex`.
+GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
+                    bool exactFrame, int repeats) {
     if (!tex.glMaps) tex.glMaps = std::make_shared<GlMapUploads>();
     return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
-                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias, uv0, view,
-                   repeats, tex.glMaps.get());
+                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
+                   toFloat<Vec2f>(frags.uv0),
+                   toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view), repeats,
+                   tex.glMaps.get());
 }
 
 }  // namespace
@@ -98,8 +93,7 @@ Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& f
                                   const MethodTextures& tex, int width, int height, bool exactFrame,
                                   double* nsPerPixel, int repeats) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run = runGlslWith(cfg, tex, frags.uv0, exactFrame ? frags.viewExact : frags.view,
-                              nsPerPixel ? repeats : 0);
+    GlslRun run = runGlslWith(cfg, tex, frags, exactFrame, nsPerPixel ? repeats : 0);
     if (nsPerPixel) *nsPerPixel = glNsPerPixel(run);
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
@@ -121,12 +115,11 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
-    const auto& viewd = exactFrame ? frags.viewExactd : frags.viewd;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0d[k], viewd[k])
-                                    : runOne<float>(cfg, tex, frags.uv0[k], view[k]);
+                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k])
+                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]));
         }
     });
     return out;
@@ -138,7 +131,10 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
     if (n == 0 || repeats < 1) return 0.0;
     // A GLSL method: the GL time of its draw (glNsPerPixel), median of the repeats.
     if (cfg.kind == MethodKind::Glsl)
-        return glNsPerPixel(runGlslWith(cfg, tex, frags.uv0, frags.view, repeats));
+        return glNsPerPixel(runGlslWith(cfg, tex, frags, false, repeats));
+    // The float inputs rounded before the clock starts: the time is the method's alone.
+    const std::vector<Vec2f> uv0 = toFloat<Vec2f>(frags.uv0);
+    const std::vector<Vec3f> view = toFloat<Vec3f>(frags.view);
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
@@ -146,14 +142,14 @@ double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
         auto t0 = Clock::now();
         if (cfg.doublePrecision) {
             for (size_t k = 0; k < n; ++k) {
-                MethodContext<double> c = makeContext<double>(tex);
-                Vec2d uv = runMethod<double>(cfg, c, frags.uv0d[k], frags.viewd[k]);
+                MethodContext<double> c = makeMethodContext<double>(tex);
+                Vec2d uv = runMethod<double>(cfg, c, frags.uv0[k], frags.view[k]);
                 acc += uv.x + uv.y;
             }
         } else {
             for (size_t k = 0; k < n; ++k) {
-                MethodContext<float> c = makeContext<float>(tex);
-                Vec2f uv = runMethod<float>(cfg, c, frags.uv0[k], frags.view[k]);
+                MethodContext<float> c = makeMethodContext<float>(tex);
+                Vec2f uv = runMethod<float>(cfg, c, uv0[k], view[k]);
                 acc += double(uv.x + uv.y);
             }
         }

@@ -30,6 +30,21 @@ struct MethodTextures {
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
                                   const UvExtent& uvExtent, bool needDerived);
 
+// The texture context a method runs with on `tex`: its maps and (s, b), rounded to the
+// method's precision once, as a shader uniform would be. The one place a context is built.
+template <class Real>
+MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
+    MethodContext<Real> c;
+    c.height = tex.height;
+    if (tex.derived) {
+        c.normal = &tex.derived->normal;
+        c.parallax = &tex.derived->parallax;
+    }
+    c.scale = Real(tex.scale);
+    c.bias = Real(tex.bias);
+    return c;
+}
+
 // Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
 class MethodTextureCache {
   public:

@@ -112,9 +112,9 @@ double estimateViewBytes(const Scene& scene, int width, int height, size_t metho
                          bool writesImages, bool truthInBlocks) {
     const double pixels = double(width) * height;
     // Per pixel: truth at two rates, the raster's fragment and depth, the fragment list
-    // (FragmentList: 100 bytes per covered pixel), per method its pixels, error and the
+    // (FragmentList: 68 bytes per covered pixel), per method its pixels, error and the
     // comparison's sorted copy, twice on meshes (the exact-frame pass).
-    double perPixel = 2.0 * sizeof(TruthSample) + sizeof(Fragment) + sizeof(double) + 100;
+    double perPixel = 2.0 * sizeof(TruthSample) + sizeof(Fragment) + sizeof(double) + 68;
     perPixel += double(methods) * (sizeof(MethodPixel) + sizeof(float) + sizeof(double)) *
                 (scene.isMesh ? 2 : 1);
     // Outputs: the EXR planes (6 + 3 per method floats), their interleaved copy, the

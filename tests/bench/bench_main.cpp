@@ -151,11 +151,7 @@ void BM_Method(benchmark::State& state, const char* json) {
     for (auto _ : state) {
         float acc = 0;
         for (const Vec2f& p : uv0) {
-            MethodContext<float> c;
-            c.height = tex.height;
-            if (tex.derived) c.normal = &tex.derived->normal, c.parallax = &tex.derived->parallax;
-            c.scale = 0.05f;
-            c.bias = -0.025f;
+            MethodContext<float> c = makeMethodContext<float>(tex);
             Vec2f r = runMethod<float>(cfg, c, p, v);
             acc += r.x + r.y;
         }
