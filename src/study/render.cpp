@@ -21,14 +21,6 @@ BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
     return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
 }
 
-RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
-                        const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
-                        const TimingSpec& timing, bool keepImages) {
-    const Camera camera = makeCamera(scene, view);
-    return renderWithTruth(scene, view, camera, traceTruth(camera, truths), configs, textures,
-                           timing, keepImages);
-}
-
 namespace {
 
 // One method over the view's fragments: its pixels, its comparison with the truth (and, on
@@ -69,8 +61,8 @@ MethodFrame measureMethod(const Scene& scene, const ViewSpec& view, const Method
     return mf;
 }
 
-}  // namespace
-
+// Rasterisation, methods and comparison against given truth frames of `camera`, the camera
+// of `view`.
 RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
                              TruthFrames&& truth, const std::vector<MethodConfig>& configs,
                              MethodTextureCache& textures, const TimingSpec& timing,
@@ -106,6 +98,16 @@ RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Cam
     r.timingsMs["method_timing"] = timingMs;
     if (!keepImages) r.fragments = {};
     return r;
+}
+
+}  // namespace
+
+RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
+                        const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                        const TimingSpec& timing, bool keepImages) {
+    const Camera camera = makeCamera(scene, view);
+    return renderWithTruth(scene, view, camera, traceTruth(camera, truths), configs, textures,
+                           timing, keepImages);
 }
 
 double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
@@ -149,7 +151,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         if (truthVertices(scene, whole) > budget && traceTruthInBlocks(scene, camera, budget, f)) {
             double truthMs = msSince(t0);
             RenderResult r = renderWithTruth(scene, scene.view(), camera, std::move(f),
-                                             scene.methods, textures, timing);
+                                             scene.methods, textures, timing, true);
             r.timingsMs["truth_total"] = truthMs;
             return r;
         }

@@ -49,14 +49,8 @@ struct RenderResult {
     int truthBlocks = 1;  // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
-// Rasterisation, methods and comparison against given truth frames of `camera`, the camera
-// of `view`.
-RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
-                             TruthFrames&& truth, const std::vector<MethodConfig>& configs,
-                             MethodTextureCache& textures, const TimingSpec& timing,
-                             bool keepImages = true);
-
-// One view with given truth surfaces (built for the view's (s, b)); methods use the view's
+// The per-view measurement: one view with given truth surfaces (built for the view's (s, b)):
+// truth frames, rasterisation, every method and its comparison; methods use the view's
 // (s, b) unless they have their own. `keepImages` = false drops per-pixel images once the
 // statistics are taken.
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
