@@ -1,6 +1,8 @@
 // Strict reading of JSON objects for input files: every field is typed and range-checked,
 // every unknown key is rejected with the nearest known key suggested, and every error names
-// the file, the field path and the value (core/error.h).
+// the file, the field path and the value (core/error.h). The ranges callers give (1e-6 to
+// 1e6 for sizes, +-1e3 UV for a displacement, ...) bound typos and keep arithmetic finite;
+// none is a physical limit.
 #pragma once
 
 #include <nlohmann/json.hpp>

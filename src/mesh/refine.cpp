@@ -48,6 +48,8 @@ std::vector<float> computeTangentFrames(BaseMesh& mesh, TangentFrameStats* stats
         Vec3d nrm = glm::normalize(v.normal);
         Vec3d t = tan[i] - nrm * glm::dot(tan[i], nrm);  // Eq. 7.38 (Reject)
         double len = glm::length(t);
+        // The tangent is (anti)parallel to n when its rejection keeps less than 1e-12 of its
+        // length (the same relative bound as the UV area above).
         if (!(len > 1e-12 * (glm::length(tan[i]) + 1e-300)) || !std::isfinite(len)) {
             // No usable tangent: any unit vector perpendicular to n keeps the frame finite.
             ++st.fallbackTangents;

@@ -81,6 +81,7 @@ SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v)
     Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
     Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
     double det = d1.x * d2.y - d2.x * d1.y;
+    // Degenerate UVs: |det| below 1e-12 of the squared UV edge lengths (as mesh/refine.cpp).
     double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
     if (std::fabs(det) > 1e-12 * scale && std::isfinite(det)) {
         d.dSdu = (e1 * d2.y - e2 * d1.y) / det;

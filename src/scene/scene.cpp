@@ -142,6 +142,7 @@ void parseBase(Scene& s, JsonFields& root) {
             if (s.height.address != Address::Repeat)
                 f.fail("infinite",
                        "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
+            // Whole up to the 1e-9 a decimal written in JSON can be off by.
             if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
                 f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
         }
@@ -192,6 +193,8 @@ void parseCamera(Scene& s, JsonFields& root) {
         c.up = f.has("up") ? vec3(f, "up") : Vec3d(0, 0, 1);
         c.fov = f.number("fov", 45.0, 1e-3, 179.0);
         Vec3d fwd = c.target - c.eye;
+        // Degenerate views: an eye on its target, an up vector within 1e-9 rad of the view
+        // direction (either would leave the camera frame undefined).
         if (glm::length(fwd) < 1e-12) f.fail("target", "equals eye");
         if (glm::length(glm::cross(glm::normalize(fwd), c.up)) < 1e-9)
             f.fail("up", "is parallel to the viewing direction");

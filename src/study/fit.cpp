@@ -33,6 +33,7 @@ std::vector<double> listOr(JsonFields& f, const std::string& key, std::vector<do
 
 std::vector<double> range(double from, double to, double step) {
     std::vector<double> out;
+    // `to` included despite the rounding of from + k * step (the grids here step by 0.25).
     for (int k = 0; from + k * step <= to + 1e-9; ++k) out.push_back(from + k * step);
     return out;
 }

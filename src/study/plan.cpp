@@ -39,6 +39,7 @@ std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, 
         r.finish();
         if (to < from) f.failValue(key, v, "\"to\" is below \"from\"");
         if ((to - from) / step > 10000) f.failValue(key, v, "more than 10000 values");
+        // `to` included despite the rounding of from + k * step.
         for (int k = 0; from + k * step <= to + 1e-9 * step; ++k) out.push_back(from + k * step);
     } else {
         f.failValue(key, v, "expected a number, an array or {from, to, step}");

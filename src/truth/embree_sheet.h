@@ -179,6 +179,8 @@ struct TruthSurface::Impl {
             }
             w.leave = std::max(leave, 0.0);
             w.uvOffset = Vec2d(kx * T, ky * T);
+            // 1e-9 L past the tile's edge, so a hit on the edge itself is not lost between
+            // two tiles (far above double rounding at the tile's scale, far below a texel).
             tfar = std::min(w.leave, w.tExit + margin - w.t) + 1e-9 * L;
         }
         w.segOrg = org;
@@ -206,7 +208,7 @@ struct TruthSurface::Impl {
             w.done = true;
             return;
         }
-        w.t += w.leave + 1e-9 * base->periodWorld;
+        w.t += w.leave + 1e-9 * base->periodWorld;  // into the next tile (see tfar above)
         if (++w.guard >= 100000 || w.t > w.tExit + margin) w.done = true;
     }
 
@@ -300,6 +302,8 @@ struct TruthSurface::Impl {
             });
         boundsLo = box.lo;
         boundsHi = box.hi;
+        // Rays start 1% of the sheet's diagonal outside its bounds (and at least 1e-6 world
+        // units, for a flat sheet), so no hit lies behind a ray's origin.
         margin = 0.01 * glm::length(boundsHi - boundsLo) + 1e-6;
         built = disp;
         shift = Vec3d(0);

@@ -54,6 +54,8 @@ PrecisionCheck TruthSurface::checkPrecision(const Camera& camera, const Texture&
             Vec3d p[3];
             for (int c = 0; c < 3; ++c) p[c] = Vec3d(m.vertices[tri[k][c]]);
             double t, b1, b2;
+            // A slack of 1e-6 in barycentrics accepts Embree's float hits on a shared edge
+            // (float rounding of the vertices is about 1e-7 of their size).
             if (!intersectDouble(det.org, det.dir, p[0], p[1], p[2], 1e-6, t, b1, b2)) continue;
             if (t < bestT) {
                 bestT = t;

@@ -109,6 +109,7 @@ void evaluatePlaneCorners(const PlaneBase& plane, PlaneGrid& g) {
             g.planeNormal =
                 glm::normalize(glm::cross(Vec3d(Du[0], Du[1], Du[2]), Vec3d(Dv[0], Dv[1], Dv[2])));
     }
+    // A parallelogram up to double rounding of the corners' UVs (1e-12 of their extent).
     const Vec2d skew = g.cornerUv[0] + g.cornerUv[3] - g.cornerUv[1] - g.cornerUv[2];
     g.affineUv = glm::length(skew) <= 1e-12 * (1 + glm::length(g.cornerUv[3] - g.cornerUv[0]));
 }
