@@ -88,15 +88,19 @@ const std::vector<MethodKindInfo>& methodKinds() {
          methodTangentPlane<float>,
          methodTangentPlane<double>},
     };
+    // kindInfo indexes the table by enum value: checked once here, not per fragment.
+    static const bool inOrder = [] {
+        for (size_t i = 0; i < kinds.size(); ++i) PGT_CHECK(size_t(kinds[i].kind) == i);
+        return true;
+    }();
+    (void)inOrder;
     return kinds;
 }
 
 const MethodKindInfo* kindInfo(MethodKind kind) {
     const auto& kinds = methodKinds();
     const size_t i = size_t(kind);
-    if (i >= kinds.size()) return nullptr;  // Glsl
-    PGT_CHECK(kinds[i].kind == kind);       // the table is in MethodKind order
-    return &kinds[i];
+    return i < kinds.size() ? &kinds[i] : nullptr;  // Glsl is not in the table
 }
 
 std::string toString(MethodKind kind) {
