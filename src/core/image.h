@@ -6,6 +6,14 @@
 
 namespace pgt {
 
+// Pixels [x0, x1) x [y0, y1).
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+};
+
 template <class T>
 struct Image2D {
     int width = 0;

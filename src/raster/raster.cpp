@@ -2,11 +2,17 @@
 // perspective-correct attribute interpolation, in double precision.
 #include "raster/raster.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
+
+#include "core/error.h"
 
 namespace pgt {
 
@@ -91,22 +97,41 @@ SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v)
     return d;
 }
 
+// A triangle clipped at the near plane: up to 4 vertices (one plane cuts off at most one
+// corner's worth), kept in place, no allocation.
+struct ClippedPolygon {
+    std::array<ClipVertex, 4> v;
+    int size = 0;
+};
+
 // The triangle in camera space, clipped (Sutherland-Hodgman) against forward >= nearZ for
 // a pinhole camera: 0, 3 or 4 vertices.
-std::vector<ClipVertex> clipToNear(const std::array<const BaseVertex*, 3>& v, const Camera& camera,
-                                   double nearZ) {
-    std::vector<ClipVertex> poly;
-    for (auto* p : v)
-        poly.push_back({camera.toCamera(p->position), p->position, p->uv, p->tangent, p->bitangent,
-                        p->normal, p->handedness});
-    if (camera.isOrthographic()) return poly;
-    std::vector<ClipVertex> out;
-    for (size_t i = 0; i < poly.size(); ++i) {
+ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camera& camera,
+                          double nearZ) {
+    std::array<ClipVertex, 3> poly;
+    for (int i = 0; i < 3; ++i) {
+        const BaseVertex* p = v[size_t(i)];
+        poly[size_t(i)] = {camera.toCamera(p->position),
+                           p->position,
+                           p->uv,
+                           p->tangent,
+                           p->bitangent,
+                           p->normal,
+                           p->handedness};
+    }
+    ClippedPolygon out;
+    if (camera.isOrthographic()) {
+        for (int i = 0; i < 3; ++i) out.v[size_t(i)] = poly[size_t(i)];
+        out.size = 3;
+        return out;
+    }
+    for (size_t i = 0; i < 3; ++i) {
         const ClipVertex& a = poly[i];
-        const ClipVertex& c = poly[(i + 1) % poly.size()];
+        const ClipVertex& c = poly[(i + 1) % 3];
         bool ina = a.cam.z >= nearZ, inc = c.cam.z >= nearZ;
-        if (ina) out.push_back(a);
-        if (ina != inc) out.push_back(lerp(a, c, (nearZ - a.cam.z) / (c.cam.z - a.cam.z)));
+        if (ina) out.v[size_t(out.size++)] = a;
+        if (ina != inc)
+            out.v[size_t(out.size++)] = lerp(a, c, (nearZ - a.cam.z) / (c.cam.z - a.cam.z));
     }
     return out;
 }
@@ -174,7 +199,7 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
-    f.position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
+    const Vec3d position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
     // 003 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent, n));
     // b = cross(normal, tangent) * sigma.
     Vec3d n = glm::normalize(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
@@ -182,7 +207,7 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];
     t = glm::normalize(t - n * glm::dot(n, t));
     Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
-    Vec3d view = camera.viewVector(f.position);
+    Vec3d view = camera.viewVector(position);
     f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
     f.viewTangentExact = f.viewTangent;
     f.exactFrame = d.exact;
@@ -195,54 +220,157 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     }
 }
 
-// Every sample the triangle covers, nearest first (depth test on camera-space forward).
+// Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
+// forward); `frags` and `depth` are the rectangle's.
 void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera,
-          Image2D<Fragment>& frags, Image2D<double>& depth) {
+          PixelRect rect, Image2D<Fragment>& frags, Image2D<double>& depth) {
     std::array<double, 3> b;
-    for (int py = tri.py0; py <= tri.py1; ++py)
-        for (int px = tri.px0; px <= tri.px1; ++px) {
+    const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
+    const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
+    for (int py = y0; py <= y1; ++py)
+        for (int px = x0; px <= x1; ++px) {
             if (!tri.covers(camera.samplePosition(px, py), b)) continue;
             const auto& c = tri.c;
             double z = b[0] * c[0]->cam.z + b[1] * c[1]->cam.z + b[2] * c[2]->cam.z;
-            if (!(z < depth.at(px, py))) continue;
-            depth.at(px, py) = z;
-            shade(frags.at(px, py), tri, b, d, camera);
+            double& nearest = depth.at(px - rect.x0, py - rect.y0);
+            if (!(z < nearest)) continue;
+            nearest = z;
+            shade(frags.at(px - rect.x0, py - rect.y0), tri, b, d, camera);
         }
+}
+
+std::array<const BaseVertex*, 3> triangleVertices(const BaseMesh& mesh, size_t first) {
+    return {&mesh.vertices[mesh.indices[first]], &mesh.vertices[mesh.indices[first + 1]],
+            &mesh.vertices[mesh.indices[first + 2]]};
+}
+
+// Facing: the geometric normal against the direction to the eye.
+bool facesCamera(const std::array<const BaseVertex*, 3>& v, const Camera& camera) {
+    Vec3d faceN = glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position);
+    Vec3d toEye = camera.isOrthographic() ? -camera.forward() : camera.eye() - v[0]->position;
+    return glm::dot(faceN, toEye) > 0;
+}
+
+// The bins a drawn triangle's clipped screen triangles can reach (empty: none).
+struct BinRange {
+    int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+};
+
+BinRange binRange(const std::array<const BaseVertex*, 3>& v, const Camera& camera, double nearZ) {
+    const ClippedPolygon poly = clipToNear(v, camera, nearZ);
+    BinRange r;
+    bool any = false;
+    for (int k = 1; k + 1 < poly.size; ++k) {
+        ScreenTriangle screen;
+        if (!screen.setup(camera, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
+            continue;
+        const int B = Rasterizer::kBin;
+        BinRange t{screen.px0 / B, screen.px1 / B, screen.py0 / B, screen.py1 / B};
+        r = any ? BinRange{std::min(r.x0, t.x0), std::max(r.x1, t.x1), std::min(r.y0, t.y0),
+                           std::max(r.y1, t.y1)}
+                : t;
+        any = true;
+    }
+    return r;
 }
 
 }  // namespace
 
+Rasterizer::Rasterizer(const BaseMesh& mesh, const Camera& camera, const RasterOptions& options)
+    : mesh_(mesh), camera_(camera) {
+    nearZ_ = camera.isOrthographic() ? 0 : nearPlane(mesh, camera);
+    binsX_ = (camera.width() + kBin - 1) / kBin;
+    binsY_ = (camera.height() + kBin - 1) / kBin;
+    const size_t triangles = mesh.indices.size() / 3;
+    // Each triangle's bins (in parallel), then the bins' lists in mesh order (counting sort).
+    std::vector<BinRange> ranges(triangles);
+    std::vector<uint8_t> drawn(triangles, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 4096), [&](const auto& r) {
+        for (size_t t = r.begin(); t < r.end(); ++t) {
+            const auto v = triangleVertices(mesh, 3 * t);
+            if (!facesCamera(v, camera) && options.cullBackFaces) continue;
+            drawn[t] = 1;
+            ranges[t] = binRange(v, camera, nearZ_);
+        }
+    });
+    binStart_.assign(size_t(binsX_) * binsY_ + 1, 0);
+    for (size_t t = 0; t < triangles; ++t) {
+        drawn[t] ? ++setup_.trianglesDrawn : ++setup_.trianglesCulled;
+        for (int by = ranges[t].y0; by <= ranges[t].y1; ++by)
+            for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx)
+                ++binStart_[size_t(by) * binsX_ + bx + 1];
+    }
+    for (size_t b = 1; b < binStart_.size(); ++b) binStart_[b] += binStart_[b - 1];
+    binTriangles_.resize(binStart_.back());
+    std::vector<uint64_t> fill(binStart_.begin(), binStart_.end() - 1);
+    for (size_t t = 0; t < triangles; ++t)
+        for (int by = ranges[t].y0; by <= ranges[t].y1; ++by)
+            for (int bx = ranges[t].x0; bx <= ranges[t].x1; ++bx)
+                binTriangles_[fill[size_t(by) * binsX_ + bx]++] = uint32_t(t);
+}
+
+void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& stats) const {
+    PGT_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= camera_.width() &&
+              rect.y1 <= camera_.height() && !rect.empty());
+    if (out.width != rect.width() || out.height != rect.height())
+        out = Image2D<Fragment>(rect.width(), rect.height());
+    else
+        std::fill(out.data.begin(), out.data.end(), Fragment{});
+    thread_local Image2D<double> depth;
+    thread_local std::vector<uint32_t> triangles;
+    if (depth.width != rect.width() || depth.height != rect.height())
+        depth = Image2D<double>(rect.width(), rect.height());
+    std::fill(depth.data.begin(), depth.data.end(), std::numeric_limits<double>::infinity());
+    // The triangles of every bin the rectangle touches, in mesh order, each once.
+    triangles.clear();
+    const int bx0 = rect.x0 / kBin, bx1 = (rect.x1 - 1) / kBin;
+    const int by0 = rect.y0 / kBin, by1 = (rect.y1 - 1) / kBin;
+    for (int by = by0; by <= by1; ++by)
+        for (int bx = bx0; bx <= bx1; ++bx) {
+            const size_t b = size_t(by) * binsX_ + bx;
+            triangles.insert(triangles.end(), binTriangles_.begin() + int64_t(binStart_[b]),
+                             binTriangles_.begin() + int64_t(binStart_[b + 1]));
+        }
+    if (bx1 > bx0 || by1 > by0) {
+        std::sort(triangles.begin(), triangles.end());
+        triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
+    }
+    for (uint32_t t : triangles) {
+        const auto v = triangleVertices(mesh_, 3 * size_t(t));
+        const SurfaceDerivatives d = surfaceDerivatives(v);
+        const ClippedPolygon poly = clipToNear(v, camera_, nearZ_);
+        for (int k = 1; k + 1 < poly.size; ++k) {
+            ScreenTriangle screen;
+            if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
+                scan(screen, d, camera_, rect, out, depth);
+        }
+    }
+    for (const Fragment& f : out.data) {
+        stats.covered += f.covered;
+        stats.noExactFrame += f.covered && !f.exactFrame;
+    }
+}
+
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats) {
-    Image2D<Fragment> frags(camera.width(), camera.height());
-    Image2D<double> depth(camera.width(), camera.height(), std::numeric_limits<double>::infinity());
-    RasterStats st;
-    const bool ortho = camera.isOrthographic();
-    const double nearZ = ortho ? 0 : nearPlane(mesh, camera);
-    for (size_t tri = 0; tri + 2 < mesh.indices.size(); tri += 3) {
-        std::array<const BaseVertex*, 3> v = {&mesh.vertices[mesh.indices[tri]],
-                                              &mesh.vertices[mesh.indices[tri + 1]],
-                                              &mesh.vertices[mesh.indices[tri + 2]]};
-        // Facing: the geometric normal against the direction to the eye.
-        Vec3d faceN = glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position);
-        Vec3d toEye = ortho ? -camera.forward() : camera.eye() - v[0]->position;
-        if (!(glm::dot(faceN, toEye) > 0) && options.cullBackFaces) {
-            ++st.trianglesCulled;
-            continue;
-        }
-        ++st.trianglesDrawn;
-        const SurfaceDerivatives d = surfaceDerivatives(v);
-        const std::vector<ClipVertex> poly = clipToNear(v, camera, nearZ);
-        for (size_t k = 1; k + 1 < poly.size(); ++k) {
-            ScreenTriangle screen;
-            if (screen.setup(camera, {&poly[0], &poly[k], &poly[k + 1]}))
-                scan(screen, d, camera, frags, depth);
-        }
-    }
-    for (const auto& f : frags.data) {
-        st.covered += f.covered;
-        st.noExactFrame += f.covered && !f.exactFrame;
-    }
+    const Rasterizer raster(mesh, camera, options);
+    const int W = camera.width(), H = camera.height(), B = Rasterizer::kBin;
+    Image2D<Fragment> frags(W, H);
+    const int across = (W + B - 1) / B, bins = across * ((H + B - 1) / B);
+    tbb::combinable<RasterStats> counts;
+    tbb::parallel_for(0, bins, [&](int b) {
+        const PixelRect rect{(b % across) * B, (b / across) * B, std::min(W, (b % across + 1) * B),
+                             std::min(H, (b / across + 1) * B)};
+        thread_local Image2D<Fragment> local;
+        raster.rasterize(rect, local, counts.local());
+        for (int y = rect.y0; y < rect.y1; ++y)
+            std::copy_n(&local.at(0, y - rect.y0), rect.width(), &frags.at(rect.x0, y));
+    });
+    RasterStats st = raster.setupStats();
+    counts.combine_each([&](const RasterStats& c) {
+        st.covered += c.covered;
+        st.noExactFrame += c.noExactFrame;
+    });
     if (stats) *stats = st;
     return frags;
 }

@@ -20,15 +20,15 @@ int tilesToCover(const Camera& camera, Vec3d center, double size, int cap = 64);
 
 struct Fragment {
     bool covered = false;
+    // False where the triangle's UVs are degenerate (then viewTangentExact repeats
+    // viewTangent).
+    bool exactFrame = false;
     Vec2d uv0{0};
-    Vec3d position{0};
     Vec3d viewTangent{0};  // unit V in tangent space (V.T, V.B, V.N); methods round to float
     // V in the exact frame of the drawn surface: T along dS/du, B along dS/dv of the drawn
     // triangle, N the interpolated normal the truth displaces along, orthonormalised
-    // (MODEL.md §2). Equal to viewTangent on a plane; false where the triangle's UVs are
-    // degenerate (then it repeats viewTangent).
+    // (MODEL.md §2). Equal to viewTangent on a plane.
     Vec3d viewTangentExact{0};
-    bool exactFrame = false;
 };
 
 struct RasterOptions {
@@ -42,6 +42,38 @@ struct RasterStats {
     int64_t trianglesCulled = 0;
 };
 
+// The base mesh prepared once for a camera: faces culled, and the indices of the rest
+// binned into kBin x kBin pixel bins by their clipped screen bounds. A triangle's screen
+// set-up is redone in every bin it touches, which costs less than keeping it for a
+// million-face mesh. Any pixel rectangle is then rasterised on its own, on any thread and
+// in any order, equal pixel for pixel to the whole frame drawn at once: inside a rectangle
+// the triangles that can reach it are drawn in mesh order with the same depth test.
+// `mesh` and `camera` must outlive it.
+class Rasterizer {
+  public:
+    static constexpr int kBin = 32;
+    Rasterizer(const BaseMesh& mesh, const Camera& camera, const RasterOptions& options);
+
+    // The fragments of `rect` into `out`, resized to the rectangle (pixel (x, y) at
+    // out.at(x - rect.x0, y - rect.y0)); adds its covered pixels to `stats`. No allocation
+    // once `out` has the size.
+    void rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& stats) const;
+    // Triangles drawn and culled.
+    const RasterStats& setupStats() const { return setup_; }
+
+  private:
+    const BaseMesh& mesh_;
+    const Camera& camera_;
+    double nearZ_ = 0;
+    int binsX_ = 0, binsY_ = 0;
+    // Bin b's triangles (first index of each) in mesh order: binTriangles_[binStart_[b] ..
+    // binStart_[b + 1]).
+    std::vector<uint64_t> binStart_;
+    std::vector<uint32_t> binTriangles_;
+    RasterStats setup_;
+};
+
+// The whole frame at once (all cores).
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats = nullptr);
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/image.h"
 #include "core/math.h"
 #include "heightfield/texture.h"
 #include "mesh/base_mesh.h"
@@ -99,10 +100,6 @@ struct TruthWindow {
     Vec2d uvMin{0}, uvMax{0};
 };
 // A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame.
-struct PixelRect {
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    bool empty() const { return x1 <= x0 || y1 <= y0; }
-};
 TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
                        const Camera& camera, PixelRect block = {}, double marginTexels = 2);
 // Bytes per truth vertex of a plane's grid, Embree's BVH included (measured: 3.27 GB peak for
