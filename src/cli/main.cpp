@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "core/clock.h"
 #include "core/error.h"
 #include "core/memory.h"
 #include "gl/glsl_method.h"
@@ -12,6 +13,7 @@
 #include "study/fit.h"
 #include "study/outputs.h"
 #include "study/render.h"
+#include "study/staged_files.h"
 #include "study/stress.h"
 #include "study/sweep.h"
 
@@ -39,14 +41,24 @@ void printSummary(const pgt::RenderResult& r) {
 }
 
 // `pgt render`: checks the memory estimate and --out before any work.
-void renderCommand(const std::string& scenePath, const std::string& outDir, int repeats) {
+void renderCommand(const std::string& scenePath, const std::string& outDir,
+                   const pgt::RenderOptions& options) {
     pgt::Scene scene = pgt::loadScene(scenePath);
-    pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height, scene.methods.size(), true,
-                         true, "camera.resolution");
+    pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
+                         {scene.methods.size(), true, false, true}, "camera.resolution");
     pgt::prepareOutputDir(outDir);  // before the work, so a bad --out fails at once
-    pgt::RenderResult result = pgt::renderFrame(scene, {repeats});
-    pgt::writeRenderOutputs(scene, result, outDir);
+    // The files are written as the frame's bands are made: memory follows the band.
+    pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods);
+    pgt::RenderOptions opt = options;
+    opt.frame = {false, {&writer}, true};
+    pgt::RenderResult result = pgt::renderFrame(scene, opt);
+    auto t0 = pgt::Clock::now();
+    writer.finish(result);  // the error maps and summary.json
+    const double finishMs = pgt::msSince(t0);
     printSummary(result);
+    std::printf("stages (wall ms):");
+    for (const auto& [stage, ms] : result.timingsMs) std::printf(" %s %.0f,", stage.c_str(), ms);
+    std::printf(" maps and summary %.0f\n", finishMs);
     std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n", outDir.c_str(),
                 outDir.c_str(), result.methods.size());
 }
@@ -102,7 +114,7 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
 // Everything the command line sets, and which command it chose.
 struct CommandLine {
     std::string scenePath, outDir, glDevice;
-    int repeats = 3;
+    pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
     std::vector<std::string> stressPaths;
@@ -116,8 +128,14 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.render = app.add_subcommand("render", "Render one scene: truth, methods, error");
     c.render->add_option("scene", c.scenePath, "Scene file (JSON)")->required();
     c.render->add_option("--out", c.outDir, "Output directory")->required();
-    c.render->add_option("--timing-repeats", c.repeats, "Timing passes per method (median)")
+    c.render
+        ->add_option("--timing-repeats", c.renderOpt.timingRepeats,
+                     "Timing passes per method (median)")
         ->check(CLI::Range(1, 100));
+    c.render
+        ->add_option("--timing-fragments", c.renderOpt.timingFragments,
+                     "Time methods on a seeded subset of this many fragments (0: all)")
+        ->check(CLI::Range(0, 1 << 26));
 
     c.sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
     c.sweep->add_option("scene", c.scenePath, "Scene file (JSON) with a \"sweep\" block")
@@ -160,7 +178,7 @@ int runCommand(const CommandLine& c) {
         pgt::setMemoryLimitMb(c.memoryLimitMb);
         if (!c.glDevice.empty()) pgt::setGlDevice(c.glDevice);
         if (*c.render) {
-            renderCommand(c.scenePath, c.outDir, c.repeats);
+            renderCommand(c.scenePath, c.outDir, c.renderOpt);
         } else if (*c.sweep) {
             sweepCommand(c.scenePath, c.sweepOpt, c.noReport);
         } else if (*c.stress) {

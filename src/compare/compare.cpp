@@ -12,26 +12,20 @@
 
 namespace pgt {
 
+CompareTally& CompareTally::operator+=(const CompareTally& o) {
+    fetchSum += o.fetchSum;
+    covered += o.covered, above1 += o.above1, nonfinite += o.nonfinite;
+    zeroDivide += o.zeroDivide, stepLimit += o.stepLimit, diverged += o.diverged;
+    both += o.both, truthOnly += o.truthOnly, rasterOnly += o.rasterOnly, neither += o.neither;
+    fetchesMax = std::max(fetchesMax, o.fetchesMax);
+    return *this;
+}
+
 namespace {
-// Per-pixel tallies of one block of the frame (summed over blocks).
-struct Tally {
-    double fetchSum = 0;
-    int64_t covered = 0, above1 = 0, nonfinite = 0, zeroDivide = 0, stepLimit = 0, diverged = 0;
-    int64_t both = 0, truthOnly = 0, rasterOnly = 0, neither = 0;
-    uint32_t fetchesMax = 0;
-    Tally& operator+=(const Tally& o) {
-        fetchSum += o.fetchSum;
-        covered += o.covered, above1 += o.above1, nonfinite += o.nonfinite;
-        zeroDivide += o.zeroDivide, stepLimit += o.stepLimit, diverged += o.diverged;
-        both += o.both, truthOnly += o.truthOnly, rasterOnly += o.rasterOnly, neither += o.neither;
-        fetchesMax = std::max(fetchesMax, o.fetchesMax);
-        return *this;
-    }
-};
 
 // Counts one pixel into `acc`; returns its UV error in texels, NaN where none is defined
 // (the method did not cover it, its uv' is not finite, or the truth missed).
-double tallyPixel(Tally& acc, const TruthSample& t, const MethodPixel& m, int texWidth,
+double tallyPixel(CompareTally& acc, const TruthSample& t, const MethodPixel& m, int texWidth,
                   int texHeight, Address address) {
     if (m.covered) {
         ++acc.covered;
@@ -60,7 +54,7 @@ double tallyPixel(Tally& acc, const TruthSample& t, const MethodPixel& m, int te
     return e;
 }
 
-FrameStats frameStats(const Tally& all, std::vector<double>& errors) {
+FrameStats frameStats(const CompareTally& all, std::vector<float>& errors) {
     FrameStats fs;
     fs.fetchesMax = all.fetchesMax;
     fs.zeroDivide = all.zeroDivide;
@@ -79,31 +73,66 @@ FrameStats frameStats(const Tally& all, std::vector<double>& errors) {
 
 }  // namespace
 
+float codedError(const TruthSample& t, const MethodPixel& m, double e) {
+    if (m.covered && (!std::isfinite(m.uv.x) || !std::isfinite(m.uv.y))) return kCodeNonFinite;
+    if (m.covered && t.hit) return float(e);
+    return t.hit ? kCodeTruthOnly : m.covered ? kCodeRasterOnly : kCodeNeither;
+}
+
+void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixel>& method,
+                     int texWidth, int texHeight, Address address, Image2D<float>* errTexels,
+                     int y0) {
+    PGT_CHECK_EQ(truth.width, method.width);
+    PGT_CHECK_EQ(truth.height, method.height);
+    if (errTexels && (errTexels->width != truth.width || errTexels->height != truth.height))
+        *errTexels = Image2D<float>(truth.width, truth.height);
+    float* coded = nullptr;
+    if (inPlace_) {
+        PGT_CHECK(truth.width == coded_.width && y0 >= 0 && y0 + truth.height <= coded_.height);
+        coded = &coded_.at(0, y0);
+    }
+    // Pixels in blocks over all cores, each block's errors in pixel order; the blocks' lists
+    // are joined in order, so the kept errors do not depend on the threads.
+    const size_t n = truth.size(), block = 4096, blocks = (n + block - 1) / block;
+    std::vector<std::vector<float>> found(inPlace_ ? 0 : blocks);
+    all_ += tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, blocks), CompareTally{},
+        [&](const tbb::blocked_range<size_t>& r, CompareTally acc) {
+            for (size_t b = r.begin(); b < r.end(); ++b)
+                for (size_t k = b * block; k < std::min(n, (b + 1) * block); ++k) {
+                    double e = tallyPixel(acc, truth.data[k], method.data[k], texWidth, texHeight,
+                                          address);
+                    if (errTexels) errTexels->data[k] = float(e);
+                    if (coded)
+                        coded[k] = codedError(truth.data[k], method.data[k], e);
+                    else if (!std::isnan(e))
+                        found[b].push_back(float(e));
+                }
+            return acc;
+        },
+        [](CompareTally x, const CompareTally& y) { return x += y; });
+    for (const auto& f : found) errors_.insert(errors_.end(), f.begin(), f.end());
+}
+
+FrameStats ErrorTally::finish() {
+    if (!inPlace_) {
+        FrameStats fs = frameStats(all_, errors_);
+        std::vector<float>().swap(errors_);
+        return fs;
+    }
+    std::vector<float> errors;  // the errors (codes >= 0) in pixel order
+    errors.reserve(size_t(all_.both));
+    for (float c : coded_.data)
+        if (c >= 0) errors.push_back(c);
+    return frameStats(all_, errors);
+}
+
 FrameStats compareWithTruth(const Image2D<TruthSample>& truth, const Image2D<MethodPixel>& method,
                             int texWidth, int texHeight, Address address,
                             Image2D<float>* errTexels) {
-    PGT_CHECK_EQ(truth.width, method.width);
-    PGT_CHECK_EQ(truth.height, method.height);
-    if (errTexels) *errTexels = Image2D<float>(truth.width, truth.height, NAN);
-    // Pixels in blocks over all cores; an error slot stays NaN where no error is defined.
-    std::vector<double> perPixel(truth.size(), NAN);
-    Tally all = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, truth.size(), 4096), Tally{},
-        [&](const tbb::blocked_range<size_t>& r, Tally acc) {
-            for (size_t k = r.begin(); k < r.end(); ++k) {
-                double e =
-                    tallyPixel(acc, truth.data[k], method.data[k], texWidth, texHeight, address);
-                perPixel[k] = e;
-                if (errTexels && !std::isnan(e)) errTexels->data[k] = float(e);
-            }
-            return acc;
-        },
-        [](Tally x, const Tally& y) { return x += y; });
-    std::vector<double> errors;
-    errors.reserve(size_t(all.both));
-    for (double e : perPixel)
-        if (!std::isnan(e)) errors.push_back(e);
-    return frameStats(all, errors);
+    ErrorTally tally;
+    tally.add(truth, method, texWidth, texHeight, address, errTexels);
+    return tally.finish();
 }
 
 }  // namespace pgt

@@ -26,8 +26,50 @@ struct FrameStats {
     uint32_t fetchesMax = 0;
 };
 
-// Compares a method image with the truth; writes the per-pixel error (NaN where not both
-// covered or non-finite) to `errTexels` when given.
+// Per-pixel counts of a method against the truth, summed over pixels and bands.
+struct CompareTally {
+    double fetchSum = 0;
+    int64_t covered = 0, above1 = 0, nonfinite = 0, zeroDivide = 0, stepLimit = 0, diverged = 0;
+    int64_t both = 0, truthOnly = 0, rasterOnly = 0, neither = 0;
+    uint32_t fetchesMax = 0;
+    CompareTally& operator+=(const CompareTally& o);
+};
+
+// A pixel's comparison in one float: its error in texels (>= 0), or the negative code of
+// why it has none.
+constexpr float kCodeTruthOnly = -1;   // truth hit, the method did not cover the pixel
+constexpr float kCodeRasterOnly = -2;  // covered, the truth ray missed the sheet
+constexpr float kCodeNonFinite = -3;   // covered, uv' not finite
+constexpr float kCodeNeither = -4;
+float codedError(const TruthSample& truth, const MethodPixel& method, double errTexels);
+
+// A frame compared band by band (rows in any grouping): the counts, and every compared
+// pixel's error kept in float for the percentiles. Constructed with the frame's size, it
+// keeps them in place instead: the whole frame's coded errors (codedError), which the error
+// maps are drawn from, at 4 bytes a pixel whatever the coverage.
+class ErrorTally {
+  public:
+    ErrorTally() = default;
+    ErrorTally(int width, int height) : coded_(width, height, kCodeNeither), inPlace_(true) {}
+    // One band: the truth and the method image of the same pixels. `errTexels` (optional)
+    // gets each pixel's error, NaN where none is defined (not both covered, or non-finite).
+    // `y0`: the band's first row in the frame (in-place tallies).
+    void add(const Image2D<TruthSample>& truth, const Image2D<MethodPixel>& method, int texWidth,
+             int texHeight, Address address, Image2D<float>* errTexels = nullptr, int y0 = 0);
+    // The statistics of every band added (reorders the kept errors; in place, sorts a copy).
+    FrameStats finish();
+    // In place: the frame's coded errors (moved out).
+    Image2D<float> takeCoded() { return std::move(coded_); }
+
+  private:
+    CompareTally all_;
+    std::vector<float> errors_;
+    Image2D<float> coded_;
+    bool inPlace_ = false;
+};
+
+// Compares a method image with the truth (one band: the whole frame); writes the per-pixel
+// error (NaN where not both covered or non-finite) to `errTexels` when given.
 FrameStats compareWithTruth(const Image2D<TruthSample>& truth, const Image2D<MethodPixel>& method,
                             int texWidth, int texHeight, Address address,
                             Image2D<float>* errTexels = nullptr);

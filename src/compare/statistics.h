@@ -20,12 +20,16 @@ inline double uvErrorTexels(Vec2d a, Vec2d b, int width, int height, Address add
 
 // Linear interpolation between order statistics at rank q*(n-1); reorders `values`.
 double percentile(std::vector<double>& values, double q);
+double percentile(std::vector<float>& values, double q);
 
 struct Summary {
     int64_t count = 0;
     double mean = NAN, rms = NAN, p50 = NAN, p90 = NAN, p99 = NAN, max = NAN;
 };
-// Summary of finite values (reorders `values`).
+// Summary of finite values (reorders `values`). Sums in double either way; a frame's errors
+// are kept in float (4 bytes a pixel, so an 8192^2 frame's fit in memory), which moves a
+// percentile by at most float's rounding of one error (6e-8 of it).
 Summary summarize(std::vector<double>& values);
+Summary summarize(std::vector<float>& values);
 
 }  // namespace pgt

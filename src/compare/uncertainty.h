@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "core/image.h"
 #include "core/samples.h"
@@ -18,6 +19,18 @@ struct TruthUncertainty {
     int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
     // NaN when no pixel was compared: nothing was measured (written as null / nan).
     double p50Texels = NAN, p99Texels = NAN, maxTexels = NAN;
+};
+
+// The two frames compared band by band: the counts, and the differences kept in float.
+class UncertaintyTally {
+  public:
+    void add(const Image2D<TruthSample>& coarse, const Image2D<TruthSample>& fine, int texWidth,
+             int texHeight, Address address);
+    TruthUncertainty finish();  // reorders the kept differences
+
+  private:
+    int64_t hitMismatch_ = 0;
+    std::vector<float> diffs_;
 };
 
 TruthUncertainty compareTruthFrames(const Image2D<TruthSample>& coarse,

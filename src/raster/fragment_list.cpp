@@ -21,22 +21,52 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
     return list;
 }
 
-FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) {
-    if (count <= 0 || size_t(count) >= all.size()) return all;
-    std::vector<size_t> idx(all.size());
-    for (size_t k = 0; k < idx.size(); ++k) idx[k] = k;
-    std::mt19937 rng(seed);
-    std::shuffle(idx.begin(), idx.end(), rng);
-    idx.resize(size_t(count));
-    std::sort(idx.begin(), idx.end());  // keep the scan order's memory locality
-    FragmentList out;
-    for (size_t k : idx) {
-        out.pixel.push_back(all.pixel[k]);
-        out.uv0.push_back(all.uv0[k]);
-        out.view.push_back(all.view[k]);
-        out.viewExact.push_back(all.viewExact[k]);
+namespace {
+void append(FragmentList& to, const FragmentList& from, size_t k) {
+    to.pixel.push_back(from.pixel[k]);
+    to.uv0.push_back(from.uv0[k]);
+    to.view.push_back(from.view[k]);
+    to.viewExact.push_back(from.viewExact[k]);
+}
+void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
+    to.pixel[slot] = from.pixel[k];
+    to.uv0[slot] = from.uv0[k];
+    to.view[slot] = from.view[k];
+    to.viewExact[slot] = from.viewExact[k];
+}
+}  // namespace
+
+void FragmentSampler::add(const FragmentList& list) {
+    for (size_t k = 0; k < list.size(); ++k, ++seen_) {
+        if (count_ <= 0 || seen_ < count_) {
+            append(kept_, list, k);
+            order_.push_back(seen_);
+            continue;
+        }
+        // Algorithm R: fragment number seen_ replaces a kept one with probability count/(seen+1).
+        const int64_t j = std::uniform_int_distribution<int64_t>(0, seen_)(rng_);
+        if (j < count_) {
+            assign(kept_, size_t(j), list, k);
+            order_[size_t(j)] = seen_;
+        }
     }
+}
+
+FragmentList FragmentSampler::take() {
+    std::vector<size_t> idx(order_.size());
+    std::iota(idx.begin(), idx.end(), size_t(0));
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return order_[a] < order_[b]; });
+    FragmentList out;
+    for (size_t k : idx) append(out, kept_, k);
+    kept_ = {};
+    order_.clear();
     return out;
+}
+
+FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed) {
+    FragmentSampler sampler(count, seed);
+    sampler.add(all);
+    return sampler.take();
 }
 
 }  // namespace pgt

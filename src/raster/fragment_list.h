@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
 #include <vector>
 
 #include "core/image.h"
@@ -21,8 +22,28 @@ struct FragmentList {
     std::vector<Vec3d> viewExact;  // V in the exact frame of the drawn surface (meshes)
     size_t size() const { return pixel.size(); }
 };
+// The covered pixels of `frags`, row by row (pixel = y * width + x of that image).
 FragmentList compactFragments(const Image2D<Fragment>& frags);
-// A seeded random subset of at most `count` fragments (all when count <= 0 or larger).
+
+// A seeded random subset of at most `count` fragments of lists added one after another
+// (reservoir sampling: the same subset for the same fragments in the same order, however
+// they were split into lists). All of them when count <= 0.
+class FragmentSampler {
+  public:
+    FragmentSampler(int count, uint32_t seed) : count_(count), rng_(seed) {}
+    void add(const FragmentList& list);
+    // The subset, in the order the fragments were added (the scan order's memory locality).
+    FragmentList take();
+
+  private:
+    int count_;
+    std::mt19937_64 rng_;
+    int64_t seen_ = 0;
+    FragmentList kept_;
+    std::vector<int64_t> order_;  // position of each kept fragment among those added
+};
+
+// One list's subset (FragmentSampler).
 FragmentList sampleFragments(const FragmentList& all, int count, uint32_t seed);
 
 }  // namespace pgt

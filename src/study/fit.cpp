@@ -202,8 +202,8 @@ FitReport runFit(const Scene& scene, bool progress) {
     // frame as tall as all of them, with one method's images at a time.
     const size_t viewCount = rep.thetas.size() * rep.phis.size();
     checkViewMemory(scene, plan.width,
-                    int(std::min<size_t>(viewCount * size_t(plan.height), 1u << 30)), 1, false,
-                    false, "fit.resolution");
+                    int(std::min<size_t>(viewCount * size_t(plan.height), 1u << 30)),
+                    {1, false, true, false}, "fit.resolution");
     FitScorer scorer(scene, rep, plan);
     for (const MethodConfig& base : plan.methods) {
         // Presets are fixed configurations (fit the built-in they stand for instead), and a

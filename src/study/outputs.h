@@ -1,14 +1,14 @@
 // Writers for `pgt render`: frame.exr (named float channels), summary.json, and the
-// false-colour error maps for people. Every file is written in full to a temporary name
-// (each write checked, flushed to disk), and the files of one output are renamed into place
-// together, so a failure (a full disk) leaves nothing half-written and no final-looking file.
+// false-colour error maps for people. All go through staged files (study/staged_files.h):
+// written whole to temporaries, renamed into place together.
 #pragma once
 
-#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 
+#include <future>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "scene/scene.h"
@@ -16,40 +16,43 @@
 
 namespace pgt {
 
-// Writes DIR/frame.exr, DIR/summary.json and DIR/<label>_error.png; creates DIR.
-// Throws OutputError naming the path that could not be written.
+class StagedFiles;
+class StagedStream;
+
+// The files of one rendered view, written as its bands arrive (a FrameSink): frame.exr row
+// by row. finish() draws the error maps from the result's coded errors (their colour scale
+// needs the whole frame's p99; render with FrameOptions::keepCodedErrors), one per core,
+// writes summary.json and renames every file into place. Throws OutputError
+// naming the path that could not be written; nothing is left behind then.
+class RenderWriter : public FrameSink {
+  public:
+    // Creates DIR and opens DIR/frame.exr for a width x height frame of these methods.
+    RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
+                 const std::vector<MethodConfig>& configs);
+    ~RenderWriter() override;
+    void band(const RenderResult& frame, const FrameBand& band) override;
+    void finish(const RenderResult& result);
+
+  private:
+    void waitForRows();  // the band being encoded is done (throws OutputError if it failed)
+    const Scene& scene_;
+    int width_, height_;
+    size_t channels_ = 0;
+    std::unique_ptr<StagedFiles> files_;
+    StagedStream* exrFile_ = nullptr;
+    std::unique_ptr<OIIO::ImageOutput> exr_;
+    std::future<bool> encoding_;  // the last band's rows being encoded (after exr_: it goes first)
+    std::vector<float> rows_[2];  // bands, channels interleaved: one filled, one encoded
+    int nextRows_ = 0;
+    size_t methods_ = 0;
+};
+
+// Writes DIR/frame.exr, DIR/summary.json and DIR/<label>_error.png of a result that kept its
+// images (one band: the whole frame through RenderWriter); creates DIR.
 void writeRenderOutputs(const Scene& scene, const RenderResult& result, const std::string& dir);
 
 nlohmann::json summaryJson(const Scene& scene, const RenderResult& result);
 nlohmann::json toJson(const FrameStats& stats);
-
-// Replaces `path` atomically with `text`.
-void writeTextFile(const std::string& path, const std::string& text);
-
-// Creates `dir` (and its parents) and checks that a file can be created in it; removes the
-// temporaries that killed pgt processes left there. Throws OutputError naming `dir`.
-void prepareOutputDir(const std::string& dir);
-
-// Files of one output, each written whole to a hidden temporary in `dir`, then renamed into
-// place together by commit(); whatever is not committed is removed on destruction.
-class StagedFiles {
-  public:
-    explicit StagedFiles(std::string dir);
-    ~StagedFiles();
-    StagedFiles(const StagedFiles&) = delete;
-    StagedFiles& operator=(const StagedFiles&) = delete;
-    // Writes `bytes` to a temporary for DIR/name; throws OutputError (the write, the flush
-    // or the close failed, e.g. no space left) after removing it.
-    void add(const std::string& name, const std::string& bytes);
-    void commit();
-
-  private:
-    std::string dir_;
-    std::vector<std::pair<std::string, std::string>> staged_;  // temporary, final path
-};
-
-// The encoded bytes of `buf` in the format of `name`'s extension (".exr", ".png").
-std::string encodeImage(const std::string& name, const OIIO_NAMESPACE::ImageBuf& buf);
 
 // The top of an error map's colour scale: the smallest 1-2-5 value (0.01 .. 5e12) at or
 // above the method's p99 error, so that the top percent saturates and the rest is visible.

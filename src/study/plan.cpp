@@ -226,7 +226,7 @@ Study parseStudy(const Scene& scene) {
     f.finish(readParameterLists(f, scene, lists));
     st.configs = expandConfigs(f, scene, lists);
     st.cases = makeCases(axes, file);
-    checkViewMemory(scene, st.width, st.height, st.configs.size(), false, false,
+    checkViewMemory(scene, st.width, st.height, {st.configs.size()},
                     f.has("resolution") ? "sweep.resolution" : "camera.resolution");
     st.resolved = studyIdentity(scene, st);
     return st;

@@ -1,11 +1,12 @@
-// The frame pipeline: truth -> raster -> methods -> comparison, with stage timings.
+// The frame pipeline in bands: raster -> truth -> methods -> comparison -> sinks, with stage
+// timings.
 #include "study/render.h"
 
+#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
-#include <random>
+#include <cmath>
 
 #include "core/clock.h"
 #include "core/error.h"
@@ -23,80 +24,245 @@ BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
 
 namespace {
 
-// One method over the view's fragments: its pixels, its comparison with the truth (and, on
-// meshes, the same fed the exact frame) and, when asked, its single-threaded cost on
-// `timed` (a GLSL method is timed in the same call as its evaluation: one upload, every
-// fragment, since a GL draw has a fixed cost). `timingMs` gets the time spent timing.
-MethodFrame measureMethod(const Scene& scene, const ViewSpec& view, const MethodConfig& cfg,
-                          const FragmentList& frags, const FragmentList& timed,
-                          MethodTextureCache& textures, const TimingSpec& timing, RenderResult& r,
-                          bool keepImages, double& timingMs) {
-    const int W = r.camera.width(), H = r.camera.height();
-    double s = std::isfinite(cfg.scale) ? cfg.scale : view.displacement.scale;
-    double b = std::isfinite(cfg.bias) ? cfg.bias : view.displacement.bias;
-    const MethodTextures& tex = textures.get(s, b, needsDerivedMaps(cfg));
-    MethodFrame mf;
-    mf.config = cfg;
-    mf.timingBackend = timingBackend(cfg);
-    auto te = Clock::now();
-    const bool gl = cfg.kind == MethodKind::Glsl;
-    mf.pixels = gl ? evaluateGlsl(cfg, frags, tex, W, H, false,
-                                  timing.repeats > 0 ? &mf.nsPerPixel : nullptr, timing.repeats)
-                   : evaluateMethod(cfg, frags, tex, W, H);
-    r.timingsMs["methods_eval"] += msSince(te);
-    const Texture& map = scene.height;
-    mf.stats = compareWithTruth(r.truth, mf.pixels, map.width, map.height, map.address,
-                                keepImages ? &mf.errTexels : nullptr);
-    if (scene.isMesh) {
-        auto exact = evaluateMethod(cfg, frags, tex, W, H, true);
-        mf.statsExactFrame = compareWithTruth(r.truth, exact, map.width, map.height, map.address);
-        mf.haveExactFrame = true;
-    }
-    if (timing.repeats > 0 && !gl) {
-        auto tt = Clock::now();
-        mf.nsPerPixel = timeMethodNsPerPixel(cfg, timed, tex, timing.repeats);
-        timingMs += msSince(tt);
-    }
-    if (!keepImages) mf.pixels = {};
-    return mf;
+// Where a view's truth comes from: surfaces traced band by band, or whole frames traced
+// before (block by block, renderFrame).
+struct TruthInput {
+    const TruthPair* surfaces = nullptr;
+    const TruthFrames* frames = nullptr;
+    bool haveFine() const { return surfaces ? bool(surfaces->fine) : frames->haveFine; }
+};
+
+// One configuration across the bands: its maps, its tallies, the band's images.
+struct MethodRun {
+    const MethodConfig* config = nullptr;
+    const MethodTextures* textures = nullptr;
+    ErrorTally tally, tallyExact;
+    double glNs = 0;          // GLSL: the timed draws over the bands (ns in all)
+    int64_t glFragments = 0;  // and the fragments they drew
+    Image2D<MethodPixel> pixels;
+    Image2D<float> errTexels;
+};
+
+// Rows [band.y0, band.y1) of `full` from a band image.
+template <class T>
+void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
+    std::copy(band.data.begin(), band.data.end(), full.data.begin() + int64_t(y0) * full.width);
 }
 
-// Rasterisation, methods and comparison against given truth frames of `camera`, the camera
-// of `view`.
-RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Camera& camera,
-                             TruthFrames&& truth, const std::vector<MethodConfig>& configs,
-                             MethodTextureCache& textures, const TimingSpec& timing,
-                             bool keepImages) {
+// The frame in bands: each stage of a band over all cores, then the next band.
+class BandPipeline {
+  public:
+    BandPipeline(const Scene& scene, const TruthInput& truth,
+                 const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                 const TimingSpec& timing, const FrameOptions& options, RenderResult& r)
+        : scene_(scene),
+          mesh_(sceneBaseMesh(scene, r.camera)),
+          truth_(truth),
+          timing_(timing),
+          options_(options),
+          r_(r),
+          sampler_(timing.maxFragments, timing.seed) {
+        const bool inPlace = options.keepImages || options.keepCodedErrors;
+        for (const MethodConfig& cfg : configs) {
+            MethodRun m;
+            m.config = &cfg;
+            if (inPlace) m.tally = ErrorTally(r.camera.width(), r.camera.height());
+            double s = std::isfinite(cfg.scale) ? cfg.scale : r.view.displacement.scale;
+            double b = std::isfinite(cfg.bias) ? cfg.bias : r.view.displacement.bias;
+            m.textures = &textures.get(s, b, needsDerivedMaps(cfg));
+            runs_.push_back(std::move(m));
+        }
+    }
+
+    void run() {
+        auto t0 = Clock::now();
+        const Rasterizer raster(mesh_, r_.camera, {scene_.cullBackFaces});
+        r_.raster = raster.setupStats();
+        r_.timingsMs["raster"] += msSince(t0);
+        const int W = r_.camera.width(), H = r_.camera.height();
+        if (options_.keepImages) {
+            r_.truth = Image2D<TruthSample>(W, H);
+            r_.fragments = Image2D<Fragment>(W, H);
+            for (size_t i = 0; i < runs_.size(); ++i) {
+                r_.methods.emplace_back();
+                r_.methods.back().pixels = Image2D<MethodPixel>(W, H);
+                r_.methods.back().errTexels = Image2D<float>(W, H);
+            }
+        }
+        for (int y0 = 0; y0 < H; y0 += kBandRows) {
+            const PixelRect band{0, y0, W, std::min(H, y0 + kBandRows)};
+            rasterBand(raster, band);
+            traceBand(band);
+            methodsBand(band.y0);
+            emit(band);
+        }
+        finish();
+    }
+
+  private:
+    void rasterBand(const Rasterizer& raster, PixelRect band) {
+        auto t0 = Clock::now();
+        const int B = Rasterizer::kBin, W = band.width();
+        if (fragments_.width != W || fragments_.height != band.height())
+            fragments_ = Image2D<Fragment>(W, band.height());
+        tbb::combinable<RasterStats> counts;
+        tbb::parallel_for(0, (W + B - 1) / B, [&](int b) {
+            const PixelRect rect{b * B, band.y0, std::min(W, (b + 1) * B), band.y1};
+            thread_local Image2D<Fragment> local;
+            raster.rasterize(rect, local, counts.local());
+            for (int y = rect.y0; y < rect.y1; ++y)
+                std::copy_n(&local.at(0, y - rect.y0), rect.width(),
+                            &fragments_.at(rect.x0, y - band.y0));
+        });
+        counts.combine_each([&](const RasterStats& c) {
+            r_.raster.covered += c.covered;
+            r_.raster.noExactFrame += c.noExactFrame;
+        });
+        frags_ = compactFragments(fragments_);  // pixel indices within the band
+        sampler_.add(frags_);
+        r_.timingsMs["raster"] += msSince(t0);
+    }
+
+    void traceBand(PixelRect band) {
+        auto t0 = Clock::now();
+        if (truth_.surfaces) {
+            truth_.surfaces->truth->traceRect(r_.camera, band, truthBand_);
+        } else {
+            truthBand_ = rowsOf(truth_.frames->truth, band);
+        }
+        for (const TruthSample& t : truthBand_.data) r_.truthHits += t.hit;
+        r_.timingsMs["trace"] += msSince(t0);
+        if (!truth_.haveFine()) return;
+        auto t1 = Clock::now();
+        if (truth_.surfaces)
+            truth_.surfaces->fine->traceRect(r_.camera, band, fineBand_);
+        else
+            fineBand_ = rowsOf(truth_.frames->fine, band);
+        uncertainty_.add(truthBand_, fineBand_, scene_.height.width, scene_.height.height,
+                         scene_.height.address);
+        r_.timingsMs["trace_fine"] += msSince(t1);
+    }
+
+    static Image2D<TruthSample> rowsOf(const Image2D<TruthSample>& full, PixelRect band) {
+        Image2D<TruthSample> out(band.width(), band.height());
+        std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(),
+                    out.data.begin());
+        return out;
+    }
+
+    // Every configuration over the band's fragments, compared with the band's truth.
+    void methodsBand(int y0) {
+        const int W = fragments_.width, H = fragments_.height;
+        const Texture& map = scene_.height;
+        for (MethodRun& m : runs_) {
+            const MethodConfig& cfg = *m.config;
+            auto t0 = Clock::now();
+            if (frags_.pixel.empty()) {
+                m.pixels = Image2D<MethodPixel>(W, H);  // nothing to draw in this band
+            } else if (cfg.kind == MethodKind::Glsl) {
+                double ns = 0;
+                const bool timed = timing_.repeats > 0;
+                m.pixels = evaluateGlsl(cfg, frags_, *m.textures, W, H, false,
+                                        timed ? &ns : nullptr, timing_.repeats);
+                m.glNs += ns * double(frags_.size());
+                m.glFragments += timed ? int64_t(frags_.size()) : 0;
+            } else {
+                m.pixels = evaluateMethod(cfg, frags_, *m.textures, W, H);
+            }
+            r_.timingsMs["methods_eval"] += msSince(t0);
+            m.tally.add(truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels, y0);
+            if (scene_.isMesh && !frags_.pixel.empty()) {
+                auto exact = evaluateMethod(cfg, frags_, *m.textures, W, H, true);
+                m.tallyExact.add(truthBand_, exact, map.width, map.height, map.address);
+            }
+            r_.timingsMs["methods"] += msSince(t0);
+        }
+    }
+
+    void emit(PixelRect band) {
+        auto t0 = Clock::now();
+        FrameBand fb{band.y0, band.y1, &truthBand_, &fragments_, {}, {}};
+        for (size_t i = 0; i < runs_.size(); ++i) {
+            fb.pixels.push_back(&runs_[i].pixels);
+            fb.errTexels.push_back(&runs_[i].errTexels);
+            if (options_.keepImages) {
+                copyRows(runs_[i].pixels, band.y0, r_.methods[i].pixels);
+                copyRows(runs_[i].errTexels, band.y0, r_.methods[i].errTexels);
+            }
+        }
+        if (options_.keepImages) {
+            copyRows(truthBand_, band.y0, r_.truth);
+            copyRows(fragments_, band.y0, r_.fragments);
+        }
+        for (FrameSink* sink : options_.sinks) sink->band(r_, fb);
+        r_.timingsMs["write"] += msSince(t0);
+    }
+
+    // The statistics of the whole frame and each method's cost on the timing subset.
+    void finish() {
+        if (truth_.haveFine()) {
+            r_.uncertainty = uncertainty_.finish();
+            r_.uncertainty.rate = scene_.truth.rate;
+            r_.uncertainty.rateFine = 2 * scene_.truth.rate;
+            r_.haveUncertainty = true;
+        }
+        const FragmentList timed = sampler_.take();
+        r_.methods.resize(runs_.size());
+        auto t0 = Clock::now();
+        for (size_t i = 0; i < runs_.size(); ++i) {
+            MethodRun& m = runs_[i];
+            MethodFrame& mf = r_.methods[i];
+            mf.config = *m.config;
+            mf.timingBackend = timingBackend(*m.config);
+            mf.stats = m.tally.finish();
+            mf.coded = m.tally.takeCoded();
+            if (scene_.isMesh) {
+                mf.statsExactFrame = m.tallyExact.finish();
+                mf.haveExactFrame = true;
+            }
+            if (m.config->kind == MethodKind::Glsl)
+                mf.nsPerPixel = m.glFragments ? m.glNs / double(m.glFragments) : 0.0;
+            else if (timing_.repeats > 0)
+                mf.nsPerPixel =
+                    timeMethodNsPerPixel(*m.config, timed, *m.textures, timing_.repeats);
+        }
+        r_.timingsMs["method_timing"] = msSince(t0);
+    }
+
+    const Scene& scene_;
+    const BaseMesh mesh_;
+    const TruthInput truth_;
+    const TimingSpec& timing_;
+    const FrameOptions& options_;
+    RenderResult& r_;
+    FragmentSampler sampler_;
+    std::vector<MethodRun> runs_;
+    UncertaintyTally uncertainty_;
+    // The current band.
+    Image2D<Fragment> fragments_;
+    FragmentList frags_;
+    Image2D<TruthSample> truthBand_, fineBand_;
+};
+
+RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,
+                        const TruthInput& truth, const std::vector<MethodConfig>& configs,
+                        MethodTextureCache& textures, const TimingSpec& timing,
+                        const FrameOptions& options) {
     RenderResult r;
     r.view = view;
     r.camera = camera;
-    r.truthBuild = truth.build;
-    r.truthBlocks = truth.blocks;
-    r.truth = std::move(truth.truth);
-    r.timingsMs["trace"] = truth.traceMs;
-    if (truth.haveFine) {
-        r.truthBuildFine = truth.buildFine;
-        r.uncertainty = compareTruthFrames(r.truth, truth.fine, scene.height, scene.height.address);
-        r.uncertainty.rate = scene.truth.rate;
-        r.uncertainty.rateFine = 2 * scene.truth.rate;
-        r.haveUncertainty = true;
-        r.timingsMs["trace_fine"] = truth.fineMs;
+    if (truth.surfaces) {
+        r.truthBuild = truth.surfaces->truth->stats();
+        if (truth.surfaces->fine) r.truthBuildFine = truth.surfaces->fine->stats();
+    } else {
+        r.truthBuild = truth.frames->build;
+        r.truthBuildFine = truth.frames->buildFine;
+        r.truthBlocks = truth.frames->blocks;
     }
-
-    auto t2 = Clock::now();
-    r.fragments = rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces}, &r.raster);
-    FragmentList frags = compactFragments(r.fragments);
-    FragmentList timed = sampleFragments(frags, timing.maxFragments, timing.seed);
-    r.timingsMs["raster"] = msSince(t2);
-
-    auto t3 = Clock::now();
-    double timingMs = 0;
-    for (const MethodConfig& cfg : configs)
-        r.methods.push_back(measureMethod(scene, view, cfg, frags, timed, textures, timing, r,
-                                          keepImages, timingMs));
-    r.timingsMs["methods"] = msSince(t3) - timingMs;
-    r.timingsMs["method_timing"] = timingMs;
-    if (!keepImages) r.fragments = {};
+    for (const char* stage : {"raster", "trace", "methods", "methods_eval", "write"})
+        r.timingsMs[stage] = 0;
+    if (truth.haveFine()) r.timingsMs["trace_fine"] = 0;
+    BandPipeline(scene, truth, configs, textures, timing, options, r).run();
     return r;
 }
 
@@ -104,45 +270,54 @@ RenderResult renderWithTruth(const Scene& scene, const ViewSpec& view, const Cam
 
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
-                        const TimingSpec& timing, bool keepImages) {
-    const Camera camera = makeCamera(scene, view);
-    return renderWithTruth(scene, view, camera, traceTruth(camera, truths), configs, textures,
-                           timing, keepImages);
+                        const TimingSpec& timing, const FrameOptions& frame) {
+    TruthInput input;
+    input.surfaces = &truths;
+    return renderWith(scene, view, makeCamera(scene, view), input, configs, textures, timing,
+                      frame);
 }
 
-double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
-                         bool writesImages, bool truthInBlocks) {
+double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m) {
     const double pixels = double(width) * height;
-    // Per pixel: truth at two rates, the raster's fragment and depth, the fragment list
-    // (FragmentList: 68 bytes per covered pixel), per method its pixels, error and the
-    // comparison's sorted copy, twice on meshes (the exact-frame pass).
-    double perPixel = 2.0 * sizeof(TruthSample) + sizeof(Fragment) + sizeof(double) + 68;
-    perPixel += double(methods) * (sizeof(MethodPixel) + sizeof(float) + sizeof(double)) *
-                (scene.isMesh ? 2 : 1);
-    // Outputs: the EXR planes (6 + 3 per method floats), their interleaved copy, the
-    // encoded file (at most as large), and one error map's canvas.
-    if (writesImages) perPixel += (6.0 + 3.0 * double(methods)) * sizeof(float) * 3 + 3;
+    const double methods = double(m.methods), mesh = scene.isMesh ? 2 : 1;
+    // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
+    // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
+    // interleaved rows (6 + 3 per method floats).
+    const double band = double(width) * std::min(height, kBandRows);
+    double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 68 +
+                          methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
+    if (m.writesImages) perBandPixel += (6.0 + 3.0 * methods) * sizeof(float) * 2;
+    // The frame: each method's kept errors (float) for its percentiles, the truth's own, the
+    // error maps' float images; or everything when the images are kept.
+    double perPixel = (methods + 1) * sizeof(float);
+    if (m.writesImages) perPixel += methods * sizeof(float);
+    if (m.keepsImages)
+        perPixel += sizeof(TruthSample) + sizeof(Fragment) +
+                    methods * (sizeof(MethodPixel) + sizeof(float));
     double truth = 0;
     if (!scene.isMesh) {
         TruthWindow whole;  // not limited: the whole base
         truth = truthVertices(scene, whole) * kTruthBytesPerGridVertex;
-        if (truthInBlocks) truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
+        if (m.truthInBlocks) {
+            truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
+            perPixel += 2.0 * sizeof(TruthSample);  // the blocks fill whole frames
+        }
     }
-    return pixels * perPixel + truth;
+    return band * perBandPixel + pixels * perPixel + truth;
 }
 
-void checkViewMemory(const Scene& scene, int width, int height, size_t methods, bool writesImages,
-                     bool truthInBlocks, const std::string& field) {
-    checkMemory(estimateViewBytes(scene, width, height, methods, writesImages, truthInBlocks),
-                scene.file, field, std::to_string(width) + "x" + std::to_string(height),
+void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
+                     const std::string& field) {
+    checkMemory(estimateViewBytes(scene, width, height, m), scene.file, field,
+                std::to_string(width) + "x" + std::to_string(height),
                 "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with " +
-                    std::to_string(methods) + " method(s) and its truth");
+                    std::to_string(m.methods) + " method(s) and its truth");
 }
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
     MethodTextureCache textures(scene.height, scene.uvExtent);
-    const TimingSpec timing{options.timingRepeats, 0, 1};
+    const TimingSpec timing{options.timingRepeats, options.timingFragments, 1};
     auto t0 = Clock::now();
     const double budget = double(scene.truth.memoryMb) * 1024 * 1024 / kTruthBytesPerGridVertex;
     if (!scene.isMesh) {
@@ -150,8 +325,12 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         TruthFrames f;
         if (truthVertices(scene, whole) > budget && traceTruthInBlocks(scene, camera, budget, f)) {
             double truthMs = msSince(t0);
-            RenderResult r = renderWithTruth(scene, scene.view(), camera, std::move(f),
-                                             scene.methods, textures, timing, true);
+            TruthInput input;
+            input.frames = &f;
+            RenderResult r = renderWith(scene, scene.view(), camera, input, scene.methods, textures,
+                                        timing, options.frame);
+            r.timingsMs["trace"] = f.traceMs;
+            if (f.haveFine) r.timingsMs["trace_fine"] = f.fineMs;
             r.timingsMs["truth_total"] = truthMs;
             return r;
         }
@@ -160,7 +339,8 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     builder.limitToView(camera, scene.displacement);
     TruthPair truths = builder.build(scene.displacement, scene.truth.uncertainty);
     double buildMs = msSince(t0);
-    RenderResult r = renderView(scene, scene.view(), truths, scene.methods, textures, timing);
+    RenderResult r =
+        renderView(scene, scene.view(), truths, scene.methods, textures, timing, options.frame);
     r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
     r.timingsMs["build"] = r.truthBuild.buildMs;
     r.timingsMs["truth_total"] = buildMs;

@@ -24,8 +24,11 @@ namespace pgt {
 
 struct MethodFrame {
     MethodConfig config;
-    Image2D<MethodPixel> pixels;
-    Image2D<float> errTexels;
+    Image2D<MethodPixel> pixels;  // kept images only (keepImages)
+    Image2D<float> errTexels;     // kept images only
+    // Kept images or FrameOptions::keepCodedErrors: each pixel's error in texels or the code
+    // of why it has none (compare.h codedError), what the error maps are drawn from.
+    Image2D<float> coded;
     FrameStats stats;
     // Meshes: the same method fed the exact frame; the difference to `stats` is the share
     // of the error caused by the per-vertex tangent frame.
@@ -38,41 +41,78 @@ struct MethodFrame {
 struct RenderResult {
     ViewSpec view;  // the camera and (s, b) the frame was rendered with
     Camera camera;
-    Image2D<TruthSample> truth;
-    Image2D<Fragment> fragments;
+    Image2D<TruthSample> truth;   // kept images only
+    Image2D<Fragment> fragments;  // kept images only
     TruthBuildStats truthBuild, truthBuildFine;
     TruthUncertainty uncertainty;
     bool haveUncertainty = false;
     RasterStats raster;
     std::vector<MethodFrame> methods;
-    std::map<std::string, double> timingsMs;  // stage -> wall ms
+    std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
+    int64_t truthHits = 0;                    // pixels whose truth ray hit the surface
     int truthBlocks = 1;  // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
+// The frame is made in bands of rows (kBandRows, the last one shorter): each band is
+// rasterised, traced, evaluated and compared over all cores, handed to the sinks, and
+// dropped, so memory follows the band, not the frame.
+constexpr int kBandRows = 64;
+
+// One band's images, each W x (y1 - y0), row y of the frame at row y - y0.
+struct FrameBand {
+    int y0 = 0, y1 = 0;
+    const Image2D<TruthSample>* truth = nullptr;
+    const Image2D<Fragment>* fragments = nullptr;
+    std::vector<const Image2D<MethodPixel>*> pixels;  // per configuration
+    std::vector<const Image2D<float>*> errTexels;     // per configuration; NaN: no error
+};
+
+// What consumes bands as they are made (in row order): the EXR stream, the error maps.
+class FrameSink {
+  public:
+    virtual ~FrameSink() = default;
+    virtual void band(const RenderResult& frame, const FrameBand& band) = 0;
+};
+
+struct FrameOptions {
+    bool keepImages = true;         // assemble the whole frame's images in the result
+    std::vector<FrameSink*> sinks;  // get every band
+    bool keepCodedErrors = false;   // MethodFrame::coded (4 bytes a pixel per method)
+};
+
 // The per-view measurement: one view with given truth surfaces (built for the view's (s, b)):
-// truth frames, rasterisation, every method and its comparison; methods use the view's
-// (s, b) unless they have their own. `keepImages` = false drops per-pixel images once the
-// statistics are taken.
+// truth, rasterisation, every method and its comparison; methods use the view's (s, b)
+// unless they have their own.
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
-                        const TimingSpec& timing, bool keepImages = true);
+                        const TimingSpec& timing, const FrameOptions& frame = {});
 
 struct RenderOptions {
+    RenderOptions(int repeats = 3) : timingRepeats(repeats) {}  // NOLINT: {repeats} reads well
     int timingRepeats = 3;
+    int timingFragments = 65536;  // a seeded subset of this many (0: every fragment)
+    FrameOptions frame;
 };
 
 // The whole `pgt render`: builds the truth for the scene's (s, b) and renders its view.
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options = {});
 
-// Memory one view needs, estimated before anything is allocated (bytes): the truth frames
-// (two rates), the rasteriser's frame, the fragment list, each method's images and, when
-// `writesImages`, the EXR and PNG being encoded; plus the truth geometry (a plane's lattice
-// at the scene's rate and 2x, capped by truth.memory_mb when the frame may be traced in
-// blocks). Throws InputError naming `field` when it exceeds the memory limit (core/memory.h).
-double estimateViewBytes(const Scene& scene, int width, int height, size_t methods,
-                         bool writesImages, bool truthInBlocks);
-void checkViewMemory(const Scene& scene, int width, int height, size_t methods, bool writesImages,
-                     bool truthInBlocks, const std::string& field);
+// Memory one view needs, estimated before anything is allocated (bytes): per band, the
+// truth (two rates), the rasteriser's fragments and the methods' images; per pixel of the
+// frame, each method's kept error (float) for the percentiles and, when `writesImages`, for
+// its error map, or the whole frame's images when `keepsImages`; plus the truth geometry
+// (a plane's lattice at the scene's rate and 2x, capped by truth.memory_mb when the frame
+// may be traced in blocks, which then keeps the whole frame's truth). Throws InputError
+// naming `field` when it exceeds the memory limit (core/memory.h).
+struct ViewMemory {
+    size_t methods = 0;
+    bool writesImages = false;  // frame.exr and the error maps
+    bool keepsImages = false;   // the whole frame's images in memory (FrameOptions)
+    bool truthInBlocks = false;
+};
+double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m);
+void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
+                     const std::string& field);
 
 // The base mesh the rasteriser draws for a scene and camera (an infinite plane is extended
 // by whole tiles to cover the view).

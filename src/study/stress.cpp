@@ -13,6 +13,7 @@
 #include "study/csv_table.h"
 #include "study/outputs.h"
 #include "study/render.h"
+#include "study/staged_files.h"
 
 namespace pgt {
 
@@ -93,7 +94,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         scenes.push_back(loadScene(f));
         Scene& s = scenes.back();
         if (opt.resolution > 0) s.camera.width = s.camera.height = opt.resolution;
-        checkViewMemory(s, s.camera.width, s.camera.height, s.methods.size(), false, false,
+        checkViewMemory(s, s.camera.width, s.camera.height, {s.methods.size()},
                         "camera.resolution");
     }
     prepareOutputDir(opt.outDir);
@@ -108,7 +109,8 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
         MethodTextureCache textures(s.height, s.uvExtent);
         // No method timing: the stress table reports counts and errors, not cost.
-        RenderResult r = renderView(s, s.view(), truths, s.methods, textures, {0, 0, 1}, false);
+        RenderResult r = renderView(s, s.view(), truths, s.methods, textures, {0, 0, 1},
+                                    FrameOptions{false, {}, false});
         PrecisionCheck pc = truths.truth->checkPrecision(r.camera, s.height, opt.precisionSamples);
         for (const auto& m : r.methods) {
             const FrameStats& st = m.stats;

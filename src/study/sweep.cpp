@@ -24,6 +24,7 @@
 #include "methods/config.h"
 #include "study/csv_table.h"
 #include "study/outputs.h"
+#include "study/staged_files.h"
 
 #ifndef PGT_ANALYSIS_DIR
 #define PGT_ANALYSIS_DIR "analysis"
@@ -322,14 +323,23 @@ void runCases(const Scene& scene, const Study& study, const SweepOptions& opt,
             textures.clear();
             sum.stageMs["truth_build"] += msSince(tb);
         }
-        RenderResult r = renderView(scene, caseView(scene, study, *c), *truths, study.configs,
-                                    textures, study.timing, opt.images);
-        for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
+        const ViewSpec view = caseView(scene, study, *c);
+        // --images: the case's files written as its bands are made.
+        std::unique_ptr<RenderWriter> writer;
+        FrameOptions frame{false, {}, false};
         if (opt.images) {
             char dir[32];
             std::snprintf(dir, sizeof dir, "case_%05d", c->index);
-            writeRenderOutputs(scene, r, (fs::path(opt.outDir) / "images" / dir).string());
+            writer = std::make_unique<RenderWriter>(
+                scene, (fs::path(opt.outDir) / "images" / dir).string(), view.camera.width,
+                view.camera.height, study.configs);
+            frame.sinks.push_back(writer.get());
+            frame.keepCodedErrors = true;
         }
+        RenderResult r =
+            renderView(scene, view, *truths, study.configs, textures, study.timing, frame);
+        if (writer) writer->finish(r);
+        for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
         appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
         ++sum.done;
         progress.show(false);

@@ -58,22 +58,6 @@ const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncerta
     return current_;
 }
 
-TruthFrames traceTruth(const Camera& camera, const TruthPair& truths) {
-    TruthFrames f;
-    f.build = truths.truth->stats();
-    auto t0 = Clock::now();
-    truths.truth->traceFrame(camera, f.truth);
-    f.traceMs = msSince(t0);
-    if (truths.fine) {
-        auto t1 = Clock::now();
-        f.buildFine = truths.fine->stats();
-        truths.fine->traceFrame(camera, f.fine);
-        f.haveFine = true;
-        f.fineMs = msSince(t1);
-    }
-    return f;
-}
-
 // Plane vertices of a truth (and its 2x-rate twin) over the whole tile or a window.
 double truthVertices(const Scene& scene, const TruthWindow& w) {
     double sum = 0;

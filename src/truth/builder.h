@@ -40,7 +40,8 @@ class TruthBuilder {
     TruthWindow window_;
 };
 
-// The truth frames of one view (the fine one only with the uncertainty).
+// The truth frames of a view traced block by block before the frame is made (the fine one
+// only with the uncertainty).
 struct TruthFrames {
     Image2D<TruthSample> truth, fine;
     bool haveFine = false;
@@ -48,7 +49,6 @@ struct TruthFrames {
     double traceMs = 0, fineMs = 0;
     int blocks = 1;  // > 1: traced block by block over windows (renderFrame)
 };
-TruthFrames traceTruth(const Camera& camera, const TruthPair& truths);
 
 // Plane vertices of a truth (and its 2x-rate twin when the scene asks for its uncertainty)
 // over the whole tile or a window: the one count the memory budget and the blocks use.

@@ -236,8 +236,9 @@ struct TruthSurface::Impl {
 
     // A tile's rays as coherent streams: every live walk's stretch in one rtcIntersect1M
     // call, repeated while walks remain (periodic planes take a few rounds at grazing views).
+    // Pixel (x, y) goes to out.at(x - ox, y - oy).
     void traceTile(const Camera& camera, int x0, int x1, int y0, int y1, Image2D<TruthSample>& out,
-                   std::vector<Walk>& walks, std::vector<RTCRayHit>& rays,
+                   int ox, int oy, std::vector<Walk>& walks, std::vector<RTCRayHit>& rays,
                    std::vector<int>& live) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
@@ -262,7 +263,8 @@ struct TruthSurface::Impl {
             }
             live.resize(keep);
         }
-        for (int k = 0; k < n; ++k) out.at(x0 + k % w, y0 + k / w) = walks[size_t(k)].result;
+        for (int k = 0; k < n; ++k)
+            out.at(x0 + k % w - ox, y0 + k / w - oy) = walks[size_t(k)].result;
     }
 
     // Planes keep their vertices at (s, 0) and carry b as a translation N * l * b of the

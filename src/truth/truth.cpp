@@ -198,7 +198,22 @@ void TruthSurface::traceFrame(const Camera& camera, Image2D<TruthSample>& out,
 void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
                               TraceMode mode) const {
     PGT_CHECK(out.width == camera.width() && out.height == camera.height());
-    PGT_CHECK(block.x0 >= 0 && block.y0 >= 0 && block.x1 <= out.width && block.y1 <= out.height);
+    traceInto(camera, block, out, 0, 0, mode);
+}
+
+void TruthSurface::traceRect(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out,
+                             TraceMode mode) const {
+    if (out.width != rect.width() || out.height != rect.height())
+        out = Image2D<TruthSample>(rect.width(), rect.height());
+    traceInto(camera, rect, out, rect.x0, rect.y0, mode);
+}
+
+void TruthSurface::traceInto(const Camera& camera, PixelRect block, Image2D<TruthSample>& out,
+                             int ox, int oy, TraceMode mode) const {
+    PGT_CHECK(block.x0 >= 0 && block.y0 >= 0 && block.x1 <= camera.width() &&
+              block.y1 <= camera.height());
+    PGT_CHECK(block.x0 >= ox && block.y0 >= oy && block.x1 - ox <= out.width &&
+              block.y1 - oy <= out.height);
     const Impl& m = *impl_;
     const TileGrid tiles(block);
     tbb::parallel_for(tbb::blocked_range<int>(0, tiles.count, 4), [&](const auto& r) {
@@ -209,8 +224,8 @@ void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, P
             thread_local std::vector<RTCRayHit> rays;
             thread_local std::vector<int> live;
             for (int t = r.begin(); t < r.end(); ++t)
-                m.traceTile(camera, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out, walks,
-                            rays, live);
+                m.traceTile(camera, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out, ox, oy,
+                            walks, rays, live);
             return;
         }
         RTCIntersectContext ctx;
@@ -218,7 +233,7 @@ void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, P
         for (int t = r.begin(); t < r.end(); ++t)
             for (int y = tiles.y0(t); y < tiles.y1(t); ++y)
                 for (int x = tiles.x0(t); x < tiles.x1(t); ++x)
-                    out.at(x, y) = m.trace(camera.pixelRay(x, y), &ctx);
+                    out.at(x - ox, y - oy) = m.trace(camera.pixelRay(x, y), &ctx);
     });
 }
 

@@ -82,6 +82,10 @@ class TruthSurface {
     // Only the pixels of `block` (out must have the camera's size already).
     void traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
                     TraceMode mode = TraceMode::Coherent) const;
+    // Only the pixels of `rect`, into `out` resized to the rectangle (pixel (x, y) at
+    // out.at(x - rect.x0, y - rect.y0)): a band of a frame traced on its own.
+    void traceRect(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out,
+                   TraceMode mode = TraceMode::Coherent) const;
     // The bare-Embree baseline for traceFrame on the same rays (benchmarks; planes that are
     // not periodic, where a pixel's ray is one Embree ray).
     BareLoopTiming timeBareEmbreeLoop(const Camera& camera, TraceMode mode, int repeats) const;
@@ -94,6 +98,8 @@ class TruthSurface {
                                   uint32_t seed = 1) const;
 
   private:
+    void traceInto(const Camera& camera, PixelRect block, Image2D<TruthSample>& out, int ox, int oy,
+                   TraceMode mode) const;
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

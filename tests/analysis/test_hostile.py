@@ -356,7 +356,6 @@ def memory_estimates(d):
     """Inputs accepted as valid but too large are refused with the estimate, before any
     allocation; --memory-limit raises or lowers the limit."""
     cases = {
-        "8192^2 frame": (["camera", "resolution"], [8192, 8192], "camera.resolution"),
         "noise 4096 x 12 octaves": (["heightmap"], {"procedural": "noise", "size": [32, 32],
                                                      "frequency": 4096, "octaves": 12},
                                     "heightmap.octaves"),
@@ -374,6 +373,14 @@ def memory_estimates(d):
         out = os.path.join(d, "out")
         r = run(["render", path, "--out", out])
         expect_error(name, r, 2, [field, "needs about", "MB", "--memory-limit"], out)
+    # Frames stream in bands; what stays is about 8 bytes a pixel per method (its coded errors,
+    # the sorted copy): 8192^2 (the largest frame) with 100 methods is far beyond the limit.
+    scene = copy(GOOD)
+    scene["camera"]["resolution"] = [8192, 8192]
+    scene["methods"] = [{"name": "parallax", "label": f"p{k}"} for k in range(100)]
+    path = write(d, "scene.json", json.dumps(scene))
+    expect_error("8192^2 frame, 100 methods", run(["render", path, "--out", os.path.join(d, "f")]),
+                 2, ["camera.resolution", "needs about", "MB", "--memory-limit"], os.path.join(d, "f"))
     # A 2^20-quad OBJ at refine 2 is estimated from its face count, before refining.
     scene = copy(GOOD)
     scene["base"] = {"type": "mesh", "cage": "torus", "segments": [1024, 1024], "refine": 2}

@@ -1,0 +1,166 @@
+// Staged output files (study/staged_files.h): hidden temporaries, checked writes, renamed
+// into place together.
+#include "study/staged_files.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace pgt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Temporaries are hidden siblings named ".NAME.pgt-tmp.PID.RANDOM": the PID tells a later
+// run whether the writer is still alive (kill(pid, 0)), so a killed run's leftovers are
+// removed and a running one's are not.
+constexpr const char* kTempTag = ".pgt-tmp.";
+
+std::string tempName(const std::string& name) {
+    static std::mt19937_64 rng(std::random_device{}());
+    std::ostringstream os;
+    os << "." << name << kTempTag << ::getpid() << "." << std::hex << (rng() & 0xffffff);
+    return os.str();
+}
+
+// "STEM.tmpHEX.EXT" (1 to 6 hex digits; EXT exr, png, json or csv): what earlier pgt
+// versions named their temporaries. Written out by hand: std::regex draws GCC 12 warnings.
+bool isLegacyTemporary(const std::string& name) {
+    auto dot = name.rfind('.');
+    if (dot == std::string::npos) return false;
+    std::string ext = name.substr(dot + 1), rest = name.substr(0, dot);
+    if (ext != "exr" && ext != "png" && ext != "json" && ext != "csv") return false;
+    auto tag = rest.rfind(".tmp");
+    if (tag == std::string::npos || tag == 0) return false;
+    std::string hex = rest.substr(tag + 4);
+    return !hex.empty() && hex.size() <= 6 &&
+           hex.find_first_not_of("0123456789abcdef") == std::string::npos;
+}
+
+// Removes temporaries of pgt processes that no longer run (killed mid-write), and the
+// "NAME.tmpHEX.EXT" temporaries of earlier pgt versions.
+void removeStaleTemporaries(const std::string& dir) {
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        bool stale = false;
+        auto tag = name.find(kTempTag);
+        if (!name.empty() && name[0] == '.' && tag != std::string::npos) {
+            long pid = std::strtol(name.c_str() + tag + std::strlen(kTempTag), nullptr, 10);
+            stale = pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH;
+        } else {
+            stale = isLegacyTemporary(name);
+        }
+        std::error_code rm;
+        if (stale && it->is_regular_file(rm)) fs::remove(it->path(), rm);
+    }
+}
+
+}  // namespace
+
+StagedFiles::StagedFiles(std::string dir) : dir_(std::move(dir)) {}
+
+StagedFiles::~StagedFiles() {
+    std::error_code ec;
+    for (const auto& [tmp, path] : staged_) fs::remove(tmp, ec);
+}
+
+StagedStream::StagedStream(const std::string& tmp, const std::string& shown)
+    : IOProxy(shown, Write), tmp_(tmp), shown_(shown) {
+    fd_ = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw OutputError("cannot create " + shown + ": " + std::strerror(errno));
+}
+
+StagedStream::~StagedStream() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+size_t StagedStream::pwrite(const void* buf, size_t size, int64_t offset) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    size_t done = 0;
+    while (done < size && !err_) {
+        ssize_t n = ::pwrite(fd_, static_cast<const char*>(buf) + done, size - done,
+                             off_t(offset) + off_t(done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0)
+            err_ = n < 0 ? errno : EIO;
+        else
+            done += size_t(n);
+    }
+    end_ = std::max(end_, offset + int64_t(done));
+    return done;
+}
+
+size_t StagedStream::write(const void* buf, size_t size) {
+    size_t n = pwrite(buf, size, m_pos);
+    m_pos += int64_t(n);
+    return n;
+}
+
+void StagedStream::finish() {
+    int err = err_;
+    if (!err && ::fsync(fd_) != 0) err = errno;
+    if (::close(fd_) != 0 && !err) err = errno;
+    fd_ = -1;
+    if (err) throw OutputError("cannot write " + shown_ + ": " + std::strerror(err));
+}
+
+StagedStream& StagedFiles::stream(const std::string& name) {
+    const std::string tmp = (fs::path(dir_) / tempName(name)).string();
+    const std::string path = (fs::path(dir_) / name).string();
+    staged_.push_back({tmp, path});  // removed on destruction unless committed
+    streams_.push_back(std::make_unique<StagedStream>(tmp, path));
+    return *streams_.back();
+}
+
+void StagedFiles::add(const std::string& name, const std::string& bytes) {
+    StagedStream& out = stream(name);
+    out.write(bytes.data(), bytes.size());
+    out.finish();
+}
+
+void StagedFiles::commit() {
+    for (const auto& s : streams_) PGT_CHECK(s->finished());  // every stream finished
+    for (size_t k = 0; k < staged_.size(); ++k) {
+        std::error_code ec;
+        fs::rename(staged_[k].first, staged_[k].second, ec);
+        if (ec) {
+            staged_.erase(staged_.begin(), staged_.begin() + long(k));  // renamed ones stay
+            throw OutputError("cannot write " + staged_.front().second + ": " + ec.message());
+        }
+    }
+    staged_.clear();
+}
+
+void makeOutputDir(const std::string& dir) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec || !fs::is_directory(dir))
+        throw OutputError("cannot create output directory " + dir +
+                          (ec ? ": " + ec.message() : std::string()));
+    removeStaleTemporaries(dir);
+}
+
+void prepareOutputDir(const std::string& dir) {
+    makeOutputDir(dir);
+    StagedFiles probe(dir);  // a file can be created there (removed again, uncommitted)
+    probe.add("probe", "");
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    fs::path p(path);
+    StagedFiles files(p.parent_path().empty() ? "." : p.parent_path().string());
+    files.add(p.filename().string(), text);
+    files.commit();
+}
+
+}  // namespace pgt
