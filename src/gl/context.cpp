@@ -1,9 +1,14 @@
 // The process's headless OpenGL context through EGL: the surfaceless Mesa platform, or an
 // EGL device (a hardware GPU); the GL error helpers.
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <deque>
 #include <exception>
+#include <future>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 #include "core/error.h"
 #include "gl/gl_api.h"
@@ -118,6 +123,54 @@ void ensureContext() {
         eglMakeCurrent(gDisplay, EGL_NO_SURFACE, EGL_NO_SURFACE, gContext);
 }
 
+namespace {
+
+// The GL thread: a queue of jobs, each run to its end before the next. Started on first use
+// and never stopped (the context lives as long as the process, as before).
+class GlThread {
+  public:
+    GlThread() : thread_([this] { loop(); }) { thread_.detach(); }
+    bool isThisThread() const { return std::this_thread::get_id() == id_.load(); }
+    void run(const std::function<void()>& job) {
+        std::packaged_task<void()> task(job);
+        std::future<void> done = task.get_future();
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            queue_.push_back(std::move(task));
+        }
+        wake_.notify_one();
+        done.get();  // rethrows the job's exception
+    }
+
+  private:
+    void loop() {
+        id_ = std::this_thread::get_id();
+        for (;;) {
+            std::packaged_task<void()> task;
+            {
+                std::unique_lock<std::mutex> lock(mutex_);
+                wake_.wait(lock, [this] { return !queue_.empty(); });
+                task = std::move(queue_.front());
+                queue_.pop_front();
+            }
+            task();
+        }
+    }
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<std::packaged_task<void()>> queue_;
+    std::atomic<std::thread::id> id_{};
+    std::thread thread_;
+};
+
+}  // namespace
+
+void onGlThread(const std::function<void()>& job) {
+    static GlThread* const thread = new GlThread;  // never destroyed: detached, like the context
+    if (thread->isThisThread()) return job();
+    thread->run(job);
+}
+
 const GlInfo& contextInfo() { return gInfo; }
 
 void checkGl(const std::string& what) {
@@ -154,9 +207,14 @@ void setGlDevice(const std::string& device) {
 }
 
 const GlInfo& glContext(const std::string& device) {
-    std::lock_guard<std::mutex> lock(gMutex);
-    if (!device.empty() && !gTried) gDevice = device;
-    gl::ensureContext();
+    {
+        std::lock_guard<std::mutex> lock(gMutex);
+        if (!device.empty() && !gTried) gDevice = device;
+    }
+    gl::onGlThread([] {
+        std::lock_guard<std::mutex> lock(gMutex);
+        gl::ensureContext();
+    });
     return gInfo;
 }
 

@@ -8,6 +8,7 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 
+#include <functional>
 #include <mutex>
 #include <string>
 
@@ -15,11 +16,17 @@
 
 namespace pgt::gl {
 
-// Held by every caller of GL: one context serves the process.
+// Guards the device choice and the context's state.
 extern std::mutex gMutex;
-// Creates the context on first use and makes it current on this thread (the caller holds
-// gMutex); rethrows why it could not be made.
+// Creates the context on first use and makes it current on this thread (the GL thread,
+// holding gMutex); rethrows why it could not be made.
 void ensureContext();
+// Runs `job` on the process's one GL thread, which owns the context (made current there
+// once, on first use), and waits for it; rethrows what the job threw. Any thread may call it
+// (a study's cases run concurrently, and a context can be current on one thread only);
+// jobs run one at a time, and a job may call it again (it then runs inline).
+void onGlThread(const std::function<void()>& job);
+
 // The context's renderer, as glContext() returns it (after ensureContext()).
 const GlInfo& contextInfo();
 // Throws std::runtime_error naming `what` when GL reports an error.

@@ -100,14 +100,16 @@ unsigned GlMapUploads::texture(const Texture& map, bool depth) {
 
 GlMapUploads::~GlMapUploads() {
     if (ids_.empty()) return;
-    std::lock_guard<std::mutex> lock(gMutex);
     try {
-        ensureContext();  // current on this thread
-        for (const auto& [key, id] : ids_) {
-            GLuint t = id;
-            glDeleteTextures(1, &t);
-            --gLiveMaps;
-        }
+        onGlThread([this] {
+            std::lock_guard<std::mutex> lock(gMutex);
+            ensureContext();
+            for (const auto& [key, id] : ids_) {
+                GLuint t = id;
+                glDeleteTextures(1, &t);
+                --gLiveMaps;
+            }
+        });
     } catch (const std::exception&) {
         // No context any more: the textures went with it.
     }
@@ -289,10 +291,13 @@ constexpr size_t kChunkFragments = size_t(2048) * 4096;
 
 }  // namespace
 
-GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads) {
-    PGT_CHECK_EQ(uv0.size(), view.size());
+namespace {
+
+// runGlsl on the GL thread.
+GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                    const Texture* parallax, double scale, double bias,
+                    const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                    int timingRepeats, GlMapUploads* uploads) {
     GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();
@@ -314,6 +319,20 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
         run.uv.insert(run.uv.end(), part.uv.begin(), part.uv.end());
         run.fetches.insert(run.fetches.end(), part.fetches.begin(), part.fetches.end());
     }
+    return run;
+}
+
+}  // namespace
+
+GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
+                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
+                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads) {
+    PGT_CHECK_EQ(uv0.size(), view.size());
+    GlslRun run;
+    onGlThread([&] {
+        run = runGlslHere(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats,
+                          uploads);
+    });
     return run;
 }
 

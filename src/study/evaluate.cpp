@@ -7,6 +7,7 @@
 #include <chrono>
 
 #include "core/clock.h"
+#include "core/error.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
 
@@ -19,6 +20,7 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
     t.scale = scale;
     t.bias = bias;
     t.uvExtent = uvExtent;
+    t.glMaps = std::make_shared<GlMapUploads>();  // empty until a GLSL method reads the maps
     if (needDerived)
         t.derived = std::make_unique<DerivedMaps>(makeDerivedMaps(height, scale, bias));
     return t;
@@ -30,6 +32,12 @@ const MethodTextures& MethodTextureCache::get(double scale, double bias, bool ne
     if (it != cache_.end() && (!needDerived || it->second.derived)) return it->second;
     cache_[key] = makeMethodTextures(height_, scale, bias, uvExtent_, needDerived);
     return cache_[key];
+}
+
+const MethodTextures& MethodTextureCache::at(double scale, double bias) const {
+    auto it = cache_.find(std::make_pair(scale, bias));
+    PGT_CHECK(it != cache_.end());
+    return it->second;
 }
 
 namespace {
@@ -78,7 +86,6 @@ std::vector<To> toFloat(const std::vector<From>& values) {
 // of `tex`.
 GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
                     bool exactFrame, int repeats) {
-    if (!tex.glMaps) tex.glMaps = std::make_shared<GlMapUploads>();
     return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
                    tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
                    toFloat<Vec2f>(frags.uv0),

@@ -24,8 +24,9 @@ struct MethodTextures {
     std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
-    // GLSL methods: these maps' GL textures, uploaded on first use, deleted with this object.
-    mutable std::shared_ptr<GlMapUploads> glMaps;
+    // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),
+    // deleted with this object.
+    std::shared_ptr<GlMapUploads> glMaps;
 };
 MethodTextures makeMethodTextures(const Texture& height, double scale, double bias,
                                   const UvExtent& uvExtent, bool needDerived);
@@ -50,7 +51,10 @@ class MethodTextureCache {
   public:
     MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
         : height_(height), uvExtent_(uvExtent) {}
+    // Builds the entry on first use (not thread-safe then; a hit only reads).
     const MethodTextures& get(double scale, double bias, bool needDerived);
+    // An entry that get() built already (thread-safe).
+    const MethodTextures& at(double scale, double bias) const;
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }

@@ -206,7 +206,7 @@ class BandPipeline {
             r_.uncertainty.rateFine = 2 * scene_.truth.rate;
             r_.haveUncertainty = true;
         }
-        const FragmentList timed = sampler_.take();
+        FragmentList timed = sampler_.take();
         r_.methods.resize(runs_.size());
         auto t0 = Clock::now();
         for (size_t i = 0; i < runs_.size(); ++i) {
@@ -222,10 +222,11 @@ class BandPipeline {
             }
             if (m.config->kind == MethodKind::Glsl)
                 mf.nsPerPixel = m.glFragments ? m.glNs / double(m.glFragments) : 0.0;
-            else if (timing_.repeats > 0)
+            else if (timing_.repeats > 0 && !options_.deferTiming)
                 mf.nsPerPixel =
                     timeMethodNsPerPixel(*m.config, timed, *m.textures, timing_.repeats);
         }
+        if (options_.deferTiming) r_.timed = std::move(timed);
         r_.timingsMs["method_timing"] = msSince(t0);
     }
 
@@ -275,6 +276,19 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
     input.surfaces = &truths;
     return renderWith(scene, view, makeCamera(scene, view), input, configs, textures, timing,
                       frame);
+}
+
+void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing) {
+    auto t0 = Clock::now();
+    for (MethodFrame& mf : r.methods) {
+        const MethodConfig& cfg = mf.config;
+        if (cfg.kind == MethodKind::Glsl || timing.repeats <= 0) continue;
+        double s = std::isfinite(cfg.scale) ? cfg.scale : r.view.displacement.scale;
+        double b = std::isfinite(cfg.bias) ? cfg.bias : r.view.displacement.bias;
+        mf.nsPerPixel = timeMethodNsPerPixel(cfg, r.timed, textures.at(s, b), timing.repeats);
+    }
+    r.timed = {};
+    r.timingsMs["method_timing"] += msSince(t0);
 }
 
 double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m) {

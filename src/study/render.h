@@ -49,8 +49,9 @@ struct RenderResult {
     RasterStats raster;
     std::vector<MethodFrame> methods;
     std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
-    int64_t truthHits = 0;                    // pixels whose truth ray hit the surface
-    int truthBlocks = 1;  // > 1: the truth was traced block by block (TruthSpec::memoryMb)
+    FragmentList timed;     // FrameOptions::deferTiming: the seeded subset to time methods on
+    int64_t truthHits = 0;  // pixels whose truth ray hit the surface
+    int truthBlocks = 1;    // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
 // The frame is made in bands of rows (kBandRows, the last one shorter): each band is
@@ -78,6 +79,9 @@ struct FrameOptions {
     bool keepImages = true;         // assemble the whole frame's images in the result
     std::vector<FrameSink*> sinks;  // get every band
     bool keepCodedErrors = false;   // MethodFrame::coded (4 bytes a pixel per method)
+    // Leave the C++ methods' timing to timeMethods (RenderResult::timed keeps the subset):
+    // a study times them in a phase of its own, where no rendering competes for the cores.
+    bool deferTiming = false;
 };
 
 // The per-view measurement: one view with given truth surfaces (built for the view's (s, b)):
@@ -86,6 +90,11 @@ struct FrameOptions {
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, const FrameOptions& frame = {});
+
+// The C++ methods of a deferred-timing result timed on its subset (single-threaded each, the
+// median of timing.repeats); GLSL methods were timed with their draws. Drops the subset.
+// `textures` must hold every method's maps already (the render got them).
+void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing);
 
 struct RenderOptions {
     RenderOptions(int repeats = 3) : timingRepeats(repeats) {}  // NOLINT: {repeats} reads well

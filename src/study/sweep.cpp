@@ -3,6 +3,8 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -305,44 +307,79 @@ ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
     return view;
 }
 
-// Runs the cases in order, appending each case's rows to `fd` as it finishes.
+// One case rendered with its methods' timing deferred (and, with --images, its files being
+// written: `writer` finishes them once the timing is in).
+RenderResult renderCase(const Scene& scene, const Study& study, const SweepOptions& opt,
+                        const StudyCase& c, const TruthPair& truths, MethodTextureCache& textures,
+                        std::unique_ptr<RenderWriter>& writer) {
+    const ViewSpec view = caseView(scene, study, c);
+    FrameOptions frame{false, {}, false, true};
+    if (opt.images) {
+        char dir[32];
+        std::snprintf(dir, sizeof dir, "case_%05d", c.index);
+        writer =
+            std::make_unique<RenderWriter>(scene, (fs::path(opt.outDir) / "images" / dir).string(),
+                                           view.camera.width, view.camera.height, study.configs);
+        frame.sinks.push_back(writer.get());
+        frame.keepCodedErrors = true;
+    }
+    return renderView(scene, view, truths, study.configs, textures, study.timing, frame);
+}
+
+// The cases of one (s, b) on the truth re-displaced for it: rendered concurrently (each
+// case's bands use the cores its neighbours leave), then timed in a phase of their own (one
+// case per core, each method single-threaded, no rendering beside it), then appended to
+// `fd` in case order, whole cases only.
+void runSurface(const Scene& scene, const Study& study, const SweepOptions& opt,
+                const StudyCase* const* cases, size_t n, const TruthPair& truths,
+                MethodTextureCache& textures, int fd, const std::string& csvPath, SweepSummary& sum,
+                const SweepProgress& progress) {
+    for (const MethodConfig& cfg : study.configs) {  // every map made before the cases share them
+        double s = std::isfinite(cfg.scale) ? cfg.scale : cases[0]->scale;
+        double b = std::isfinite(cfg.bias) ? cfg.bias : cases[0]->bias;
+        textures.get(s, b, needsDerivedMaps(cfg));
+    }
+    std::vector<RenderResult> results(n);
+    std::vector<std::unique_ptr<RenderWriter>> writers(n);
+    auto tr = Clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const auto& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            results[i] = renderCase(scene, study, opt, *cases[i], truths, textures, writers[i]);
+    });
+    sum.stageMs["cases_wall"] += msSince(tr);
+    auto tt = Clock::now();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const auto& r) {
+        for (size_t i = r.begin(); i < r.end(); ++i)
+            timeMethods(results[i], textures, study.timing);
+    });
+    sum.stageMs["timing_wall"] += msSince(tt);
+    for (size_t i = 0; i < n; ++i) {
+        if (writers[i]) writers[i]->finish(results[i]);
+        for (const auto& [stage, ms] : results[i].timingsMs) sum.stageMs[stage] += ms;
+        appendAll(fd, csvRows(*cases[i], results[i]), csvPath);  // one case at a time, never half
+        ++sum.done;
+        progress.show(false);
+    }
+}
+
+// Runs the cases (in order of (s, b), as the plan lists them), one surface at a time.
 void runCases(const Scene& scene, const Study& study, const SweepOptions& opt,
               const std::vector<const StudyCase*>& todo, int fd, const std::string& csvPath,
               SweepSummary& sum, const SweepProgress& progress) {
     TruthBuilder builder(scene);
     MethodTextureCache textures(scene.height, scene.uvExtent);
-    const TruthPair* truths = nullptr;
-    std::pair<double, double> built(NAN, NAN);
-    for (const StudyCase* c : todo) {
-        if (opt.maxCases >= 0 && sum.done >= opt.maxCases) break;
-        if (!(built.first == c->scale && built.second == c->bias)) {
-            // One truth per (s, b), reused for every view of that surface.
-            auto tb = Clock::now();
-            truths = &builder.update({c->scale, c->bias}, scene.truth.uncertainty);
-            built = {c->scale, c->bias};
-            textures.clear();
-            sum.stageMs["truth_build"] += msSince(tb);
-        }
-        const ViewSpec view = caseView(scene, study, *c);
-        // --images: the case's files written as its bands are made.
-        std::unique_ptr<RenderWriter> writer;
-        FrameOptions frame{false, {}, false};
-        if (opt.images) {
-            char dir[32];
-            std::snprintf(dir, sizeof dir, "case_%05d", c->index);
-            writer = std::make_unique<RenderWriter>(
-                scene, (fs::path(opt.outDir) / "images" / dir).string(), view.camera.width,
-                view.camera.height, study.configs);
-            frame.sinks.push_back(writer.get());
-            frame.keepCodedErrors = true;
-        }
-        RenderResult r =
-            renderView(scene, view, *truths, study.configs, textures, study.timing, frame);
-        if (writer) writer->finish(r);
-        for (const auto& [stage, ms] : r.timingsMs) sum.stageMs[stage] += ms;
-        appendAll(fd, csvRows(*c, r), csvPath);  // one case at a time, never half
-        ++sum.done;
-        progress.show(false);
+    const size_t limit =
+        opt.maxCases >= 0 ? std::min(todo.size(), size_t(opt.maxCases)) : todo.size();
+    for (size_t first = 0, last = 0; first < limit; first = last) {
+        const double scale = todo[first]->scale, bias = todo[first]->bias;
+        while (last < limit && todo[last]->scale == scale && todo[last]->bias == bias) ++last;
+        // One truth per (s, b), reused for every view of that surface.
+        auto tb = Clock::now();
+        const TruthPair& truths = builder.update({scale, bias}, scene.truth.uncertainty);
+        textures.clear();
+        sum.stageMs["truth_build"] += msSince(tb);
+        runSurface(scene, study, opt, &todo[first], last - first, truths, textures, fd, csvPath,
+                   sum, progress);
     }
 }
 
