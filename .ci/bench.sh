@@ -46,3 +46,21 @@ timed "128^2 pixels" $PGT sweep "$OUT/scaling_px4.json" --out "$OUT/px4" --fresh
 echo "== scaling with cases (default study, 45 and 180 cases, no report)"
 timed "45 cases" $PGT sweep scenes/default.json --out "$OUT/c1" --fresh --no-report --max-cases 45
 timed "180 cases" $PGT sweep scenes/default.json --out "$OUT/c4" --fresh --no-report --max-cases 180
+
+echo "== pgt render of the default scene with none, parallax, pom: 512^2 to 8192^2"
+/usr/bin/python3 - "$OUT" <<'PY'
+import json, sys
+d = json.load(open("scenes/default.json"))
+for r in [512, 1024, 2048, 4096, 8192]:
+    e = dict(d); e["camera"] = dict(d["camera"]); e["camera"]["resolution"] = [r, r]
+    e["methods"] = ["none", "parallax", {"name": "pom", "min_layers": 8, "max_layers": 32}]
+    json.dump(e, open(f"{sys.argv[1]}/frame_{r}.json", "w"))
+PY
+for r in 512 1024 2048 4096 8192; do
+  /usr/bin/time -f "frame $r^2: %e s wall, %M KB peak" $PGT render "$OUT/frame_$r.json" \
+    --out "$OUT/frame_$r" 2>&1 | grep -E "stages|wall"
+done
+
+echo "== default study on 1 core and on all cores (no report)"
+timed "1 core" taskset -c 0 $PGT sweep scenes/default.json --out "$OUT/cores1" --fresh --no-report
+timed "all cores" $PGT sweep scenes/default.json --out "$OUT/coresN" --fresh --no-report
