@@ -11,6 +11,7 @@
 #include "gl/glsl_method.h"
 #include "scene/scene.h"
 #include "study/fit.h"
+#include "study/merge.h"
 #include "study/outputs.h"
 #include "study/render.h"
 #include "study/staged_files.h"
@@ -82,12 +83,28 @@ void sweepCommand(const std::string& scenePath, pgt::SweepOptions sweepOpt, bool
     }
     if (!sum.finished) {
         std::printf("stopped early; run the same command again to resume\n");
+    } else if (sweepOpt.shardCount > 1) {
+        std::printf("shard %d of %d done; join the shards with pgt merge DIR... --out DIR\n",
+                    sweepOpt.shardIndex, sweepOpt.shardCount);
     } else if (sum.reportTried) {
         if (sum.reportPath.empty())
             std::printf("report not written: %s\n", sum.reportWhy.c_str());
         else
             std::printf("report: %s\n", sum.reportPath.c_str());
     }
+}
+
+// `pgt merge`: the shards joined, and the study's report.
+void mergeCommand(const std::vector<std::string>& dirs, const std::string& outDir, bool noReport) {
+    pgt::MergeSummary m = pgt::mergeShards(dirs, outDir);
+    std::printf("merged %d shards: %d cases, %d rows: %s/results.csv\n", m.shards, m.cases, m.rows,
+                outDir.c_str());
+    if (noReport) return;
+    std::string why, report = pgt::writeStudyReport(outDir, &why);
+    if (report.empty())
+        std::printf("report not written: %s\n", why.c_str());
+    else
+        std::printf("report: %s\n", report.c_str());
 }
 
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
@@ -117,10 +134,13 @@ struct CommandLine {
     pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
+    std::string shard;
+    std::vector<std::string> mergeDirs;
     std::vector<std::string> stressPaths;
     pgt::StressOptions stressOpt;
     uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
-    CLI::App *render = nullptr, *sweep = nullptr, *fit = nullptr, *stress = nullptr;
+    CLI::App *render = nullptr, *sweep = nullptr, *fit = nullptr, *stress = nullptr,
+             *merge = nullptr;
 };
 
 void defineCommands(CLI::App& app, CommandLine& c) {
@@ -146,6 +166,13 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.sweep->add_flag("--fresh", c.sweepOpt.fresh, "Discard earlier results instead of resuming");
     c.sweep->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
     c.sweep->add_option("--max-cases", c.sweepOpt.maxCases, "Stop after this many new cases");
+    c.sweep->add_option("--shard", c.shard,
+                        "Run only shard I of N (I/N, or slurm: from the job array)");
+
+    c.merge = app.add_subcommand("merge", "Join the shards of one study into one study");
+    c.merge->add_option("dirs", c.mergeDirs, "The shards' output directories")->required();
+    c.merge->add_option("--out", c.outDir, "Output directory for the whole study")->required();
+    c.merge->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
 
     c.fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     c.fit->add_option("scene", c.scenePath, "Scene file (JSON), optional \"fit\" block")
@@ -180,7 +207,11 @@ int runCommand(const CommandLine& c) {
         if (*c.render) {
             renderCommand(c.scenePath, c.outDir, c.renderOpt);
         } else if (*c.sweep) {
-            sweepCommand(c.scenePath, c.sweepOpt, c.noReport);
+            pgt::SweepOptions opt = c.sweepOpt;
+            if (!c.shard.empty()) pgt::parseShard(c.shard, opt);
+            sweepCommand(c.scenePath, opt, c.noReport);
+        } else if (*c.merge) {
+            mergeCommand(c.mergeDirs, c.outDir, c.noReport);
         } else if (*c.stress) {
             int n = pgt::runStress(c.stressPaths, c.stressOpt);
             std::printf("%d scenes: %s/stress.csv\n", n, c.stressOpt.outDir.c_str());

@@ -130,6 +130,62 @@ std::string csvRows(const StudyCase& c, const RenderResult& r) {
 
 std::string header() { return resultTable().header(); }
 
+}  // namespace
+
+std::string resultHeader() { return header(); }
+std::string resultLine(const std::vector<std::string>& fields) {
+    return resultTable().line(fields);
+}
+
+void parseShard(const std::string& value, SweepOptions& opt) {
+    auto number = [&](const std::string& text, const std::string& field, long lo, long hi) {
+        char* end = nullptr;
+        errno = 0;
+        long v = text.empty() ? 0 : std::strtol(text.c_str(), &end, 10);
+        if (text.empty() || *end || errno || v < lo || v > hi)
+            throw InputError(
+                "command line", field, text,
+                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return int(v);
+    };
+    if (value == "slurm") {
+        auto env = [](const char* name) {
+            const char* v = std::getenv(name);
+            return std::string(v ? v : "");
+        };
+        if (env("SLURM_ARRAY_TASK_ID").empty() || env("SLURM_ARRAY_TASK_COUNT").empty())
+            throw InputError("command line", "--shard", value,
+                             "SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set "
+                             "(not inside a Slurm job array)");
+        const int id = number(env("SLURM_ARRAY_TASK_ID"), "SLURM_ARRAY_TASK_ID", 0, 1000000);
+        const std::string minText = env("SLURM_ARRAY_TASK_MIN");
+        const int first = minText.empty() ? 0 : number(minText, "SLURM_ARRAY_TASK_MIN", 0, id);
+        opt.shardCount =
+            number(env("SLURM_ARRAY_TASK_COUNT"), "SLURM_ARRAY_TASK_COUNT", 1, 1000000);
+        opt.shardIndex = id - first;
+    } else {
+        const auto slash = value.find('/');
+        if (slash == std::string::npos)
+            throw InputError("command line", "--shard", value, "expected I/N or slurm");
+        opt.shardCount = number(value.substr(slash + 1), "--shard", 1, 1000000);
+        opt.shardIndex = number(value.substr(0, slash), "--shard", 0, 1000000);
+    }
+    if (opt.shardIndex >= opt.shardCount)
+        throw InputError("command line", "--shard", value,
+                         "the shard index must be below the shard count");
+}
+
+Json shardIdentity(const Study& study, int index, int count) {
+    Json id = study.resolved;
+    Json labels = Json::array();
+    for (const auto& cfg : study.configs) labels.push_back(cfg.label);
+    id["shard"] = {
+        {"index", index}, {"count", count}, {"cases", study.cases.size()}, {"labels", labels}};
+    return id;
+}
+
+namespace {
+
 // Reads results.csv, keeps only the rows of complete cases (every configuration present),
 // rewrites the file when anything was dropped (a torn last line, a half-written case), and
 // returns the keys of the complete cases. An empty (0-byte) file is given its header.
@@ -239,8 +295,9 @@ namespace {
 
 // The study directory ready to append to: study.json written or checked against this study,
 // results.csv cut to its complete cases. Returns the keys of the cases already there.
-std::set<std::string> openStudyDir(const Study& study, const SweepOptions& opt,
-                                   const std::string& csvPath, const std::string& studyPath) {
+std::set<std::string> openStudyDir(const Study& study, const Json& identity,
+                                   const SweepOptions& opt, const std::string& csvPath,
+                                   const std::string& studyPath) {
     std::error_code ec;
     for (const std::string& path : {csvPath, studyPath})
         if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
@@ -257,12 +314,12 @@ std::set<std::string> openStudyDir(const Study& study, const SweepOptions& opt,
         } catch (const InputError&) {
             old = nullptr;  // unreadable or hostile: not this study
         }
-        if (old != study.resolved)
+        if (old != identity)
             throw InputError(
                 studyPath, "", "",
                 "this directory holds a different study; use --fresh or another --out");
     } else {
-        writeTextFile(studyPath, study.resolved.dump(2) + "\n");
+        writeTextFile(studyPath, identity.dump(2) + "\n");
     }
     std::set<std::string> finished = loadFinished(csvPath, study);
     if (!fs::exists(csvPath)) writeTextFile(csvPath, header());
@@ -392,14 +449,18 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     StudyLock lock(opt.outDir);
     const std::string csvPath = (fs::path(opt.outDir) / "results.csv").string();
     const std::string studyPath = (fs::path(opt.outDir) / "study.json").string();
-    std::set<std::string> finished = openStudyDir(study, opt, csvPath, studyPath);
+    const bool sharded = opt.shardCount > 1;
+    const Json identity =
+        sharded ? shardIdentity(study, opt.shardIndex, opt.shardCount) : study.resolved;
+    std::set<std::string> finished = openStudyDir(study, identity, opt, csvPath, studyPath);
     int fd = ::open(csvPath.c_str(), O_WRONLY | O_APPEND);
     if (fd < 0) throw OutputError("cannot open " + csvPath + " for appending");
 
     SweepSummary sum;
-    sum.total = int(study.cases.size());
     std::vector<const StudyCase*> todo;
     for (const auto& c : study.cases) {
+        if (c.index % opt.shardCount != opt.shardIndex) continue;  // another shard's
+        ++sum.total;
         if (finished.count(c.key()))
             ++sum.resumed;
         else
@@ -417,7 +478,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     sum.finished = sum.resumed + sum.done == sum.total;
     if (!todo.empty()) progress.show(true);
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (sum.finished && opt.report) {  // still under the lock: the rows cannot change
+    if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
         sum.reportPath = writeStudyReport(opt.outDir, &sum.reportWhy);
         sum.reportTried = true;
     }

@@ -21,7 +21,22 @@ struct SweepOptions {
     int maxCases = -1;     // stop after this many new cases (tests; -1 = all)
     bool progress = true;  // progress on stderr
     bool report = false;   // run analysis/report.py when every case is done (still locked)
+    // This run's share of the study (--shard I/N): the cases whose index is I modulo N, so
+    // every shard gets every (s, b) and view angle alike. study.json then names the shard.
+    int shardIndex = 0, shardCount = 1;
 };
+
+// "--shard I/N", or "slurm": I = SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN (0 if unset),
+// N = SLURM_ARRAY_TASK_COUNT. Throws InputError naming --shard (or the variable).
+void parseShard(const std::string& value, SweepOptions& options);
+
+// The study identity a shard's study.json holds: `resolved` plus
+// {"shard": {"index", "count", "cases", "labels"}}.
+nlohmann::json shardIdentity(const Study& study, int index, int count);
+
+// results.csv's header, and one record read back written as a row.
+std::string resultHeader();
+std::string resultLine(const std::vector<std::string>& fields);
 
 struct SweepSummary {
     int total = 0, resumed = 0, done = 0;
