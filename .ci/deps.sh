@@ -9,6 +9,7 @@ packages=(
   clang-format clang libclang-rt-14-dev
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   python3-numpy python3-matplotlib python3-pandas python3-openimageio
+  slurmctld slurmd slurm-client munge  # studies on a cluster; the distributed ctest
 )
 missing=()
 for p in "${packages[@]}"; do
