@@ -3,8 +3,6 @@
 the study run on one machine; merge refuses a missing shard, a shard of another study and a
 torn shard; bad --shard values are bad input; a shard killed and resumed still merges to the
 same rows. Arguments: PGT_BINARY SOURCE_DIR."""
-import csv
-import io
 import json
 import os
 import subprocess
@@ -12,14 +10,9 @@ import sys
 import tempfile
 
 PGT, SRC = sys.argv[1], sys.argv[2]
-SCENE = {"heightmap": {"procedural": "bricks", "size": [16, 16], "jitter": 0.3, "seed": 3},
-         "base": {"type": "plane", "infinite": True},
-         "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [16, 16]},
-         "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8}],
-         "truth": {"rate": 1, "uncertainty": False},
-         "sweep": {"theta": [0, 20, 40, 60, 80], "scale": [0.02, 0.05], "bias_ratio": [0, -0.5],
-                   "pom.max_layers": [8, 16], "timing": {"repeats": 1, "fragments": 16}}}
-TIMING = {"ns_per_px", "timing_backend"}  # measured, not computed: may differ between runs
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from small_study import SCENE, rows  # noqa: E402
+
 failures = []
 
 
@@ -32,13 +25,6 @@ def check(name, ok, detail=""):
 def run(*args, env=None):
     return subprocess.run([PGT, *args], capture_output=True, text=True, timeout=300,
                           env=env or os.environ)
-
-
-def rows(directory):
-    """results.csv without the timing columns, as a sorted list of tuples."""
-    with open(os.path.join(directory, "results.csv"), newline="") as f:
-        table = list(csv.DictReader(f))
-    return sorted(tuple((k, v) for k, v in r.items() if k not in TIMING) for r in table)
 
 
 def one_error(r, status, words):

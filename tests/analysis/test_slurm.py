@@ -7,7 +7,6 @@ them), waits, checks that the merged study equals the study run on one machine, 
 the daemons it started. Needs root (CI runs as root) and the packages slurmctld, slurmd,
 slurm-client and munge (.ci/deps.sh); exit 77 (skipped) without them.
 Arguments: PGT_BINARY SOURCE_DIR."""
-import csv
 import json
 import os
 import shutil
@@ -25,26 +24,14 @@ if missing or os.geteuid() != 0:
     print(f"skipped: needs root and {', '.join(missing) or 'nothing'}")
     sys.exit(77)
 
-SCENE = {"heightmap": {"procedural": "bricks", "size": [16, 16], "jitter": 0.3, "seed": 3},
-         "base": {"type": "plane", "infinite": True},
-         "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [16, 16]},
-         "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8}],
-         "truth": {"rate": 1, "uncertainty": False},
-         "sweep": {"theta": [0, 20, 40, 60, 80], "scale": [0.02, 0.05], "bias_ratio": [0, -0.5],
-                   "timing": {"repeats": 1, "fragments": 16}}}
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from small_study import SCENE, rows  # noqa: E402
 
 
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def rows(directory):
-    with open(os.path.join(directory, "results.csv"), newline="") as f:
-        table = list(csv.DictReader(f))
-    return sorted(tuple((k, v) for k, v in r.items() if k not in ("ns_per_px", "timing_backend"))
-                  for r in table)
 
 
 def sbin(name):

@@ -1,0 +1,20 @@
+"""The small study the shard and Slurm tests split, and its rows compared without the measured
+columns (ns_per_px and timing_backend may differ between runs)."""
+import csv
+import os
+
+SCENE = {"heightmap": {"procedural": "bricks", "size": [16, 16], "jitter": 0.3, "seed": 3},
+         "base": {"type": "plane", "infinite": True},
+         "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [16, 16]},
+         "methods": ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8}],
+         "truth": {"rate": 1, "uncertainty": False},
+         "sweep": {"theta": [0, 20, 40, 60, 80], "scale": [0.02, 0.05], "bias_ratio": [0, -0.5],
+                   "pom.max_layers": [8, 16], "timing": {"repeats": 1, "fragments": 16}}}
+MEASURED = {"ns_per_px", "timing_backend"}
+
+
+def rows(directory):
+    """DIR/results.csv without the measured columns, as a sorted list of tuples."""
+    with open(os.path.join(directory, "results.csv"), newline="") as f:
+        table = list(csv.DictReader(f))
+    return sorted(tuple((k, v) for k, v in r.items() if k not in MEASURED) for r in table)
