@@ -26,16 +26,26 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
     return t;
 }
 
-const MethodTextures& MethodTextureCache::get(double scale, double bias, bool needDerived) {
-    auto key = std::make_pair(scale, bias);
+namespace {
+// The (s, b) a method runs with in a view: its own where it has one (MODEL.md §3, UV units).
+std::pair<double, double> methodScaleBias(const MethodConfig& cfg, const Displacement& view) {
+    return {std::isfinite(cfg.scale) ? cfg.scale : view.scale,
+            std::isfinite(cfg.bias) ? cfg.bias : view.bias};
+}
+}  // namespace
+
+const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
+    const auto key = methodScaleBias(cfg, view);
+    const bool needDerived = needsDerivedMaps(cfg);
     auto it = cache_.find(key);
     if (it != cache_.end() && (!needDerived || it->second.derived)) return it->second;
-    cache_[key] = makeMethodTextures(height_, scale, bias, uvExtent_, needDerived);
+    cache_[key] = makeMethodTextures(height_, key.first, key.second, uvExtent_, needDerived);
     return cache_[key];
 }
 
-const MethodTextures& MethodTextureCache::at(double scale, double bias) const {
-    auto it = cache_.find(std::make_pair(scale, bias));
+const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,
+                                             const Displacement& view) const {
+    auto it = cache_.find(methodScaleBias(cfg, view));
     PGT_CHECK(it != cache_.end());
     return it->second;
 }

@@ -51,10 +51,11 @@ class MethodTextureCache {
   public:
     MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
         : height_(height), uvExtent_(uvExtent) {}
+    // The maps `cfg` reads in a view of (s, b) `view`: its own (s, b) where it has one.
     // Builds the entry on first use (not thread-safe then; a hit only reads).
-    const MethodTextures& get(double scale, double bias, bool needDerived);
+    const MethodTextures& get(const MethodConfig& cfg, const Displacement& view);
     // An entry that get() built already (thread-safe).
-    const MethodTextures& at(double scale, double bias) const;
+    const MethodTextures& at(const MethodConfig& cfg, const Displacement& view) const;
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }

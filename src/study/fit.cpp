@@ -118,9 +118,7 @@ class FitScorer {
 
     Score score(const MethodConfig& cfg) {
         Score sc;
-        double s = std::isfinite(cfg.scale) ? cfg.scale : scene_.displacement.scale;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : scene_.displacement.bias;
-        const MethodTextures& tex = textures_.get(s, b, needsDerivedMaps(cfg));
+        const MethodTextures& tex = textures_.get(cfg, scene_.displacement);
         double obj = 0, mean = 0, p90 = 0;
         for (const View& v : views_) {
             auto px = evaluateMethod(cfg, v.frags, tex, v.width, v.height);

@@ -67,9 +67,7 @@ class BandPipeline {
             MethodRun m;
             m.config = &cfg;
             if (inPlace) m.tally = ErrorTally(r.camera.width(), r.camera.height());
-            double s = std::isfinite(cfg.scale) ? cfg.scale : r.view.displacement.scale;
-            double b = std::isfinite(cfg.bias) ? cfg.bias : r.view.displacement.bias;
-            m.textures = &textures.get(s, b, needsDerivedMaps(cfg));
+            m.textures = &textures.get(cfg, r.view.displacement);
             runs_.push_back(std::move(m));
         }
     }
@@ -283,9 +281,8 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
     for (MethodFrame& mf : r.methods) {
         const MethodConfig& cfg = mf.config;
         if (cfg.kind == MethodKind::Glsl || timing.repeats <= 0) continue;
-        double s = std::isfinite(cfg.scale) ? cfg.scale : r.view.displacement.scale;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : r.view.displacement.bias;
-        mf.nsPerPixel = timeMethodNsPerPixel(cfg, r.timed, textures.at(s, b), timing.repeats);
+        mf.nsPerPixel = timeMethodNsPerPixel(cfg, r.timed, textures.at(cfg, r.view.displacement),
+                                             timing.repeats);
     }
     r.timed = {};
     r.timingsMs["method_timing"] += msSince(t0);

@@ -391,11 +391,8 @@ void runSurface(const Scene& scene, const Study& study, const SweepOptions& opt,
                 const StudyCase* const* cases, size_t n, const TruthPair& truths,
                 MethodTextureCache& textures, int fd, const std::string& csvPath, SweepSummary& sum,
                 const SweepProgress& progress) {
-    for (const MethodConfig& cfg : study.configs) {  // every map made before the cases share them
-        double s = std::isfinite(cfg.scale) ? cfg.scale : cases[0]->scale;
-        double b = std::isfinite(cfg.bias) ? cfg.bias : cases[0]->bias;
-        textures.get(s, b, needsDerivedMaps(cfg));
-    }
+    for (const MethodConfig& cfg : study.configs)  // every map made before the cases share them
+        textures.get(cfg, {cases[0]->scale, cases[0]->bias});
     std::vector<RenderResult> results(n);
     std::vector<std::unique_ptr<RenderWriter>> writers(n);
     auto tr = Clock::now();
