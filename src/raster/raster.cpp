@@ -351,26 +351,29 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
     }
 }
 
+void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats) const {
+    const int W = camera_.width();
+    if (out.width != W || out.height != y1 - y0) out = Image2D<Fragment>(W, y1 - y0);
+    tbb::combinable<RasterStats> counts;
+    tbb::parallel_for(0, (W + kBin - 1) / kBin, [&](int b) {
+        const PixelRect rect{b * kBin, y0, std::min(W, (b + 1) * kBin), y1};
+        thread_local Image2D<Fragment> local;
+        rasterize(rect, local, counts.local());
+        for (int y = rect.y0; y < rect.y1; ++y)
+            std::copy_n(&local.at(0, y - rect.y0), rect.width(), &out.at(rect.x0, y - y0));
+    });
+    counts.combine_each([&](const RasterStats& c) {
+        stats.covered += c.covered;
+        stats.noExactFrame += c.noExactFrame;
+    });
+}
+
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats) {
     const Rasterizer raster(mesh, camera, options);
-    const int W = camera.width(), H = camera.height(), B = Rasterizer::kBin;
-    Image2D<Fragment> frags(W, H);
-    const int across = (W + B - 1) / B, bins = across * ((H + B - 1) / B);
-    tbb::combinable<RasterStats> counts;
-    tbb::parallel_for(0, bins, [&](int b) {
-        const PixelRect rect{(b % across) * B, (b / across) * B, std::min(W, (b % across + 1) * B),
-                             std::min(H, (b / across + 1) * B)};
-        thread_local Image2D<Fragment> local;
-        raster.rasterize(rect, local, counts.local());
-        for (int y = rect.y0; y < rect.y1; ++y)
-            std::copy_n(&local.at(0, y - rect.y0), rect.width(), &frags.at(rect.x0, y));
-    });
+    Image2D<Fragment> frags;
     RasterStats st = raster.setupStats();
-    counts.combine_each([&](const RasterStats& c) {
-        st.covered += c.covered;
-        st.noExactFrame += c.noExactFrame;
-    });
+    raster.rasterizeRows(0, camera.height(), frags, st);
     if (stats) *stats = st;
     return frags;
 }

@@ -58,6 +58,9 @@ class Rasterizer {
     // out.at(x - rect.x0, y - rect.y0)); adds its covered pixels to `stats`. No allocation
     // once `out` has the size.
     void rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& stats) const;
+    // Rows [y0, y1) of the frame into `out` (resized to W x (y1 - y0)), bin by bin over all
+    // cores; adds their covered pixels to `stats`.
+    void rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats) const;
     // Triangles drawn and culled.
     const RasterStats& setupStats() const { return setup_; }
 

@@ -2,7 +2,6 @@
 // timings.
 #include "study/render.h"
 
-#include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -100,22 +99,7 @@ class BandPipeline {
   private:
     void rasterBand(const Rasterizer& raster, PixelRect band) {
         auto t0 = Clock::now();
-        const int B = Rasterizer::kBin, W = band.width();
-        if (fragments_.width != W || fragments_.height != band.height())
-            fragments_ = Image2D<Fragment>(W, band.height());
-        tbb::combinable<RasterStats> counts;
-        tbb::parallel_for(0, (W + B - 1) / B, [&](int b) {
-            const PixelRect rect{b * B, band.y0, std::min(W, (b + 1) * B), band.y1};
-            thread_local Image2D<Fragment> local;
-            raster.rasterize(rect, local, counts.local());
-            for (int y = rect.y0; y < rect.y1; ++y)
-                std::copy_n(&local.at(0, y - rect.y0), rect.width(),
-                            &fragments_.at(rect.x0, y - band.y0));
-        });
-        counts.combine_each([&](const RasterStats& c) {
-            r_.raster.covered += c.covered;
-            r_.raster.noExactFrame += c.noExactFrame;
-        });
+        raster.rasterizeRows(band.y0, band.y1, fragments_, r_.raster);
         frags_ = compactFragments(fragments_);  // pixel indices within the band
         sampler_.add(frags_);
         r_.timingsMs["raster"] += msSince(t0);
