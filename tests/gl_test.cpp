@@ -129,6 +129,14 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
          R"({"name":"g","glsl":"relief.glsl","function":"ReliefMapping","sampler":"heightMap",)" +
              bind + R"(,"linear_steps":10,"binary_steps":5}})",
          true},
+        {R"({"name":"secant","linear_steps":10,"secant_steps":3})",
+         R"({"name":"g","glsl":"refined.glsl","function":"SecantRelief","sampler":"heightMap",)" +
+             bind + R"(,"linear_steps":10,"secant_steps":3}})",
+         true},
+        {R"({"name":"contact","layers":16})",
+         R"({"name":"g","glsl":"refined.glsl","function":"ContactRefinement","sampler":"heightMap",)" +
+             bind + R"(,"layers":16}})",
+         true},
         {R"({"name":"iterative","iterations":4})",
          R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",
          false},

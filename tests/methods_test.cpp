@@ -14,9 +14,10 @@ using test::makeTexture;
 using test::method;
 
 const char* kAllMethods[] = {
-    R"({"name":"none"})",      R"({"name":"parallax"})",     R"({"name":"offset_limited"})",
-    R"({"name":"steep"})",     R"({"name":"pom"})",          R"({"name":"relief"})",
-    R"({"name":"iterative"})", R"({"name":"tangent_plane"})"};
+    R"({"name":"none"})",      R"({"name":"parallax"})",      R"({"name":"offset_limited"})",
+    R"({"name":"steep"})",     R"({"name":"pom"})",           R"({"name":"relief"})",
+    R"({"name":"iterative"})", R"({"name":"tangent_plane"})", R"({"name":"secant"})",
+    R"({"name":"contact"})"};
 
 struct MethodRun {
     Vec2f uv;
@@ -43,7 +44,9 @@ TEST(Methods, HeadOnViewReturnsBaseUv) {
         for (int k = 0; k < 200; ++k) {
             Vec2f uv0(uni(rng), uni(rng));
             MethodRun r = runFloat(cfg, tex, uv0, Vec3f(0, 0, 1));
-            float tol = cfg.kind == MethodKind::Pom ? 1.2e-7f : 0.0f;
+            // pom and contact interpolate: prev * w + uv * (1 - w) with prev == uv.
+            const bool blends = cfg.kind == MethodKind::Pom || cfg.kind == MethodKind::Contact;
+            float tol = blends ? 1.2e-7f : 0.0f;
             EXPECT_NEAR(r.uv.x, uv0.x, tol) << cfg.name << " uv0 " << uv0.x << "," << uv0.y;
             EXPECT_NEAR(r.uv.y, uv0.y, tol) << cfg.name << " uv0 " << uv0.x << "," << uv0.y;
         }
@@ -74,6 +77,9 @@ TEST(Methods, ExactOnConstantHeight) {
         };
         near(R"({"name":"parallax"})", expectedF, 2e-6f);
         near(R"({"name":"pom"})", expectedF, 2e-5f);
+        // secant: f = d - t is linear in t, so its first secant lands on the root.
+        near(R"({"name":"secant"})", expectedF, 2e-6f);
+        near(R"({"name":"contact"})", expectedF, 2e-5f);
         near(R"({"name":"offset_limited"})", Vec2f(limited), 2e-6f);
         // iterative on a flat map: m = +z, P = s*c + b, four quarter steps = offset limiting.
         near(R"({"name":"iterative"})", Vec2f(limited), 2e-6f);

@@ -22,7 +22,9 @@ const char* kAll[] = {R"({"name":"none"})",
                       R"({"name":"relief"})",
                       R"({"name":"relief","binary_steps":0})",
                       R"({"name":"iterative"})",
-                      R"({"name":"tangent_plane"})"};
+                      R"({"name":"tangent_plane"})",
+                      R"({"name":"secant"})",
+                      R"({"name":"contact"})"};
 
 // V in the tangent plane (V.z = 0 exactly) and below it: every method terminates, and its
 // result is either finite or non-finite (which the comparator counts and never averages).

@@ -142,6 +142,7 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
     cfg.name = f.choice("name", methodNames(), "");
     for (const auto& k : methodKinds())
         if (cfg.name == k.name) cfg.kind = k.kind;
+    applyKindDefaults(cfg);
     readMethodParameters(f, cfg);
     cfg.label = f.string("label", "");
     if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));

@@ -24,6 +24,8 @@ enum class MethodKind {
     Relief,
     Iterative,
     TangentPlane,
+    Secant,
+    Contact,
     Glsl
 };
 
@@ -37,6 +39,7 @@ struct MethodConfig {
     int maxSteps = 0;                       // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
     int iterations = 4;                     // iterative (003 Listing 7.9)
+    int secantSteps = 3;                    // secant (Risser et al. 2007)
     bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);

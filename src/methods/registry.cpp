@@ -7,6 +7,7 @@
 #include "methods/glsl_spec.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
+#include "methods/refined.h"
 #include "methods/simple.h"
 
 namespace pgt {
@@ -32,6 +33,12 @@ std::string reliefLabel(const MethodConfig& c) {
 
 std::string iterativeLabel(const MethodConfig& c) { return std::to_string(c.iterations); }
 
+std::string secantLabel(const MethodConfig& c) {
+    return std::to_string(c.linearSteps) + "_" + std::to_string(c.secantSteps);
+}
+
+std::string contactLabel(const MethodConfig& c) { return std::to_string(c.minLayers); }
+
 const std::vector<IntParameter> kLayerParameters = {
     {"min_layers", &MethodConfig::minLayers, nullptr, 1, kMaxLayers},
     {"max_layers", &MethodConfig::maxLayers, nullptr, 1, kMaxLayers},
@@ -43,6 +50,16 @@ const std::vector<IntParameter> kLayerParameters = {
 const std::vector<IntParameter> kReliefParameters = {
     {"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
     {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64},  // 64 halvings: past a double
+};
+
+const std::vector<IntParameter> kSecantParameters = {
+    {"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
+    {"secant_steps", &MethodConfig::secantSteps, nullptr, 0, 64},
+};
+
+// Contact refinement's one layer count serves both of its marches (Riccardi 2018: 16).
+const std::vector<IntParameter> kContactParameters = {
+    {"layers", &MethodConfig::minLayers, &MethodConfig::maxLayers, 1, kMaxLayers, true, 16},
 };
 
 const std::vector<IntParameter> kIterativeParameters = {
@@ -87,6 +104,10 @@ const std::vector<MethodKindInfo>& methodKinds() {
          true,
          methodTangentPlane<float>,
          methodTangentPlane<double>},
+        {"secant", K::Secant, kSecantParameters, "linear_steps", secantLabel, false,
+         methodSecant<float>, methodSecant<double>},
+        {"contact", K::Contact, kContactParameters, "layers", contactLabel, false,
+         methodContact<float>, methodContact<double>},
     };
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
@@ -125,6 +146,16 @@ bool needsDerivedMaps(MethodKind kind) {
 bool needsDerivedMaps(const MethodConfig& cfg) {
     if (cfg.glsl) return !cfg.glsl->normalSampler.empty() || !cfg.glsl->parallaxSampler.empty();
     return needsDerivedMaps(cfg.kind);
+}
+
+void applyKindDefaults(MethodConfig& cfg) {
+    const MethodKindInfo* info = kindInfo(cfg.kind);
+    if (!info) return;
+    for (const IntParameter& p : info->parameters) {
+        if (!p.byDefault) continue;
+        cfg.*p.field = *p.byDefault;
+        if (p.alsoField) cfg.*p.alsoField = *p.byDefault;
+    }
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {

@@ -5,6 +5,7 @@
 // new built-in method is one row here and one function in methods/.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,7 @@ struct IntParameter {
     int MethodConfig::*alsoField = nullptr;  // a second field set to the same value, or null
     int lo = 1, hi = 1;                      // accepted range
     bool written = true;  // part of the configuration's JSON (an alias like "layers" is not)
+    std::optional<int> byDefault = std::nullopt;  // the kind's own default, if not MethodConfig's
 };
 
 template <class Real>
@@ -41,6 +43,8 @@ struct MethodKindInfo {
 const std::vector<MethodKindInfo>& methodKinds();
 // The row of a built-in kind; null for MethodKind::Glsl.
 const MethodKindInfo* kindInfo(MethodKind kind);
+// Sets the parameters whose default is the kind's own (contact's 16 layers, not pom's 8-32).
+void applyKindDefaults(MethodConfig& cfg);
 // The parameter a fit varies set to `steps` (every field it sets); false when the kind has none.
 bool setStepCount(MethodConfig& cfg, int steps);
 
