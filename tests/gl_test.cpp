@@ -17,7 +17,9 @@
 #include "methods/config.h"
 #include "methods/presets.h"
 #include "methods/registry.h"
+#include "study/render.h"
 #include "test_util.h"
+#include "truth/builder.h"
 
 namespace pgt {
 namespace {
@@ -335,6 +337,44 @@ TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     EXPECT_EQ(lpom.scale, 0.1);
     EXPECT_EQ(lpom.bias, -0.1);
     EXPECT_THROW(preset("unreal"), InputError);
+}
+
+// A study draws its GLSL methods after the frame (FrameOptions::deferGlsl, one draw over the
+// whole frame's fragments): the same statistics as the draws band by band, on a frame of
+// three bands, and nothing is left pending.
+TEST(Gl, DeferredDrawsEqualTheBandDraws) {
+    const std::string method =
+        R"([{"name":"g","glsl":")" + shaderDir() +
+        R"(/layered.glsl","function":"ParallaxOcclusion","sampler":"heightMap",
+        "uniforms":{"height_scale":"scale","height_bias":"bias","min_layers":8.0,
+        "max_layers":32.0,"max_steps":0}}, "parallax"])";
+    Scene s = test::planeScene(test::smoothTexture(32, 32), 0.06, -0.03, 55, 20, 150,
+                               parseMethods(nlohmann::json::parse(method), "t", "m"));
+    s.camera.height = 139;
+    TruthBuilder builder(s);
+    TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
+    MethodTextureCache textures(s.height, s.uvExtent);
+    const TimingSpec timing{1, 0, 1};
+    FrameOptions inBand{false, {}, false, true};
+    RenderResult a = renderView(s, s.view(), truths, s.methods, textures, timing, inBand);
+    FrameOptions deferred = inBand;
+    deferred.deferGlsl = true;
+    RenderResult b = renderView(s, s.view(), truths, s.methods, textures, timing, deferred);
+    EXPECT_TRUE(b.glslPending);
+    EXPECT_EQ(b.methods[0].stats.error.count, 0);  // not drawn yet
+    drawGlslMethods(b, s, textures, timing);
+    EXPECT_FALSE(b.glslPending);
+    EXPECT_TRUE(b.truth.data.empty());
+    ASSERT_EQ(a.methods.size(), b.methods.size());
+    for (size_t i = 0; i < a.methods.size(); ++i) {
+        const FrameStats &x = a.methods[i].stats, &y = b.methods[i].stats;
+        EXPECT_GT(x.error.count, 1000) << i;
+        EXPECT_EQ(x.error.count, y.error.count) << i;
+        EXPECT_EQ(x.error.p50, y.error.p50) << i;
+        EXPECT_EQ(x.error.max, y.error.max) << i;
+        EXPECT_NEAR(x.error.mean, y.error.mean, 1e-12 * x.error.mean) << i;
+    }
+    EXPECT_GT(b.methods[0].nsPerPixel, 0);  // the GLSL method's draws were timed
 }
 
 }  // namespace

@@ -77,8 +77,10 @@ class BandPipeline {
         r_.raster = raster.setupStats();
         r_.timingsMs["raster"] += msSince(t0);
         const int W = r_.camera.width(), H = r_.camera.height();
+        PGT_CHECK(!deferGlsl() || (options_.sinks.empty() && !options_.keepImages));
+        r_.glslPending = deferGlsl();
+        if (options_.keepImages || deferGlsl()) r_.truth = Image2D<TruthSample>(W, H);
         if (options_.keepImages) {
-            r_.truth = Image2D<TruthSample>(W, H);
             r_.fragments = Image2D<Fragment>(W, H);
             for (size_t i = 0; i < runs_.size(); ++i) {
                 r_.methods.emplace_back();
@@ -97,6 +99,24 @@ class BandPipeline {
     }
 
   private:
+    // Whether some GLSL method waits for drawGlslMethods.
+    bool deferGlsl() const {
+        if (!options_.deferGlsl) return false;
+        for (const MethodRun& m : runs_)
+            if (m.config->kind == MethodKind::Glsl) return true;
+        return false;
+    }
+
+    // The band's fragments appended to the frame's list (pixel indices in the frame).
+    void keepForGlsl(int y0) {
+        FragmentList& all = r_.glslFragments;
+        const int32_t offset = y0 * fragments_.width;
+        for (int32_t p : frags_.pixel) all.pixel.push_back(p + offset);
+        all.uv0.insert(all.uv0.end(), frags_.uv0.begin(), frags_.uv0.end());
+        all.view.insert(all.view.end(), frags_.view.begin(), frags_.view.end());
+        all.viewExact.insert(all.viewExact.end(), frags_.viewExact.begin(), frags_.viewExact.end());
+    }
+
     void rasterBand(const Rasterizer& raster, PixelRect band) {
         auto t0 = Clock::now();
         raster.rasterizeRows(band.y0, band.y1, fragments_, r_.raster);
@@ -136,8 +156,10 @@ class BandPipeline {
     void methodsBand(int y0) {
         const int W = fragments_.width, H = fragments_.height;
         const Texture& map = scene_.height;
+        if (deferGlsl()) keepForGlsl(y0);
         for (MethodRun& m : runs_) {
             const MethodConfig& cfg = *m.config;
+            if (cfg.kind == MethodKind::Glsl && deferGlsl()) continue;
             auto t0 = Clock::now();
             if (frags_.pixel.empty()) {
                 m.pixels = Image2D<MethodPixel>(W, H);  // nothing to draw in this band
@@ -172,10 +194,8 @@ class BandPipeline {
                 copyRows(runs_[i].errTexels, band.y0, r_.methods[i].errTexels);
             }
         }
-        if (options_.keepImages) {
-            copyRows(truthBand_, band.y0, r_.truth);
-            copyRows(fragments_, band.y0, r_.fragments);
-        }
+        if (options_.keepImages || deferGlsl()) copyRows(truthBand_, band.y0, r_.truth);
+        if (options_.keepImages) copyRows(fragments_, band.y0, r_.fragments);
         for (FrameSink* sink : options_.sinks) sink->band(r_, fb);
         r_.timingsMs["write"] += msSince(t0);
     }
@@ -258,6 +278,39 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
     input.surfaces = &truths;
     return renderWith(scene, view, makeCamera(scene, view), input, configs, textures, timing,
                       frame);
+}
+
+void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures,
+                     const TimingSpec& timing) {
+    if (!r.glslPending) return;
+    auto t0 = Clock::now();
+    const Texture& map = scene.height;
+    const int W = r.camera.width(), H = r.camera.height();
+    for (MethodFrame& mf : r.methods) {
+        const MethodConfig& cfg = mf.config;
+        if (cfg.kind != MethodKind::Glsl) continue;
+        const MethodTextures& tex = textures.at(cfg, r.view.displacement);
+        const FragmentList& frags = r.glslFragments;
+        const bool timed = timing.repeats > 0 && frags.size() > 0;
+        Image2D<MethodPixel> pixels(W, H);
+        if (frags.size() > 0)
+            pixels = evaluateGlsl(cfg, frags, tex, W, H, false, timed ? &mf.nsPerPixel : nullptr,
+                                  timing.repeats);
+        ErrorTally tally;
+        tally.add(r.truth, pixels, map.width, map.height, map.address);
+        mf.stats = tally.finish();
+        if (scene.isMesh) {
+            ErrorTally exact;
+            if (frags.size() > 0) pixels = evaluateGlsl(cfg, frags, tex, W, H, true);
+            exact.add(r.truth, pixels, map.width, map.height, map.address);
+            mf.statsExactFrame = exact.finish();
+        }
+    }
+    r.glslFragments = {};
+    r.truth = {};
+    r.glslPending = false;
+    r.timingsMs["methods_eval"] += msSince(t0);
+    r.timingsMs["methods"] += msSince(t0);
 }
 
 void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing) {

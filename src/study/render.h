@@ -49,9 +49,11 @@ struct RenderResult {
     RasterStats raster;
     std::vector<MethodFrame> methods;
     std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
-    FragmentList timed;     // FrameOptions::deferTiming: the seeded subset to time methods on
-    int64_t truthHits = 0;  // pixels whose truth ray hit the surface
-    int truthBlocks = 1;    // > 1: the truth was traced block by block (TruthSpec::memoryMb)
+    FragmentList timed;          // FrameOptions::deferTiming: the seeded subset to time methods on
+    bool glslPending = false;    // FrameOptions::deferGlsl: GLSL methods wait for their draws
+    FragmentList glslFragments;  // and the frame's fragments they are drawn over (with `truth`)
+    int64_t truthHits = 0;       // pixels whose truth ray hit the surface
+    int truthBlocks = 1;         // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
 // The frame is made in bands of rows (kBandRows, the last one shorter): each band is
@@ -82,6 +84,10 @@ struct FrameOptions {
     // Leave the C++ methods' timing to timeMethods (RenderResult::timed keeps the subset):
     // a study times them in a phase of its own, where no rendering competes for the cores.
     bool deferTiming = false;
+    // Leave the GLSL methods to drawGlslMethods (the frame's truth and fragments are kept for
+    // them): a study draws them in a phase of their own, so that a software GL's threads do
+    // not wait for cores that the rendering holds. Not with sinks (they need every band).
+    bool deferGlsl = false;
 };
 
 // The per-view measurement: one view with given truth surfaces (built for the view's (s, b)):
@@ -95,6 +101,11 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
 // median of timing.repeats); GLSL methods were timed with their draws. Drops the subset.
 // `textures` must hold every method's maps already (the render got them).
 void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing);
+
+// The GLSL methods of a deferGlsl result (none: nothing to do): drawn (and timed, median of
+// timing.repeats) over the whole frame's fragments, compared with its truth; drops the kept frame.
+void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures,
+                     const TimingSpec& timing);
 
 struct RenderOptions {
     RenderOptions(int repeats = 3) : timingRepeats(repeats) {}  // NOLINT: {repeats} reads well

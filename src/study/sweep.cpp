@@ -379,14 +379,18 @@ RenderResult renderCase(const Scene& scene, const Study& study, const SweepOptio
                                            view.camera.width, view.camera.height, study.configs);
         frame.sinks.push_back(writer.get());
         frame.keepCodedErrors = true;
+    } else {
+        frame.deferGlsl = true;
     }
     return renderView(scene, view, truths, study.configs, textures, study.timing, frame);
 }
 
 // The cases of one (s, b) on the truth re-displaced for it: rendered concurrently (each
-// case's bands use the cores its neighbours leave), then timed in a phase of their own (one
-// case per core, each method single-threaded, no rendering beside it), then appended to
-// `fd` in case order, whole cases only.
+// case's bands use the cores its neighbours leave); their GLSL methods drawn one case after
+// another with nothing beside them (a software GL's own threads would otherwise wait for
+// cores the rendering holds, at every draw); the C++ methods timed in a phase of their own
+// (one case per core, each method single-threaded); then appended to `fd` in case order,
+// whole cases only.
 void runSurface(const Scene& scene, const Study& study, const SweepOptions& opt,
                 const StudyCase* const* cases, size_t n, const TruthPair& truths,
                 MethodTextureCache& textures, int fd, const std::string& csvPath, SweepSummary& sum,
@@ -401,6 +405,9 @@ void runSurface(const Scene& scene, const Study& study, const SweepOptions& opt,
             results[i] = renderCase(scene, study, opt, *cases[i], truths, textures, writers[i]);
     });
     sum.stageMs["cases_wall"] += msSince(tr);
+    auto tg = Clock::now();  // the GL alone: its threads get every core
+    for (size_t i = 0; i < n; ++i) drawGlslMethods(results[i], scene, textures, study.timing);
+    sum.stageMs["glsl_wall"] += msSince(tg);
     auto tt = Clock::now();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const auto& r) {
         for (size_t i = r.begin(); i < r.end(); ++i)

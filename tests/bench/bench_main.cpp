@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "gl/glsl_method.h"
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "scene/scene.h"
@@ -167,6 +168,33 @@ BENCHMARK_CAPTURE(BM_Method, pom_8_32, R"({"name":"pom"})");
 BENCHMARK_CAPTURE(BM_Method, relief_10_5, R"({"name":"relief"})");
 BENCHMARK_CAPTURE(BM_Method, iterative_4, R"({"name":"iterative"})");
 BENCHMARK_CAPTURE(BM_Method, tangent_plane, R"({"name":"tangent_plane"})");
+
+// A GLSL preset's draw through the GL path (upload, draw, read back) over range(0)
+// fragments at theta 60: the per-draw overhead shows as the gap between small and large
+// draws' time per fragment.
+void BM_GlslDraw(benchmark::State& state) {
+    static Texture t = smooth(256);
+    MethodConfig cfg = parseMethod(nlohmann::json::parse(R"({"preset":"godot"})"), "bench", "m");
+    const size_t n = size_t(state.range(0));
+    std::vector<Vec2f> uv0(n);
+    std::vector<Vec3f> view(n, Vec3f(viewFromAngles(60, 20)));
+    for (size_t k = 0; k < n; ++k)
+        uv0[k] =
+            Vec2f(float((double(k % 256) + 0.5) / 256), float((double(k / 256 % 256) + 0.5) / 256));
+    GlMapUploads maps;
+    for (auto _ : state) {
+        GlslRun run = runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.05, uv0, view,
+                              int(state.range(1)), &maps);
+        benchmark::DoNotOptimize(run.uv.data());
+    }
+    state.SetItemsProcessed(state.iterations() * int64_t(n));
+}
+BENCHMARK(BM_GlslDraw)
+    ->Args({512, 0})
+    ->Args({9216, 0})
+    ->Args({9216, 3})
+    ->Args({147456, 0})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
