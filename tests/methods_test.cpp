@@ -17,7 +17,7 @@ const char* kAllMethods[] = {
     R"({"name":"none"})",      R"({"name":"parallax"})",      R"({"name":"offset_limited"})",
     R"({"name":"steep"})",     R"({"name":"pom"})",           R"({"name":"relief"})",
     R"({"name":"iterative"})", R"({"name":"tangent_plane"})", R"({"name":"secant"})",
-    R"({"name":"contact"})"};
+    R"({"name":"contact"})",   R"({"name":"maxmip"})"};
 
 struct MethodRun {
     Vec2f uv;
@@ -37,6 +37,7 @@ MethodRun runFloat(const MethodConfig& cfg, const MethodTextures& tex, Vec2f uv0
 TEST(Methods, HeadOnViewReturnsBaseUv) {
     Texture t = test::smoothTexture(32, 32);
     MethodTextures tex = makeMethodTextures(t, 0.07, -0.035, 1.0, true);
+    tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> uni(0.f, 1.f);
     for (const char* m : kAllMethods) {

@@ -24,7 +24,8 @@ const char* kAll[] = {R"({"name":"none"})",
                       R"({"name":"iterative"})",
                       R"({"name":"tangent_plane"})",
                       R"({"name":"secant"})",
-                      R"({"name":"contact"})"};
+                      R"({"name":"contact"})",
+                      R"({"name":"maxmip"})"};
 
 // V in the tangent plane (V.z = 0 exactly) and below it: every method terminates, and its
 // result is either finite or non-finite (which the comparator counts and never averages).
@@ -32,6 +33,7 @@ TEST(Stress, MethodsTerminateWhenVzIsZeroOrNegative) {
     Texture t = test::smoothTexture(16, 16);
     for (double bias : {-0.05, -0.025, 0.0}) {
         MethodTextures tex = makeMethodTextures(t, 0.05, bias, 1.0, true);
+        tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
         for (Vec3f v : {Vec3f(1, 0, 0), Vec3f(0.6f, 0, -0.8f), Vec3f(0, 0, -1)}) {
             for (const char* m : kAll) {
                 MethodConfig cfg = test::method(m);

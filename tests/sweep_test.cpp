@@ -88,6 +88,7 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
                                                  "fetches_mean",
                                                  "fetches_max",
                                                  "ns_per_px",
+                                                 "precompute_ms",
                                                  "truth_uncertainty_p99",
                                                  "truth_uncertainty_max",
                                                  "mean_exact_frame",

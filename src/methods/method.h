@@ -26,10 +26,12 @@ enum class MethodKind {
     TangentPlane,
     Secant,
     Contact,
+    MaxMip,
     Glsl
 };
 
-struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
+struct GlslSpec;       // methods/glsl_spec.h: a user's shader function run in OpenGL
+struct MinMaxPyramid;  // heightfield/minmax_pyramid.h: maxmip's tree over the height map
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
@@ -40,6 +42,7 @@ struct MethodConfig {
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
     int iterations = 4;                     // iterative (003 Listing 7.9)
     int secantSteps = 3;                    // secant (Risser et al. 2007)
+    int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
     bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
@@ -62,10 +65,11 @@ inline constexpr int kSafetyStepCap = 1 << 16;
 // Texture access for the methods: every sample is one fetch (MODEL.md §8).
 template <class Real>
 struct MethodContext {
-    const Texture* height = nullptr;    // h
-    const Texture* normal = nullptr;    // m (iterative, tangent_plane)
-    const Texture* parallax = nullptr;  // m_z * (s*h + b)
-    Real scale = 0, bias = 0;           // s, b in UV units (MODEL.md §3)
+    const Texture* height = nullptr;         // h
+    const Texture* normal = nullptr;         // m (iterative, tangent_plane)
+    const Texture* parallax = nullptr;       // m_z * (s*h + b)
+    const MinMaxPyramid* pyramid = nullptr;  // maxmip
+    Real scale = 0, bias = 0;                // s, b in UV units (MODEL.md §3)
     int fetches = 0;
     uint32_t flags = 0;
 
@@ -96,5 +100,7 @@ const std::vector<std::string>& methodNames();
 bool needsDerivedMaps(MethodKind kind);
 // The same for a configuration (a GLSL method needs them when it names their samplers).
 bool needsDerivedMaps(const MethodConfig& cfg);
+// Which configurations trace the minimum-maximum pyramid (built once per height map).
+bool needsMinMaxPyramid(const MethodConfig& cfg);
 
 }  // namespace pgt

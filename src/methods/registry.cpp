@@ -7,6 +7,7 @@
 #include "methods/glsl_spec.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
+#include "methods/maxmip.h"
 #include "methods/refined.h"
 #include "methods/simple.h"
 
@@ -62,6 +63,10 @@ const std::vector<IntParameter> kContactParameters = {
     {"layers", &MethodConfig::minLayers, &MethodConfig::maxLayers, 1, kMaxLayers, true, 16},
 };
 
+const std::vector<IntParameter> kMaxMipParameters = {
+    {"max_iterations", &MethodConfig::maxIterations, nullptr, 1, 1 << 24},
+};
+
 const std::vector<IntParameter> kIterativeParameters = {
     {"iterations", &MethodConfig::iterations, nullptr, 1, 1024},
 };
@@ -108,6 +113,8 @@ const std::vector<MethodKindInfo>& methodKinds() {
          methodSecant<float>, methodSecant<double>},
         {"contact", K::Contact, kContactParameters, "layers", contactLabel, false,
          methodContact<float>, methodContact<double>},
+        {"maxmip", K::MaxMip, kMaxMipParameters, nullptr, nullptr, false, methodMaxMip<float>,
+         methodMaxMip<double>, true},
     };
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
@@ -156,6 +163,11 @@ void applyKindDefaults(MethodConfig& cfg) {
         cfg.*p.field = *p.byDefault;
         if (p.alsoField) cfg.*p.alsoField = *p.byDefault;
     }
+}
+
+bool needsMinMaxPyramid(const MethodConfig& cfg) {
+    const MethodKindInfo* info = kindInfo(cfg.kind);
+    return info && info->minMaxPyramid;
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {

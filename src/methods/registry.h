@@ -37,6 +37,7 @@ struct MethodKindInfo {
     bool derivedMaps = false;  // reads 003's normal and parallax maps
     MethodFunction<float> runFloat = nullptr;
     MethodFunction<double> runDouble = nullptr;
+    bool minMaxPyramid = false;  // traces heightfield/minmax_pyramid.h (precomputed per map)
 };
 
 // Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).

@@ -36,11 +36,23 @@ std::pair<double, double> methodScaleBias(const MethodConfig& cfg, const Displac
 
 const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
     const auto key = methodScaleBias(cfg, view);
-    const bool needDerived = needsDerivedMaps(cfg);
+    const bool needDerived = needsDerivedMaps(cfg), needPyramid = needsMinMaxPyramid(cfg);
+    if (needPyramid && !pyramid_) {
+        auto t0 = Clock::now();
+        pyramid_ = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(height_));
+        pyramidMs_ = msSince(t0);
+    }
     auto it = cache_.find(key);
-    if (it != cache_.end() && (!needDerived || it->second.derived)) return it->second;
-    cache_[key] = makeMethodTextures(height_, key.first, key.second, uvExtent_, needDerived);
-    return cache_[key];
+    if (it == cache_.end() || (needDerived && !it->second.derived)) {
+        cache_[key] = makeMethodTextures(height_, key.first, key.second, uvExtent_, needDerived);
+        it = cache_.find(key);
+    }
+    if (needPyramid && !it->second.pyramid) it->second.pyramid = pyramid_;  // a hit only reads
+    return it->second;
+}
+
+double MethodTextureCache::precomputeMs(const MethodConfig& cfg) const {
+    return needsMinMaxPyramid(cfg) ? pyramidMs_ : 0.0;
 }
 
 const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,

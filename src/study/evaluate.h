@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "core/samples.h"
 #include "heightfield/heightfield.h"
+#include "heightfield/minmax_pyramid.h"
 #include "methods/method.h"
 #include "raster/fragment_list.h"
 #include "scene/scene.h"
@@ -21,7 +22,8 @@ class GlMapUploads;  // gl/glsl_method.h
 // Inputs every method needs for one (s, b): the height map and, when asked for, 003's maps.
 struct MethodTextures {
     const Texture* height = nullptr;
-    std::unique_ptr<DerivedMaps> derived;  // only when a method needs them
+    std::unique_ptr<DerivedMaps> derived;          // only when a method needs them
+    std::shared_ptr<const MinMaxPyramid> pyramid;  // maxmip's, shared by every (s, b)
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
     // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),
@@ -41,6 +43,7 @@ MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
         c.normal = &tex.derived->normal;
         c.parallax = &tex.derived->parallax;
     }
+    c.pyramid = tex.pyramid.get();
     c.scale = Real(tex.scale);
     c.bias = Real(tex.bias);
     return c;
@@ -59,11 +62,16 @@ class MethodTextureCache {
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }
+    // The time its maps took to build a configuration's precomputed data (ms; 0 if none): the
+    // pyramid, built once for the map and kept across clear().
+    double precomputeMs(const MethodConfig& cfg) const;
 
   private:
     const Texture& height_;
     UvExtent uvExtent_;
     std::map<std::pair<double, double>, MethodTextures> cache_;
+    std::shared_ptr<const MinMaxPyramid> pyramid_;
+    double pyramidMs_ = 0;
 };
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.

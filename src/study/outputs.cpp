@@ -148,6 +148,7 @@ Json methodJson(const MethodFrame& m) {
     }
     j["config"] = toJson(m.config);
     j["ns_per_px"] = m.nsPerPixel;
+    j["precompute_ms"] = m.precomputeMs;
     j["timing_backend"] = m.timingBackend;
     return j;
 }
@@ -172,6 +173,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
             {"units",
              {{"error", "texels of the height map (MODEL.md section 7)"},
               {"ns_per_px", "single-threaded method time per rasterised pixel, median"},
+              {"precompute_ms", "build time of the method's precomputed maps, once per map"},
               {"scale_bias", "UV units (MODEL.md section 3)"}}}};
 }
 

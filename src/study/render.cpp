@@ -59,6 +59,7 @@ class BandPipeline {
           truth_(truth),
           timing_(timing),
           options_(options),
+          textures_(textures),
           r_(r),
           sampler_(timing.maxFragments, timing.seed) {
         const bool inPlace = options.keepImages || options.keepCodedErrors;
@@ -216,6 +217,7 @@ class BandPipeline {
             MethodFrame& mf = r_.methods[i];
             mf.config = *m.config;
             mf.timingBackend = timingBackend(*m.config);
+            mf.precomputeMs = textures_.precomputeMs(*m.config);
             mf.stats = m.tally.finish();
             mf.coded = m.tally.takeCoded();
             if (scene_.isMesh) {
@@ -237,6 +239,7 @@ class BandPipeline {
     const TruthInput truth_;
     const TimingSpec& timing_;
     const FrameOptions& options_;
+    const MethodTextureCache& textures_;
     RenderResult& r_;
     FragmentSampler sampler_;
     std::vector<MethodRun> runs_;

@@ -35,6 +35,9 @@ struct MethodFrame {
     FrameStats statsExactFrame;
     bool haveExactFrame = false;
     double nsPerPixel = 0;
+    // The build time of its precomputed data (maxmip's pyramid): once per map, shared by every
+    // view and (s, b) of a run; 0 for methods without any.
+    double precomputeMs = 0;
     std::string timingBackend;  // "cpu", or "gl: RENDERER" for GLSL methods
 };
 

@@ -104,6 +104,7 @@ const CsvTable<ResultRow>& resultTable() {
         Col{"fetches_mean", [](const ResultRow& x) { return num(x.m.stats.fetchesMean); }},
         Col{"fetches_max", [](const ResultRow& x) { return integer(x.m.stats.fetchesMax); }},
         Col{"ns_per_px", [](const ResultRow& x) { return num(x.m.nsPerPixel); }},
+        Col{"precompute_ms", [](const ResultRow& x) { return num(x.m.precomputeMs); }},
         Col{"truth_uncertainty_p99", uncertainty(&TruthUncertainty::p99Texels)},
         Col{"truth_uncertainty_max", uncertainty(&TruthUncertainty::maxTexels)},
         Col{"mean_exact_frame", exact(&Summary::mean)},

@@ -86,6 +86,7 @@ def key_rows(path):
     out = []
     for r in rows_of(path):
         r.pop("ns_per_px")
+        r.pop("precompute_ms")
         out.append(tuple(sorted(r.items())))
     return sorted(out)
 
