@@ -139,31 +139,6 @@ TEST(MaxMip, HeadOnReturnsUv0) {
     }
 }
 
-// The first crossing by dense steps (1/40000 of the relief's height) and bisection, in
-// double, sharing no code with maxmip.
-Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) {
-    const Vec2d dir = Vec2d(v.x, v.y) / v.z;
-    double lo = INFINITY, hi = -INFINITY;
-    for (float x : t.texels) lo = std::min(lo, double(x)), hi = std::max(hi, double(x));
-    const double top = s >= 0 ? s * hi + b : s * lo + b, bottom = s >= 0 ? s * lo + b : s * hi + b;
-    auto above = [&](double z) { return z - (s * sampleBilinear<double>(t, uv0 + dir * z) + b); };
-    const int n = 40000;
-    double prev = top;
-    for (int i = 1; i <= n; ++i) {
-        double z = top + (bottom - top) * i / n;
-        if (above(z) <= 0) {
-            double a = prev, c = z;
-            for (int k = 0; k < 100; ++k) {
-                double m = 0.5 * (a + c);
-                (above(m) > 0 ? a : c) = m;
-            }
-            return uv0 + dir * c;
-        }
-        prev = z;
-    }
-    return uv0 + dir * bottom;
-}
-
 // Rough maps that are not powers of two, both address modes, s of both signs, views to 86
 // degrees: maxmip (double) lands on the oracle's crossing. A dense step can jump over a
 // sliver of surface the exact tracer finds; such points (the oracle deeper) are counted.
@@ -178,7 +153,7 @@ TEST(MaxMip, AgreesWithADenseOracle) {
             for (int k = 0; k < 150; ++k) {
                 Vec2d uv0(uni(rng), uni(rng));
                 Vec3d v = viewFromAngles(86 * std::sqrt(uni(rng)), 360 * uni(rng));
-                Vec2d want = firstHit(t, s, b, uv0, v);
+                Vec2d want = test::firstHit(t, s, b, uv0, v);
                 uint32_t flags = 0;
                 Vec2d got = trace<double>(tex, uv0, v, nullptr, &flags);
                 EXPECT_EQ(flags, 0u);

@@ -14,30 +14,6 @@ namespace {
 using test::makeTexture;
 using test::method;
 
-// The first intersection of the eye ray with s*h + b (MODEL.md §3), in double, without any
-// method's code: dense steps down from the top of the relief, then bisection. uv(z) =
-// uv0 + V.xy / V.z * z for the ray's height z above the base.
-Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) {
-    const Vec2d dir = Vec2d(v.x, v.y) / v.z;
-    auto above = [&](double z) { return z - (s * sampleBilinear<double>(t, uv0 + dir * z) + b); };
-    double hi = s + b, lo = b;  // h in [0, 1]
-    const int n = 20000;
-    double zPrev = hi;
-    for (int i = 1; i <= n; ++i) {
-        double z = hi + (lo - hi) * i / n;
-        if (above(z) <= 0) {
-            double a = zPrev, c = z;  // above(a) > 0 >= above(c)
-            for (int k = 0; k < 80; ++k) {
-                double m = 0.5 * (a + c);
-                (above(m) > 0 ? a : c) = m;
-            }
-            return uv0 + dir * c;
-        }
-        zPrev = z;
-    }
-    return uv0 + dir * lo;
-}
-
 Vec2f runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2d uv0, Vec3d v,
              int* fetches = nullptr) {
     MethodContext<float> c = makeMethodContext<float>(tex);
@@ -84,7 +60,7 @@ double meanError(const MethodConfig& cfg, const Texture& t, double s, double b, 
     for (int k = 0; k < n; ++k) {
         Vec2d uv0(uni(rng), uni(rng));
         Vec3d v = viewFromAngles(theta, 360 * uni(rng));
-        Vec2d want = firstHit(t, s, b, uv0, v);
+        Vec2d want = test::firstHit(t, s, b, uv0, v);
         Vec2f got = runOne(cfg, tex, uv0, v);
         sum += std::hypot((got.x - want.x) * t.width, (got.y - want.y) * t.height);
     }

@@ -1,6 +1,8 @@
 // Helpers shared by the tests: textures from functions, programmatic scenes, temp dirs.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -65,6 +67,32 @@ inline std::filesystem::path tempDir(const std::string& name) {
              ("pgt_test_" + name + "_" + std::to_string(std::random_device{}()));
     std::filesystem::create_directories(p);
     return p;
+}
+
+// The first crossing of the eye ray with s*h + b (MODEL.md §3), in double, sharing no code
+// with any method: 40,000 steps down from the top of the relief to its bottom (the map's
+// highest and lowest texels), then bisection. uv(z) = uv0 + V.xy / V.z * z at height z.
+inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) {
+    const Vec2d dir = Vec2d(v.x, v.y) / v.z;
+    double lo = INFINITY, hi = -INFINITY;
+    for (float x : t.texels) lo = std::min(lo, double(x)), hi = std::max(hi, double(x));
+    const double top = s >= 0 ? s * hi + b : s * lo + b, bottom = s >= 0 ? s * lo + b : s * hi + b;
+    auto above = [&](double z) { return z - (s * sampleBilinear<double>(t, uv0 + dir * z) + b); };
+    const int n = 40000;
+    double prev = top;
+    for (int i = 1; i <= n; ++i) {
+        const double z = top + (bottom - top) * i / n;
+        if (above(z) <= 0) {
+            double a = prev, c = z;  // above(a) > 0 >= above(c)
+            for (int k = 0; k < 100; ++k) {
+                const double m = 0.5 * (a + c);
+                (above(m) > 0 ? a : c) = m;
+            }
+            return uv0 + dir * c;
+        }
+        prev = z;
+    }
+    return uv0 + dir * bottom;
 }
 
 inline std::string sharedDir() { return PGT_SHARED_DIR; }
