@@ -57,13 +57,16 @@ struct Agreement {
 Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& t, double s,
                 double b, const Inputs& in, double tolTexels) {
     DerivedMaps dm = makeDerivedMaps(t, s, b);
-    GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view);
+    const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
+    GlslRun run =
+        runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0, nullptr, &pyramid);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;
         c.height = &t;
         c.normal = &dm.normal;
         c.parallax = &dm.parallax;
+        c.pyramid = &pyramid;
         c.scale = float(s);
         c.bias = float(b);
         Vec2f want = runMethod<float>(cpu, c, in.uv0[k], in.view[k]);
@@ -138,6 +141,10 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
         {R"({"name":"contact","layers":16})",
          R"({"name":"g","glsl":"refined.glsl","function":"ContactRefinement","sampler":"heightMap",)" +
              bind + R"(,"layers":16}})",
+         true},
+        {R"({"name":"maxmip"})",
+         R"({"name":"g","glsl":"maxmip.glsl","function":"MaxMipTrace","sampler":"heightMap","pyramid_sampler":"pyramidMap",)" +
+             bind + R"(,"max_iterations":4096}})",
          true},
         {R"({"name":"iterative","iterations":4})",
          R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",

@@ -222,5 +222,25 @@ TEST(MaxMip, MatchesTheReferenceVectorsExactCrossing) {
     EXPECT_GT(compared, 100);
 }
 
+// The maps a study's configurations share: maxmip's pyramid is built once and survives a
+// later configuration that needs 003's derived maps for the same (s, b) (the entry grows,
+// it is not replaced under the methods that hold it), and a clear() between surfaces.
+TEST(MaxMip, TextureCacheKeepsThePyramid) {
+    Texture t = roughTexture(32, 32, Address::Repeat, 4);
+    MethodTextureCache cache(t, UvExtent{});
+    const MethodConfig mm = method(R"({"name":"maxmip"})"), it = method(R"({"name":"iterative"})");
+    const MethodTextures& a = cache.get(mm, {0.05, -0.025});
+    const MinMaxPyramid* p = a.pyramid.get();
+    ASSERT_NE(p, nullptr);
+    const MethodTextures& b = cache.get(it, {0.05, -0.025});
+    EXPECT_EQ(&a, &b);
+    EXPECT_EQ(a.pyramid.get(), p);
+    EXPECT_NE(a.derived, nullptr);
+    EXPECT_EQ(cache.precomputeMs(it), 0.0);
+    EXPECT_GE(cache.precomputeMs(mm), 0.0);
+    cache.clear();
+    EXPECT_EQ(cache.get(mm, {0.1, 0.0}).pyramid.get(), p);  // built once per map
+}
+
 }  // namespace
 }  // namespace pgt

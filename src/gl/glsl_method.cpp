@@ -98,13 +98,46 @@ unsigned GlMapUploads::texture(const Texture& map, bool depth) {
     return id;
 }
 
+// The pyramid's levels stacked in one RG32F image as wide as level 0: (lo, hi) per node.
+GLuint uploadPyramid(const MinMaxPyramid& p) {
+    int rows = 0;
+    for (const auto& l : p.levels) rows += l.h;
+    const int w = p.levels[0].w;
+    std::vector<float> data(size_t(w) * rows * 2, 0.0f);
+    int row = 0;
+    for (const auto& l : p.levels) {
+        for (int j = 0; j < l.h; ++j)
+            for (int i = 0; i < l.w; ++i) {
+                const size_t at = (size_t(row + j) * w + i) * 2, from = size_t(j) * l.w + i;
+                data[at] = l.lo[from];
+                data[at + 1] = l.hi[from];
+            }
+        row += l.h;
+    }
+    return makeTexture(GL_RG32F, GL_RG, w, rows, data.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+}
+
+unsigned GlMapUploads::pyramid(const MinMaxPyramid& p) {
+    auto it = pyramids_.find(&p);
+    if (it != pyramids_.end()) return it->second;
+    GLuint id = uploadPyramid(p);
+    pyramids_[&p] = id;
+    ++gLiveMaps;
+    return id;
+}
+
 GlMapUploads::~GlMapUploads() {
-    if (ids_.empty()) return;
+    if (ids_.empty() && pyramids_.empty()) return;
     try {
         onGlThread([this] {
             std::lock_guard<std::mutex> lock(gMutex);
             ensureContext();
             for (const auto& [key, id] : ids_) {
+                GLuint t = id;
+                glDeleteTextures(1, &t);
+                --gLiveMaps;
+            }
+            for (const auto& [key, id] : pyramids_) {
                 GLuint t = id;
                 glDeleteTextures(1, &t);
                 --gLiveMaps;
@@ -127,6 +160,7 @@ struct DrawMaps {
     const Texture* parallax;
     double scale, bias;
     GlMapUploads& uploads;
+    const MinMaxPyramid* pyramid;
 };
 
 // A chunk's fragments as two input images and its two outputs: fragment k at texel
@@ -193,8 +227,32 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
                          "does not match the uniform's type in the shader");
 }
 
+// maxmip's pyramid (unit 5) and the uniforms that describe it and the map, where declared.
+void bindPyramid(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
+    glUniform2i(glGetUniformLocation(prog, "pgt_map_size"), maps.height.width, maps.height.height);
+    glUniform1i(glGetUniformLocation(prog, "pgt_map_repeat"),
+                maps.height.address == Address::Repeat ? 1 : 0);
+    if (spec.pyramidSampler.empty()) return;
+    GLint loc = glGetUniformLocation(prog, spec.pyramidSampler.c_str());
+    if (loc < 0)
+        throw InputError(spec.path, "pyramid_sampler", spec.pyramidSampler,
+                         "is not an active sampler2D uniform of the shader");
+    PGT_CHECK(maps.pyramid != nullptr);
+    glActiveTexture(GL_TEXTURE5);
+    glBindTexture(GL_TEXTURE_2D, maps.uploads.pyramid(*maps.pyramid));
+    glUniform1i(loc, 5);
+    int row = 0;
+    for (size_t k = 0; k < maps.pyramid->levels.size(); ++k) {
+        const std::string name = "pgt_pyramid_row[" + std::to_string(k) + "]";
+        glUniform1i(glGetUniformLocation(prog, name.c_str()), row);
+        row += maps.pyramid->levels[k].h;
+    }
+    glUniform1i(glGetUniformLocation(prog, "pgt_pyramid_top"), maps.pyramid->top());
+    checkGl("binding the pyramid of " + spec.path);
+}
+
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
-// 3 = normal map, 4 = parallax map.
+// 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid.
 void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
                 const FragmentImages& img) {
     bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
@@ -211,6 +269,7 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
     glUniform1i(glGetUniformLocation(prog, "pgt_view"), 2);
     glUniform1i(glGetUniformLocation(prog, "pgt_count"), img.n);
     glUniform1i(glGetUniformLocation(prog, "pgt_width"), img.w);
+    bindPyramid(prog, spec, maps);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
 }
 
@@ -297,7 +356,7 @@ namespace {
 GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* normal,
                     const Texture* parallax, double scale, double bias,
                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                    int timingRepeats, GlMapUploads* uploads) {
+                    int timingRepeats, GlMapUploads* uploads, const MinMaxPyramid* pyramid) {
     GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();
@@ -305,7 +364,7 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
     checkMapFits(spec, "sampler", spec.sampler, &height);
     checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
     checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
-    const DrawMaps maps{height, normal, parallax, scale, bias, uploads ? *uploads : once};
+    const DrawMaps maps{height, normal, parallax, scale, bias, uploads ? *uploads : once, pyramid};
     if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
     GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
     for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
@@ -326,12 +385,13 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads) {
+                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
+                const MinMaxPyramid* pyramid) {
     PGT_CHECK_EQ(uv0.size(), view.size());
     GlslRun run;
     onGlThread([&] {
         run = runGlslHere(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats,
-                          uploads);
+                          uploads, pyramid);
     });
     return run;
 }

@@ -23,9 +23,11 @@ vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s
 vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
 vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
     pgt_fetches++; return textureGrad(s, p, dx, dy); }
+vec4 pgt_texelFetch(sampler2D s, ivec2 p, int l) { pgt_fetches++; return texelFetch(s, p, l); }
 #define texture pgt_texture
 #define textureLod pgt_textureLod
 #define textureGrad pgt_textureGrad
+#define texelFetch pgt_texelFetch
 )";
 
 constexpr const char* kMain = R"(

@@ -71,6 +71,8 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     // normal (RGB) and m_z * (s*h + b), built for the truth's (s, b).
     spec->normalSampler = f.string("normal_sampler", "");
     spec->parallaxSampler = f.string("parallax_sampler", "");
+    // The height map's minimum-maximum pyramid (maxmip's twin; README "GLSL methods").
+    spec->pyramidSampler = f.string("pyramid_sampler", "");
     spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
@@ -210,6 +212,7 @@ Json toJson(const MethodConfig& c) {
         j["function"] = c.glsl->function;
         j["sampler"] = c.glsl->sampler;
         j["texture"] = c.glsl->depthTexture ? "depth" : "height";
+        if (!c.glsl->pyramidSampler.empty()) j["pyramid_sampler"] = c.glsl->pyramidSampler;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
             u[un.name] = !un.bind.empty()        ? Json(un.bind)

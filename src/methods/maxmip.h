@@ -65,7 +65,8 @@ bool firstRoot(Real A, Real B, Real C, Real sigma1, Real& sigma) {
 // The ray: uv(z) = uv0 + V.xy / V.z * z for heights z from the top of the relief (s * max h
 // + b; s * min h + b when s < 0) down to its bottom, where it must have met the surface. In
 // texel-centre lattice units (x = u W - 0.5) it is X(tau) = X0 + dX tau with tau = zTop - z.
-// Fetches: one per pyramid node read and four per cell patch (its corners). Each node
+// Fetches: one per pyramid node read (the top one for the map's range first) and four per
+// cell patch (its corners). Each node
 // visited is one of max_iterations; the bound reached is flagged as a step limit.
 template <class Real>
 Vec2<Real> methodMaxMip(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
@@ -77,6 +78,7 @@ Vec2<Real> methodMaxMip(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         c.flags |= kFlagZeroDivide;  // the eye is not above the surface: no first hit
         return Vec2<Real>(NAN);
     }
+    ++c.fetches;  // the map's range: the pyramid's top node
     const Real zTop = s >= Real(0) ? s * Real(p.hi) + b : s * Real(p.lo) + b;
     const Real zBot = s >= Real(0) ? s * Real(p.lo) + b : s * Real(p.hi) + b;
     const Real W = Real(p.width), H = Real(p.height);

@@ -166,6 +166,7 @@ void applyKindDefaults(MethodConfig& cfg) {
 }
 
 bool needsMinMaxPyramid(const MethodConfig& cfg) {
+    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty();
     const MethodKindInfo* info = kindInfo(cfg.kind);
     return info && info->minMaxPyramid;
 }

@@ -43,10 +43,16 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
         pyramidMs_ = msSince(t0);
     }
     auto it = cache_.find(key);
-    if (it == cache_.end() || (needDerived && !it->second.derived)) {
-        cache_[key] = makeMethodTextures(height_, key.first, key.second, uvExtent_, needDerived);
-        it = cache_.find(key);
-    }
+    if (it == cache_.end())
+        it = cache_
+                 .emplace(key, makeMethodTextures(height_, key.first, key.second, uvExtent_,
+                                                  needDerived))
+                 .first;
+    // An entry made for other methods gains what this one needs; it is never replaced, since
+    // methods set up before hold it.
+    if (needDerived && !it->second.derived)
+        it->second.derived =
+            std::make_unique<DerivedMaps>(makeDerivedMaps(height_, key.first, key.second));
     if (needPyramid && !it->second.pyramid) it->second.pyramid = pyramid_;  // a hit only reads
     return it->second;
 }
@@ -112,7 +118,7 @@ GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const Fr
                    tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
                    toFloat<Vec2f>(frags.uv0),
                    toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view), repeats,
-                   tex.glMaps.get());
+                   tex.glMaps.get(), tex.pyramid.get());
 }
 
 }  // namespace
