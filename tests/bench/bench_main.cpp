@@ -145,6 +145,8 @@ void BM_Method(benchmark::State& state, const char* json) {
     static Texture t = smooth(256);
     MethodConfig cfg = parseMethod(nlohmann::json::parse(json), "bench", "method");
     MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, needsDerivedMaps(cfg.kind));
+    if (needsMinMaxPyramid(cfg))
+        tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
     std::vector<Vec2f> uv0(65536);
     Vec3f v(viewFromAngles(60, 20));
     for (size_t k = 0; k < uv0.size(); ++k)
@@ -168,6 +170,19 @@ BENCHMARK_CAPTURE(BM_Method, pom_8_32, R"({"name":"pom"})");
 BENCHMARK_CAPTURE(BM_Method, relief_10_5, R"({"name":"relief"})");
 BENCHMARK_CAPTURE(BM_Method, iterative_4, R"({"name":"iterative"})");
 BENCHMARK_CAPTURE(BM_Method, tangent_plane, R"({"name":"tangent_plane"})");
+BENCHMARK_CAPTURE(BM_Method, secant_10_3, R"({"name":"secant"})");
+BENCHMARK_CAPTURE(BM_Method, contact_16, R"({"name":"contact"})");
+BENCHMARK_CAPTURE(BM_Method, maxmip, R"({"name":"maxmip"})");
+
+// maxmip's precomputation: the minimum-maximum pyramid of a range(0)^2 map (one thread).
+void BM_MinMaxPyramid(benchmark::State& state) {
+    Texture t = smooth(int(state.range(0)));
+    for (auto _ : state) {
+        MinMaxPyramid p = buildMinMaxPyramid(t);
+        benchmark::DoNotOptimize(p.levels.data());
+    }
+}
+BENCHMARK(BM_MinMaxPyramid)->Arg(256)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 // A GLSL preset's draw through the GL path (upload, draw, read back) over range(0)
 // fragments at theta 60: the per-draw overhead shows as the gap between small and large
