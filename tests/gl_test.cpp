@@ -26,22 +26,8 @@ namespace {
 
 std::string shaderDir() { return test::sourceDir() + "/src/shaders"; }
 
-struct Inputs {
-    std::vector<Vec2f> uv0;
-    std::vector<Vec3f> view;
-};
-
-// Seeded fragments: uv0 over the tile, V up to theta 85 in every direction.
-Inputs randomInputs(int n, uint32_t seed) {
-    Inputs in;
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> uni(0.0, 1.0);
-    for (int k = 0; k < n; ++k) {
-        in.uv0.push_back(Vec2f(float(uni(rng)), float(uni(rng))));
-        in.view.push_back(Vec3f(viewFromAngles(85 * std::sqrt(uni(rng)), 360 * uni(rng))));
-    }
-    return in;
-}
+using Inputs = test::Fragments;
+Inputs randomInputs(int n, uint32_t seed) { return test::randomFragments(n, seed); }
 
 MethodConfig glslMethod(const std::string& json) {
     return parseMethod(nlohmann::json::parse(json), shaderDir() + "/scene.json", "methods[0]");

@@ -62,6 +62,22 @@ inline Scene planeScene(Texture height, double scale, double bias, double theta,
     return s;
 }
 
+// Seeded fragments: uv0 over the tile, V up to theta `maxTheta` degrees in every direction.
+struct Fragments {
+    std::vector<Vec2f> uv0;
+    std::vector<Vec3f> view;
+};
+inline Fragments randomFragments(int n, uint32_t seed, double maxTheta = 85) {
+    Fragments in;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    for (int k = 0; k < n; ++k) {
+        in.uv0.push_back(Vec2f(float(uni(rng)), float(uni(rng))));
+        in.view.push_back(Vec3f(viewFromAngles(maxTheta * std::sqrt(uni(rng)), 360 * uni(rng))));
+    }
+    return in;
+}
+
 inline std::filesystem::path tempDir(const std::string& name) {
     auto p = std::filesystem::temp_directory_path() /
              ("pgt_test_" + name + "_" + std::to_string(std::random_device{}()));

@@ -89,6 +89,18 @@ const std::vector<MethodPreset>& methodPresets() {
                    "presets/bevy.glsl", "BevyRelief", "depthMap", true,
                    {uniform("depth_scale", 0.1), uniform("max_layer_count", 16.0),
                     uniform("max_steps", 5, true)}),
+        glslPreset("unity_hdrp",
+                   "Unity HDRP Lit pixel displacement: amplitude 2 cm on a 1 m primitive "
+                   "(0.02 UV), 5-15 samples by view angle, 3 secant steps",
+                   "presets/unity_hdrp.glsl", "UnityHdrpPom", "heightMap", false,
+                   {uniform("height_amplitude", 0.02), uniform("ppd_min_samples", 5.0),
+                    uniform("ppd_max_samples", 15.0)}),
+        glslPreset("tatarchuk",
+                   "Tatarchuk I3D 2006 / DirectX SDK POM sample: height scale 0.02, "
+                   "lerp(50, 8) samples by dot(V, N)",
+                   "presets/tatarchuk.glsl", "TatarchukPom", "heightMap", false,
+                   {uniform("height_map_scale", 0.02), uniform("min_samples", 8.0),
+                    uniform("max_samples", 50.0)}),
     };
     return presets;
 }
