@@ -44,8 +44,9 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
                 double b, const Inputs& in, double tolTexels) {
     DerivedMaps dm = makeDerivedMaps(t, s, b);
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
-    GlslRun run =
-        runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0, nullptr, &pyramid);
+    const ConeMap cone = buildConeMap(t, pyramid, s < 0);
+    GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0,
+                          nullptr, &pyramid, &cone);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;
@@ -53,6 +54,7 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
         c.normal = &dm.normal;
         c.parallax = &dm.parallax;
         c.pyramid = &pyramid;
+        c.cone = &cone;
         c.scale = float(s);
         c.bias = float(b);
         Vec2f want = runMethod<float>(cpu, c, in.uv0[k], in.view[k]);
@@ -131,6 +133,10 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
         {R"({"name":"maxmip"})",
          R"({"name":"g","glsl":"maxmip.glsl","function":"MaxMipTrace","sampler":"heightMap","pyramid_sampler":"pyramidMap",)" +
              bind + R"(,"max_iterations":4096}})",
+         true},
+        {R"({"name":"cone","steps":32,"refine_steps":5})",
+         R"({"name":"g","glsl":"cone.glsl","function":"ConeStep","sampler":"heightMap","cone_sampler":"coneMap",)" +
+             bind + R"(,"steps":32,"refine_steps":5}})",
          true},
         {R"({"name":"iterative","iterations":4})",
          R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",

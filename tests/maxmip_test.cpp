@@ -236,8 +236,8 @@ TEST(MaxMip, TextureCacheKeepsThePyramid) {
     EXPECT_EQ(&a, &b);
     EXPECT_EQ(a.pyramid.get(), p);
     EXPECT_NE(a.derived, nullptr);
-    EXPECT_EQ(cache.precomputeMs(it), 0.0);
-    EXPECT_GE(cache.precomputeMs(mm), 0.0);
+    EXPECT_EQ(cache.precomputeMs(it, {0.05, -0.025}), 0.0);
+    EXPECT_GE(cache.precomputeMs(mm, {0.05, -0.025}), 0.0);
     cache.clear();
     EXPECT_EQ(cache.get(mm, {0.1, 0.0}).pyramid.get(), p);  // built once per map
 }

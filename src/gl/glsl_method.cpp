@@ -118,16 +118,26 @@ GLuint uploadPyramid(const MinMaxPyramid& p) {
 }
 
 unsigned GlMapUploads::pyramid(const MinMaxPyramid& p) {
-    auto it = pyramids_.find(&p);
-    if (it != pyramids_.end()) return it->second;
+    auto it = precomputed_.find(&p);
+    if (it != precomputed_.end()) return it->second;
     GLuint id = uploadPyramid(p);
-    pyramids_[&p] = id;
+    precomputed_[&p] = id;
+    ++gLiveMaps;
+    return id;
+}
+
+unsigned GlMapUploads::cone(const ConeMap& m) {
+    auto it = precomputed_.find(&m);
+    if (it != precomputed_.end()) return it->second;
+    GLuint id = makeTexture(GL_R32F, GL_RED, m.cellsX, m.cellsY, m.ratio.data(), GL_NEAREST,
+                            GL_CLAMP_TO_EDGE);
+    precomputed_[&m] = id;
     ++gLiveMaps;
     return id;
 }
 
 GlMapUploads::~GlMapUploads() {
-    if (ids_.empty() && pyramids_.empty()) return;
+    if (ids_.empty() && precomputed_.empty()) return;
     try {
         onGlThread([this] {
             std::lock_guard<std::mutex> lock(gMutex);
@@ -137,7 +147,7 @@ GlMapUploads::~GlMapUploads() {
                 glDeleteTextures(1, &t);
                 --gLiveMaps;
             }
-            for (const auto& [key, id] : pyramids_) {
+            for (const auto& [key, id] : precomputed_) {
                 GLuint t = id;
                 glDeleteTextures(1, &t);
                 --gLiveMaps;
@@ -161,6 +171,7 @@ struct DrawMaps {
     double scale, bias;
     GlMapUploads& uploads;
     const MinMaxPyramid* pyramid;
+    const ConeMap* cone;
 };
 
 // A chunk's fragments as two input images and its two outputs: fragment k at texel
@@ -251,8 +262,26 @@ void bindPyramid(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
     checkGl("binding the pyramid of " + spec.path);
 }
 
+// cone's map (unit 6), its cell counts, the map's top and whether it is built for s < 0.
+void bindCone(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
+    if (spec.coneSampler.empty()) return;
+    GLint loc = glGetUniformLocation(prog, spec.coneSampler.c_str());
+    if (loc < 0)
+        throw InputError(spec.path, "cone_sampler", spec.coneSampler,
+                         "is not an active sampler2D uniform of the shader");
+    PGT_CHECK(maps.cone != nullptr);
+    glActiveTexture(GL_TEXTURE6);
+    glBindTexture(GL_TEXTURE_2D, maps.uploads.cone(*maps.cone));
+    glUniform1i(loc, 6);
+    glUniform2i(glGetUniformLocation(prog, "pgt_cone_cells"), maps.cone->cellsX,
+                maps.cone->cellsY);
+    glUniform1f(glGetUniformLocation(prog, "pgt_cone_top"), maps.cone->top);
+    glUniform1i(glGetUniformLocation(prog, "pgt_cone_inverted"), maps.cone->inverted ? 1 : 0);
+    checkGl("binding the cone map of " + spec.path);
+}
+
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
-// 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid.
+// 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map.
 void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
                 const FragmentImages& img) {
     bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
@@ -270,6 +299,7 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
     glUniform1i(glGetUniformLocation(prog, "pgt_count"), img.n);
     glUniform1i(glGetUniformLocation(prog, "pgt_width"), img.w);
     bindPyramid(prog, spec, maps);
+    bindCone(prog, spec, maps);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
 }
 
@@ -356,7 +386,8 @@ namespace {
 GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* normal,
                     const Texture* parallax, double scale, double bias,
                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                    int timingRepeats, GlMapUploads* uploads, const MinMaxPyramid* pyramid) {
+                    int timingRepeats, GlMapUploads* uploads, const MinMaxPyramid* pyramid,
+                    const ConeMap* cone) {
     GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();
@@ -364,7 +395,8 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
     checkMapFits(spec, "sampler", spec.sampler, &height);
     checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
     checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
-    const DrawMaps maps{height, normal, parallax, scale, bias, uploads ? *uploads : once, pyramid};
+    const DrawMaps maps{height, normal,     parallax, scale, bias, uploads ? *uploads : once,
+                        pyramid, cone};
     if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
     GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
     for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
@@ -386,12 +418,12 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
-                const MinMaxPyramid* pyramid) {
+                const MinMaxPyramid* pyramid, const ConeMap* cone) {
     PGT_CHECK_EQ(uv0.size(), view.size());
     GlslRun run;
     onGlThread([&] {
         run = runGlslHere(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats,
-                          uploads, pyramid);
+                          uploads, pyramid, cone);
     });
     return run;
 }

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "heightfield/cone_map.h"
 #include "heightfield/minmax_pyramid.h"
 #include "heightfield/texture.h"
 #include "methods/glsl_spec.h"
@@ -46,13 +47,15 @@ class GlMapUploads {
     unsigned texture(const Texture& map, bool depth);
     // The pyramid as one RG32F texture, level k from row levelRow(k) on (nearest texels).
     unsigned pyramid(const MinMaxPyramid& p);
+    // The cone map as an R32F texture of its cells (nearest texels).
+    unsigned cone(const ConeMap& m);
     size_t size() const { return ids_.size(); }
     // Map textures alive in the process, over every owner.
     static size_t liveTextures();
 
   private:
     std::map<std::pair<const Texture*, bool>, unsigned> ids_;
-    std::map<const MinMaxPyramid*, unsigned> pyramids_;
+    std::map<const void*, unsigned> precomputed_;  // pyramids and cone maps
 };
 
 // One run of a GLSL method over a list of fragments.
@@ -68,11 +71,12 @@ struct GlslRun {
 // without one, for this call only. Compile and link errors throw InputError naming the user's file
 // and line. `timingRepeats` > 0 also times the draw with GL timer queries. `normal` and `parallax`
 // are 003's derived maps (needed when the spec names their samplers). `scale`, `bias`: the (s, b)
-// of the case, for uniforms bound to them. `pyramid`: the height map's (needed when the spec
-// names a pyramid sampler).
+// of the case, for uniforms bound to them. `pyramid`, `cone`: the height map's (needed when
+// the spec names a pyramid or cone sampler).
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats = 0,
-                GlMapUploads* uploads = nullptr, const MinMaxPyramid* pyramid = nullptr);
+                GlMapUploads* uploads = nullptr, const MinMaxPyramid* pyramid = nullptr,
+                const ConeMap* cone = nullptr);
 
 }  // namespace pgt

@@ -73,6 +73,8 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     spec->parallaxSampler = f.string("parallax_sampler", "");
     // The height map's minimum-maximum pyramid (maxmip's twin; README "GLSL methods").
     spec->pyramidSampler = f.string("pyramid_sampler", "");
+    // The conservative cone map (cone's twin): one R32F ratio per cell, nearest.
+    spec->coneSampler = f.string("cone_sampler", "");
     spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
@@ -213,6 +215,7 @@ Json toJson(const MethodConfig& c) {
         j["sampler"] = c.glsl->sampler;
         j["texture"] = c.glsl->depthTexture ? "depth" : "height";
         if (!c.glsl->pyramidSampler.empty()) j["pyramid_sampler"] = c.glsl->pyramidSampler;
+        if (!c.glsl->coneSampler.empty()) j["cone_sampler"] = c.glsl->coneSampler;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
             u[un.name] = !un.bind.empty()        ? Json(un.bind)

@@ -27,11 +27,13 @@ enum class MethodKind {
     Secant,
     Contact,
     MaxMip,
+    Cone,
     Glsl
 };
 
 struct GlslSpec;       // methods/glsl_spec.h: a user's shader function run in OpenGL
 struct MinMaxPyramid;  // heightfield/minmax_pyramid.h: maxmip's tree over the height map
+struct ConeMap;        // heightfield/cone_map.h: cone's ratios per cell
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
@@ -43,6 +45,7 @@ struct MethodConfig {
     int iterations = 4;                     // iterative (003 Listing 7.9)
     int secantSteps = 3;                    // secant (Risser et al. 2007)
     int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
+    int coneSteps = 32;                     // cone (Dummer 2006); refine_steps is binarySteps
     bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
@@ -69,6 +72,7 @@ struct MethodContext {
     const Texture* normal = nullptr;         // m (iterative, tangent_plane)
     const Texture* parallax = nullptr;       // m_z * (s*h + b)
     const MinMaxPyramid* pyramid = nullptr;  // maxmip
+    const ConeMap* cone = nullptr;           // cone: the map for the sign of s
     Real scale = 0, bias = 0;                // s, b in UV units (MODEL.md §3)
     int fetches = 0;
     uint32_t flags = 0;
@@ -102,5 +106,7 @@ bool needsDerivedMaps(MethodKind kind);
 bool needsDerivedMaps(const MethodConfig& cfg);
 // Which configurations trace the minimum-maximum pyramid (built once per height map).
 bool needsMinMaxPyramid(const MethodConfig& cfg);
+// Which read a conservative cone map (built once per map and sign of s, from the pyramid).
+bool needsConeMap(const MethodConfig& cfg);
 
 }  // namespace pgt

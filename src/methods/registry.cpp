@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "methods/glsl_spec.h"
+#include "methods/cone.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
 #include "methods/maxmip.h"
@@ -67,6 +68,16 @@ const std::vector<IntParameter> kMaxMipParameters = {
     {"max_iterations", &MethodConfig::maxIterations, nullptr, 1, 1 << 24},
 };
 
+// Dummer's cone step mapping: 32 cone steps; 5 bisections after them (pgt's refinement).
+const std::vector<IntParameter> kConeParameters = {
+    {"steps", &MethodConfig::coneSteps, nullptr, 0, kMaxLayers, true, 32},
+    {"refine_steps", &MethodConfig::binarySteps, nullptr, 0, 64, true, 5},
+};
+
+std::string coneLabel(const MethodConfig& c) {
+    return std::to_string(c.coneSteps) + "_" + std::to_string(c.binarySteps);
+}
+
 const std::vector<IntParameter> kIterativeParameters = {
     {"iterations", &MethodConfig::iterations, nullptr, 1, 1024},
 };
@@ -115,6 +126,8 @@ const std::vector<MethodKindInfo>& methodKinds() {
          methodContact<float>, methodContact<double>},
         {"maxmip", K::MaxMip, kMaxMipParameters, nullptr, nullptr, false, methodMaxMip<float>,
          methodMaxMip<double>, true},
+        {"cone", K::Cone, kConeParameters, "steps", coneLabel, false, methodCone<float>,
+         methodCone<double>, true, true},
     };
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
@@ -166,9 +179,15 @@ void applyKindDefaults(MethodConfig& cfg) {
 }
 
 bool needsMinMaxPyramid(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty();
+    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty() || !cfg.glsl->coneSampler.empty();
     const MethodKindInfo* info = kindInfo(cfg.kind);
     return info && info->minMaxPyramid;
+}
+
+bool needsConeMap(const MethodConfig& cfg) {
+    if (cfg.glsl) return !cfg.glsl->coneSampler.empty();
+    const MethodKindInfo* info = kindInfo(cfg.kind);
+    return info && info->coneMap;
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {

@@ -38,6 +38,7 @@ struct MethodKindInfo {
     MethodFunction<float> runFloat = nullptr;
     MethodFunction<double> runDouble = nullptr;
     bool minMaxPyramid = false;  // traces heightfield/minmax_pyramid.h (precomputed per map)
+    bool coneMap = false;        // reads heightfield/cone_map.h (per map and sign of s)
 };
 
 // Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).

@@ -54,11 +54,22 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
         it->second.derived =
             std::make_unique<DerivedMaps>(makeDerivedMaps(height_, key.first, key.second));
     if (needPyramid && !it->second.pyramid) it->second.pyramid = pyramid_;  // a hit only reads
+    if (needsConeMap(cfg) && !it->second.cone) {
+        const int sign = key.first < 0 ? 1 : 0;
+        if (!cone_[sign]) {
+            auto t0 = Clock::now();
+            cone_[sign] = std::make_shared<const ConeMap>(buildConeMap(height_, *pyramid_, sign));
+            coneMs_[sign] = msSince(t0);
+        }
+        it->second.cone = cone_[sign];
+    }
     return it->second;
 }
 
-double MethodTextureCache::precomputeMs(const MethodConfig& cfg) const {
-    return needsMinMaxPyramid(cfg) ? pyramidMs_ : 0.0;
+double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacement& view) const {
+    double ms = needsMinMaxPyramid(cfg) ? pyramidMs_ : 0.0;
+    if (needsConeMap(cfg)) ms += coneMs_[methodScaleBias(cfg, view).first < 0 ? 1 : 0];
+    return ms;
 }
 
 const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,
@@ -118,7 +129,7 @@ GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const Fr
                    tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
                    toFloat<Vec2f>(frags.uv0),
                    toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view), repeats,
-                   tex.glMaps.get(), tex.pyramid.get());
+                   tex.glMaps.get(), tex.pyramid.get(), tex.cone.get());
 }
 
 }  // namespace

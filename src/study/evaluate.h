@@ -10,6 +10,7 @@
 #include "core/image.h"
 #include "core/samples.h"
 #include "heightfield/heightfield.h"
+#include "heightfield/cone_map.h"
 #include "heightfield/minmax_pyramid.h"
 #include "methods/method.h"
 #include "raster/fragment_list.h"
@@ -24,6 +25,7 @@ struct MethodTextures {
     const Texture* height = nullptr;
     std::unique_ptr<DerivedMaps> derived;          // only when a method needs them
     std::shared_ptr<const MinMaxPyramid> pyramid;  // maxmip's, shared by every (s, b)
+    std::shared_ptr<const ConeMap> cone;           // cone's, for the sign of s
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
     // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),
@@ -44,6 +46,7 @@ MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
         c.parallax = &tex.derived->parallax;
     }
     c.pyramid = tex.pyramid.get();
+    c.cone = tex.cone.get();
     c.scale = Real(tex.scale);
     c.bias = Real(tex.bias);
     return c;
@@ -62,9 +65,10 @@ class MethodTextureCache {
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }
-    // The time its maps took to build a configuration's precomputed data (ms; 0 if none): the
-    // pyramid, built once for the map and kept across clear().
-    double precomputeMs(const MethodConfig& cfg) const;
+    // The time its maps took to build a configuration's precomputed data in a view of (s, b)
+    // `view` (ms; 0 if none): the pyramid, and the cone map of the sign of s from it, each
+    // built once for the map and kept across clear().
+    double precomputeMs(const MethodConfig& cfg, const Displacement& view) const;
 
   private:
     const Texture& height_;
@@ -72,6 +76,8 @@ class MethodTextureCache {
     std::map<std::pair<double, double>, MethodTextures> cache_;
     std::shared_ptr<const MinMaxPyramid> pyramid_;
     double pyramidMs_ = 0;
+    std::shared_ptr<const ConeMap> cone_[2];  // s >= 0, s < 0
+    double coneMs_[2] = {0, 0};
 };
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.

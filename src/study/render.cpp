@@ -217,7 +217,7 @@ class BandPipeline {
             MethodFrame& mf = r_.methods[i];
             mf.config = *m.config;
             mf.timingBackend = timingBackend(*m.config);
-            mf.precomputeMs = textures_.precomputeMs(*m.config);
+            mf.precomputeMs = textures_.precomputeMs(*m.config, r_.view.displacement);
             mf.stats = m.tally.finish();
             mf.coded = m.tally.takeCoded();
             if (scene_.isMesh) {

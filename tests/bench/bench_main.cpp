@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "gl/glsl_method.h"
+#include "heightfield/heightfield.h"
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "scene/scene.h"
@@ -147,6 +148,8 @@ void BM_Method(benchmark::State& state, const char* json) {
     MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, needsDerivedMaps(cfg.kind));
     if (needsMinMaxPyramid(cfg))
         tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
+    if (needsConeMap(cfg))
+        tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, *tex.pyramid, false));
     std::vector<Vec2f> uv0(65536);
     Vec3f v(viewFromAngles(60, 20));
     for (size_t k = 0; k < uv0.size(); ++k)
@@ -173,6 +176,7 @@ BENCHMARK_CAPTURE(BM_Method, tangent_plane, R"({"name":"tangent_plane"})");
 BENCHMARK_CAPTURE(BM_Method, secant_10_3, R"({"name":"secant"})");
 BENCHMARK_CAPTURE(BM_Method, contact_16, R"({"name":"contact"})");
 BENCHMARK_CAPTURE(BM_Method, maxmip, R"({"name":"maxmip"})");
+BENCHMARK_CAPTURE(BM_Method, cone_32_5, R"({"name":"cone"})");
 
 // maxmip's precomputation: the minimum-maximum pyramid of a range(0)^2 map (one thread).
 void BM_MinMaxPyramid(benchmark::State& state) {
@@ -183,6 +187,23 @@ void BM_MinMaxPyramid(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_MinMaxPyramid)->Arg(256)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+
+// cone's precomputation: the conservative cone map of a range(0)^2 brick map (the default
+// scene's, scaled), pyramid included, on every core (TBB).
+void BM_ConeMap(benchmark::State& state) {
+    const int n = int(state.range(0));
+    Texture t = makeProceduralHeight(
+        nlohmann::json::parse(R"({"procedural": "bricks", "size": [)" + std::to_string(n) + "," +
+                              std::to_string(n) +
+                              R"(], "bricks": [4, 8], "mortar": 0.12, "bevel": 0.2,
+                              "jitter": 0.3, "seed": 7})"),
+        "bench", "heightmap");
+    for (auto _ : state) {
+        ConeMap m = buildConeMap(t, buildMinMaxPyramid(t), false);
+        benchmark::DoNotOptimize(m.ratio.data());
+    }
+}
+BENCHMARK(BM_ConeMap)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // A GLSL preset's draw through the GL path (upload, draw, read back) over range(0)
 // fragments at theta 60: the per-draw overhead shows as the gap between small and large

@@ -1,0 +1,55 @@
+// Cone step mapping (Dummer 2006) on pgt's conservative cone map (heightfield/cone_map.h).
+#pragma once
+
+#include <cmath>
+
+#include "heightfield/cone_map.h"
+#include "methods/method.h"
+
+namespace pgt {
+
+// The ray in heights e (e = h, or -h when s < 0; heightfield/cone_map.h): uv(e) = uv0 + V.xy /
+// V.z * (|s| e + b), from the map's top e down. It moves r = |s| |V.xy / V.z| in UV per unit
+// of e. A cone step from uv with the surface at e_s below the ray's e and the cell's ratio c
+// descends c (e - e_s) / (c + r): to where the ray meets the cone of apex (uv, e_s), which
+// holds no surface (Dummer 2006, §3; his dist = r and height = e - e_s). `steps` cone steps
+// (32), each two fetches (the height, the cell's ratio), stopping on the surface; then
+// `refine_steps` (5) bisections of [e, e - (e - e_s)] (from the last point down to where the
+// ray meets the height below it), one fetch each plus one for that height; uv' = the
+// bisection's middle, or the last cone point without refinement. Pure cone stepping
+// (refine_steps 0) never passes the first intersection.
+template <class Real>
+Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                      const MethodConfig& cfg) {
+    const ConeMap& m = *c.cone;
+    if (!(v.z > Real(0))) {
+        c.flags |= kFlagZeroDivide;  // the eye is not above the surface: no first hit
+        return Vec2<Real>(NAN);
+    }
+    const Real sign = m.inverted ? Real(-1) : Real(1);
+    const Real a = std::fabs(c.scale), b = c.bias;
+    const Vec2<Real> dir = Vec2<Real>(v.x, v.y) / v.z;
+    const Real r = a * std::sqrt(dir.x * dir.x + dir.y * dir.y);
+    auto at = [&](Real e) { return uv0 + dir * (a * e + b); };
+    Real e = Real(m.top);
+    Vec2<Real> uv = at(e);
+    for (int i = 0; i < cfg.coneSteps; ++i) {
+        const Real gap = e - sign * c.h(uv);
+        if (!(gap > Real(0))) break;  // on the surface (or a NaN height)
+        ++c.fetches;
+        const Real ratio = Real(m.ratio[size_t(coneCell(m, uv.x, uv.y))]);
+        e -= ratio * gap / (ratio + r);
+        uv = at(e);
+    }
+    if (cfg.binarySteps == 0) return uv;
+    const Real gap = e - sign * c.h(uv);
+    if (!(gap > Real(0))) return uv;
+    Real above = e, below = e - gap;
+    for (int i = 0; i < cfg.binarySteps; ++i) {
+        const Real mid = (above + below) * Real(0.5);
+        (mid - sign * c.h(at(mid)) > Real(0) ? above : below) = mid;
+    }
+    return at((above + below) * Real(0.5));
+}
+
+}  // namespace pgt

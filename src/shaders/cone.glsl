@@ -1,0 +1,65 @@
+// pgt built-in "cone" as GLSL (src/methods/cone.h; Dummer, "Cone Step Mapping", 2006): cone
+// steps on pgt's conservative cone map for the bilinear surface, then bisections.
+// Samplers: heightMap (bilinear) and coneMap (the ratio per cell as pgt uploads it: R32F,
+// cellsX x cellsY, read with texelFetch). pgt sets pgt_cone_cells, pgt_cone_top (the map's
+// highest e), pgt_cone_inverted (the map is built for e = -h, s < 0), pgt_map_size and
+// pgt_map_repeat. Uniforms: height_scale, height_bias (floats), steps, refine_steps (ints).
+uniform sampler2D heightMap;
+uniform sampler2D coneMap;
+uniform float height_scale;
+uniform float height_bias;
+uniform int steps;
+uniform int refine_steps;
+uniform ivec2 pgt_cone_cells;
+uniform float pgt_cone_top;
+uniform int pgt_cone_inverted;
+uniform ivec2 pgt_map_size;
+uniform int pgt_map_repeat;
+
+// The cell of lattice coordinate t * texels - 0.5 along one axis (heightfield/cone_map.h).
+int coneAxis(float t, int texels, int cells) {
+    float x = clamp(floor(t * float(texels) - 0.5), -1.0e9, 1.0e9);
+    int i = int(x);
+    if (pgt_map_repeat != 0) {
+        i = i % cells;
+        if (i < 0) i += cells;
+        return i;
+    }
+    return clamp(i, 0, cells - 1);
+}
+
+float coneRatio(vec2 uv) {
+    ivec2 c = ivec2(coneAxis(uv.x, pgt_map_size.x, pgt_cone_cells.x),
+                    coneAxis(uv.y, pgt_map_size.y, pgt_cone_cells.y));
+    return texelFetch(coneMap, c, 0).r;
+}
+
+vec2 ConeStep(vec2 uv0, vec3 V) {
+    if (!(V.z > 0.0)) return vec2(0.0 / 0.0);
+    float sgn = pgt_cone_inverted != 0 ? -1.0 : 1.0;
+    float a = abs(height_scale), b = height_bias;
+    vec2 dir = V.xy / V.z;
+    float r = a * sqrt(dir.x * dir.x + dir.y * dir.y);
+    float e = pgt_cone_top;
+    vec2 uv = uv0 + dir * (a * e + b);
+    for (int i = 0; i < steps; ++i) {
+        float gap = e - sgn * texture(heightMap, uv).r;
+        if (!(gap > 0.0)) break;
+        float ratio = coneRatio(uv);
+        e -= ratio * gap / (ratio + r);
+        uv = uv0 + dir * (a * e + b);
+    }
+    if (refine_steps == 0) return uv;
+    float gap = e - sgn * texture(heightMap, uv).r;
+    if (!(gap > 0.0)) return uv;
+    float above = e, below = e - gap;
+    for (int i = 0; i < refine_steps; ++i) {
+        float mid = (above + below) * 0.5;
+        if (mid - sgn * texture(heightMap, uv0 + dir * (a * mid + b)).r > 0.0)
+            above = mid;
+        else
+            below = mid;
+    }
+    float e1 = (above + below) * 0.5;
+    return uv0 + dir * (a * e1 + b);
+}
