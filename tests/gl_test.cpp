@@ -45,8 +45,9 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
     DerivedMaps dm = makeDerivedMaps(t, s, b);
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
     const ConeMap cone = buildConeMap(t, pyramid, s < 0);
+    const ConeMap relaxedCone = needsRelaxedConeMap(cpu) ? buildRelaxedConeMap(t, cone) : ConeMap{};
     GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0,
-                          nullptr, &pyramid, &cone);
+                          nullptr, &pyramid, &cone, &relaxedCone);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;
@@ -55,6 +56,7 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
         c.parallax = &dm.parallax;
         c.pyramid = &pyramid;
         c.cone = &cone;
+        c.relaxedCone = &relaxedCone;
         c.scale = float(s);
         c.bias = float(b);
         Vec2f want = runMethod<float>(cpu, c, in.uv0[k], in.view[k]);
@@ -137,6 +139,10 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
         {R"({"name":"cone","steps":32,"refine_steps":5})",
          R"({"name":"g","glsl":"cone.glsl","function":"ConeStep","sampler":"heightMap","cone_sampler":"coneMap",)" +
              bind + R"(,"steps":32,"refine_steps":5}})",
+         true},
+        {R"({"name":"relaxed_cone","cone_steps":15,"binary_steps":6})",
+         R"({"name":"g","glsl":"cone.glsl","function":"RelaxedConeStep","sampler":"heightMap","relaxed_cone_sampler":"relaxedConeMap",)" +
+             bind + R"(,"cone_steps":15,"binary_steps":6}})",
          true},
         {R"({"name":"iterative","iterations":4})",
          R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",

@@ -113,7 +113,7 @@ TEST(Stress, SuiteRunsAndKnownCasesHold) {
             EXPECT_LT(std::stod(f[12]), 1e-3) << line;
         }
     }
-    EXPECT_EQ(rows, n * 13);
+    EXPECT_EQ(rows, n * 14);
     std::filesystem::remove_all(dir);
 }
 

@@ -172,6 +172,7 @@ struct DrawMaps {
     GlMapUploads& uploads;
     const MinMaxPyramid* pyramid;
     const ConeMap* cone;
+    const ConeMap* relaxedCone;
 };
 
 // A chunk's fragments as two input images and its two outputs: fragment k at texel
@@ -262,26 +263,28 @@ void bindPyramid(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
     checkGl("binding the pyramid of " + spec.path);
 }
 
-// cone's map (unit 6), its cell counts, the map's top and whether it is built for s < 0.
-void bindCone(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
-    if (spec.coneSampler.empty()) return;
-    GLint loc = glGetUniformLocation(prog, spec.coneSampler.c_str());
+// A cone map (unit 6: cone's, unit 7: relaxed_cone's), its size, the map's top and whether
+// it is built for s < 0.
+void bindConeMap(GLuint prog, const GlslSpec& spec, const char* field, const std::string& sampler,
+                 const ConeMap* map, int unit, GlMapUploads& uploads) {
+    if (sampler.empty()) return;
+    GLint loc = glGetUniformLocation(prog, sampler.c_str());
     if (loc < 0)
-        throw InputError(spec.path, "cone_sampler", spec.coneSampler,
+        throw InputError(spec.path, field, sampler,
                          "is not an active sampler2D uniform of the shader");
-    PGT_CHECK(maps.cone != nullptr);
-    glActiveTexture(GL_TEXTURE6);
-    glBindTexture(GL_TEXTURE_2D, maps.uploads.cone(*maps.cone));
-    glUniform1i(loc, 6);
-    glUniform2i(glGetUniformLocation(prog, "pgt_cone_cells"), maps.cone->cellsX,
-                maps.cone->cellsY);
-    glUniform1f(glGetUniformLocation(prog, "pgt_cone_top"), maps.cone->top);
-    glUniform1i(glGetUniformLocation(prog, "pgt_cone_inverted"), maps.cone->inverted ? 1 : 0);
-    checkGl("binding the cone map of " + spec.path);
+    PGT_CHECK(map != nullptr);
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    glBindTexture(GL_TEXTURE_2D, uploads.cone(*map));
+    glUniform1i(loc, unit);
+    glUniform2i(glGetUniformLocation(prog, "pgt_cone_cells"), map->cellsX, map->cellsY);
+    glUniform1f(glGetUniformLocation(prog, "pgt_cone_top"), map->top);
+    glUniform1i(glGetUniformLocation(prog, "pgt_cone_inverted"), map->inverted ? 1 : 0);
+    checkGl(std::string("binding the ") + field + " of " + spec.path);
 }
 
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
-// 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map.
+// 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map, 7 = the
+// relaxed cone map.
 void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
                 const FragmentImages& img) {
     bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
@@ -299,7 +302,9 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
     glUniform1i(glGetUniformLocation(prog, "pgt_count"), img.n);
     glUniform1i(glGetUniformLocation(prog, "pgt_width"), img.w);
     bindPyramid(prog, spec, maps);
-    bindCone(prog, spec, maps);
+    bindConeMap(prog, spec, "cone_sampler", spec.coneSampler, maps.cone, 6, maps.uploads);
+    bindConeMap(prog, spec, "relaxed_cone_sampler", spec.relaxedConeSampler, maps.relaxedCone, 7,
+                maps.uploads);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
 }
 
@@ -387,7 +392,7 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
                     const Texture* parallax, double scale, double bias,
                     const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
                     int timingRepeats, GlMapUploads* uploads, const MinMaxPyramid* pyramid,
-                    const ConeMap* cone) {
+                    const ConeMap* cone, const ConeMap* relaxedCone) {
     GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
     std::lock_guard<std::mutex> lock(gMutex);
     ensureContext();
@@ -396,7 +401,7 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
     checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
     checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
     const DrawMaps maps{height, normal,     parallax, scale, bias, uploads ? *uploads : once,
-                        pyramid, cone};
+                        pyramid, cone, relaxedCone};
     if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
     GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
     for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
@@ -418,12 +423,13 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
-                const MinMaxPyramid* pyramid, const ConeMap* cone) {
+                const MinMaxPyramid* pyramid, const ConeMap* cone,
+                const ConeMap* relaxedCone) {
     PGT_CHECK_EQ(uv0.size(), view.size());
     GlslRun run;
     onGlThread([&] {
         run = runGlslHere(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats,
-                          uploads, pyramid, cone);
+                          uploads, pyramid, cone, relaxedCone);
     });
     return run;
 }

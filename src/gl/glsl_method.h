@@ -47,7 +47,7 @@ class GlMapUploads {
     unsigned texture(const Texture& map, bool depth);
     // The pyramid as one RG32F texture, level k from row levelRow(k) on (nearest texels).
     unsigned pyramid(const MinMaxPyramid& p);
-    // The cone map as an R32F texture of its cells (nearest texels).
+    // A cone map (conservative or relaxed) as an R32F texture of its ratios (nearest texels).
     unsigned cone(const ConeMap& m);
     size_t size() const { return ids_.size(); }
     // Map textures alive in the process, over every owner.
@@ -77,6 +77,6 @@ GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* norm
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats = 0,
                 GlMapUploads* uploads = nullptr, const MinMaxPyramid* pyramid = nullptr,
-                const ConeMap* cone = nullptr);
+                const ConeMap* cone = nullptr, const ConeMap* relaxedCone = nullptr);
 
 }  // namespace pgt

@@ -90,3 +90,44 @@ inline bool coneLevelUsed(int i, int j, int rx, int ry, int level, int levels) {
 ConeMap buildConeMap(const Texture& t, const MinMaxPyramid& p, bool inverted);
 
 }  // namespace pgt
+
+namespace pgt {
+
+// Relaxed cone maps (Policarpo & Oliveira, "Relaxed Cone Stepping for Relief Mapping", GPU
+// Gems 3, ch. 18, §18.3): one ratio per texel T, the apex at T's centre and height e_T.
+// Their definition (the book's listing 18-5): for every other texel D, the ray from above T
+// at the map's top through D's surface point is followed to where it comes out of the
+// surface after being inside, X; the cone must not hold X: c_T <= |X - T| / (e_X - e_T) where
+// e_X > e_T. Such rays then enter the surface at most once before they reach the cone's side.
+// The book searches only past D, by fixed steps; pgt follows the whole ray over the bilinear
+// surface exactly (along a line a cell's patch is a quadratic, so X is a root), for texels D
+// within kRelaxedRadius texels of T, and caps c_T at kRelaxedRadius texels / (top - e_T),
+// beyond which no X can lie inside the cone. Where the conservative cone map's
+// ratio (the smallest of the four cells at T) is larger, that one is kept: it has no crossing
+// at all. A ratio at most kConeRatioCap.
+inline constexpr int kRelaxedRadius = 8;
+
+// The relaxed cone map of `t` for e = h (or -h when `inverted`); `conservative` is t's cone
+// map for the same sign.
+ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative);
+
+// The texel whose centre is nearest UV point (u, v): floor(u W), wrapped or clamped.
+template <class Real>
+int relaxedTexel(const ConeMap& m, Real u, Real v) {
+    auto axis = [&](Real t, int n) {
+        Real x = std::floor(t * Real(n));
+        if (!(x > Real(-1e9))) x = Real(-1e9);
+        if (x > Real(1e9)) x = Real(1e9);
+        int64_t i = int64_t(x);
+        if (m.address == Address::Repeat) {
+            i %= n;
+            if (i < 0) i += n;
+        } else {
+            i = std::min<int64_t>(std::max<int64_t>(i, 0), n - 1);
+        }
+        return int(i);
+    };
+    return axis(v, m.height) * m.width + axis(u, m.width);
+}
+
+}  // namespace pgt

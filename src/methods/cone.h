@@ -52,4 +52,40 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     return at((above + below) * Real(0.5));
 }
 
+// Relaxed cone stepping (Policarpo & Oliveira, GPU Gems 3 ch. 18, listing 18-3) on the relaxed
+// cone map (heightfield/cone_map.h, one ratio per texel, read at the nearest texel): the
+// same ray and cone step as cone, with the height gap saturated at 0 (a ray inside the surface
+// stays where it is), `cone_steps` (15) times, two fetches each; then `binary_steps` (6)
+// halvings over the whole way travelled, from its middle (the book's v *= p.z * 0.5; p = p0 +
+// v): deeper where the point is above the surface, back up where not; one fetch each.
+template <class Real>
+Vec2<Real> methodRelaxedCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
+                             const MethodConfig& cfg) {
+    const ConeMap& m = *c.relaxedCone;
+    if (!(v.z > Real(0))) {
+        c.flags |= kFlagZeroDivide;  // the eye is not above the surface: no first hit
+        return Vec2<Real>(NAN);
+    }
+    const Real sign = m.inverted ? Real(-1) : Real(1);
+    const Real a = std::fabs(c.scale), b = c.bias;
+    const Vec2<Real> dir = Vec2<Real>(v.x, v.y) / v.z;
+    const Real r = a * std::sqrt(dir.x * dir.x + dir.y * dir.y);
+    auto at = [&](Real e) { return uv0 + dir * (a * e + b); };
+    const Real top = Real(m.top);
+    Real e = top;
+    for (int i = 0; i < cfg.coneSteps; ++i) {
+        const Vec2<Real> uv = at(e);
+        const Real gap = std::max(e - sign * c.h(uv), Real(0));
+        ++c.fetches;
+        const Real ratio = Real(m.ratio[size_t(relaxedTexel(m, uv.x, uv.y))]);
+        e -= ratio * gap / (ratio + r);
+    }
+    Real half = (top - e) * Real(0.5), mid = top - half;
+    for (int i = 0; i < cfg.binarySteps; ++i) {
+        half *= Real(0.5);
+        mid += mid - sign * c.h(at(mid)) > Real(0) ? -half : half;
+    }
+    return at(mid);
+}
+
 }  // namespace pgt

@@ -75,6 +75,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     spec->pyramidSampler = f.string("pyramid_sampler", "");
     // The conservative cone map (cone's twin): one R32F ratio per cell, nearest.
     spec->coneSampler = f.string("cone_sampler", "");
+    spec->relaxedConeSampler = f.string("relaxed_cone_sampler", "");
     spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
@@ -216,6 +217,8 @@ Json toJson(const MethodConfig& c) {
         j["texture"] = c.glsl->depthTexture ? "depth" : "height";
         if (!c.glsl->pyramidSampler.empty()) j["pyramid_sampler"] = c.glsl->pyramidSampler;
         if (!c.glsl->coneSampler.empty()) j["cone_sampler"] = c.glsl->coneSampler;
+        if (!c.glsl->relaxedConeSampler.empty())
+            j["relaxed_cone_sampler"] = c.glsl->relaxedConeSampler;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
             u[un.name] = !un.bind.empty()        ? Json(un.bind)

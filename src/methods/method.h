@@ -28,6 +28,7 @@ enum class MethodKind {
     Contact,
     MaxMip,
     Cone,
+    RelaxedCone,
     Glsl
 };
 
@@ -45,7 +46,7 @@ struct MethodConfig {
     int iterations = 4;                     // iterative (003 Listing 7.9)
     int secantSteps = 3;                    // secant (Risser et al. 2007)
     int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
-    int coneSteps = 32;                     // cone (Dummer 2006); refine_steps is binarySteps
+    int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
     bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
@@ -73,6 +74,7 @@ struct MethodContext {
     const Texture* parallax = nullptr;       // m_z * (s*h + b)
     const MinMaxPyramid* pyramid = nullptr;  // maxmip
     const ConeMap* cone = nullptr;           // cone: the map for the sign of s
+    const ConeMap* relaxedCone = nullptr;    // relaxed_cone: the same, relaxed
     Real scale = 0, bias = 0;                // s, b in UV units (MODEL.md §3)
     int fetches = 0;
     uint32_t flags = 0;
@@ -108,5 +110,7 @@ bool needsDerivedMaps(const MethodConfig& cfg);
 bool needsMinMaxPyramid(const MethodConfig& cfg);
 // Which read a conservative cone map (built once per map and sign of s, from the pyramid).
 bool needsConeMap(const MethodConfig& cfg);
+// Which read a relaxed cone map (built from the cone map; per map and sign of s).
+bool needsRelaxedConeMap(const MethodConfig& cfg);
 
 }  // namespace pgt

@@ -74,6 +74,12 @@ const std::vector<IntParameter> kConeParameters = {
     {"refine_steps", &MethodConfig::binarySteps, nullptr, 0, 64, true, 5},
 };
 
+// Policarpo & Oliveira's relaxed cone stepping: 15 cone steps, 6 binary steps (listing 18-3).
+const std::vector<IntParameter> kRelaxedConeParameters = {
+    {"cone_steps", &MethodConfig::coneSteps, nullptr, 0, kMaxLayers, true, 15},
+    {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64, true, 6},
+};
+
 std::string coneLabel(const MethodConfig& c) {
     return std::to_string(c.coneSteps) + "_" + std::to_string(c.binarySteps);
 }
@@ -128,6 +134,8 @@ const std::vector<MethodKindInfo>& methodKinds() {
          methodMaxMip<double>, true},
         {"cone", K::Cone, kConeParameters, "steps", coneLabel, false, methodCone<float>,
          methodCone<double>, true, true},
+        {"relaxed_cone", K::RelaxedCone, kRelaxedConeParameters, "cone_steps", coneLabel, false,
+         methodRelaxedCone<float>, methodRelaxedCone<double>, true, true, true},
     };
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
@@ -179,15 +187,23 @@ void applyKindDefaults(MethodConfig& cfg) {
 }
 
 bool needsMinMaxPyramid(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty() || !cfg.glsl->coneSampler.empty();
+    if (cfg.glsl)
+        return !cfg.glsl->pyramidSampler.empty() || !cfg.glsl->coneSampler.empty() ||
+               !cfg.glsl->relaxedConeSampler.empty();
     const MethodKindInfo* info = kindInfo(cfg.kind);
     return info && info->minMaxPyramid;
 }
 
 bool needsConeMap(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->coneSampler.empty();
+    if (cfg.glsl) return !cfg.glsl->coneSampler.empty() || !cfg.glsl->relaxedConeSampler.empty();
     const MethodKindInfo* info = kindInfo(cfg.kind);
     return info && info->coneMap;
+}
+
+bool needsRelaxedConeMap(const MethodConfig& cfg) {
+    if (cfg.glsl) return !cfg.glsl->relaxedConeSampler.empty();
+    const MethodKindInfo* info = kindInfo(cfg.kind);
+    return info && info->relaxedConeMap;
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {

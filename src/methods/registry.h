@@ -39,6 +39,7 @@ struct MethodKindInfo {
     MethodFunction<double> runDouble = nullptr;
     bool minMaxPyramid = false;  // traces heightfield/minmax_pyramid.h (precomputed per map)
     bool coneMap = false;        // reads heightfield/cone_map.h (per map and sign of s)
+    bool relaxedConeMap = false;  // reads its relaxed cone map (the same)
 };
 
 // Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).

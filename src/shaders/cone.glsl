@@ -63,3 +63,48 @@ vec2 ConeStep(vec2 uv0, vec3 V) {
     float e1 = (above + below) * 0.5;
     return uv0 + dir * (a * e1 + b);
 }
+
+// pgt built-in "relaxed_cone" (src/methods/cone.h; Policarpo & Oliveira, GPU Gems 3 ch. 18):
+// relaxed cone steps with the gap saturated at 0, then halvings over the way travelled.
+// Sampler relaxedConeMap: the relaxed ratios, one per texel (R32F, width x height, nearest).
+// Uniforms: height_scale, height_bias, cone_steps, binary_steps.
+uniform sampler2D relaxedConeMap;
+uniform int cone_steps;
+uniform int binary_steps;
+
+int relaxedAxis(float t, int n) {
+    int i = int(clamp(floor(t * float(n)), -1.0e9, 1.0e9));
+    if (pgt_map_repeat != 0) {
+        i = i % n;
+        if (i < 0) i += n;
+        return i;
+    }
+    return clamp(i, 0, n - 1);
+}
+
+vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
+    if (!(V.z > 0.0)) return vec2(0.0 / 0.0);
+    float sgn = pgt_cone_inverted != 0 ? -1.0 : 1.0;
+    float a = abs(height_scale), b = height_bias;
+    vec2 dir = V.xy / V.z;
+    float r = a * sqrt(dir.x * dir.x + dir.y * dir.y);
+    float top = pgt_cone_top;
+    float e = top;
+    for (int i = 0; i < cone_steps; ++i) {
+        vec2 uv = uv0 + dir * (a * e + b);
+        float gap = max(e - sgn * texture(heightMap, uv).r, 0.0);
+        ivec2 c = ivec2(relaxedAxis(uv.x, pgt_map_size.x), relaxedAxis(uv.y, pgt_map_size.y));
+        float ratio = texelFetch(relaxedConeMap, c, 0).r;
+        e -= ratio * gap / (ratio + r);
+    }
+    float half_ = (top - e) * 0.5;
+    float mid = top - half_;
+    for (int i = 0; i < binary_steps; ++i) {
+        half_ *= 0.5;
+        if (mid - sgn * texture(heightMap, uv0 + dir * (a * mid + b)).r > 0.0)
+            mid -= half_;
+        else
+            mid += half_;
+    }
+    return uv0 + dir * (a * mid + b);
+}

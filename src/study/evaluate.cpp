@@ -63,12 +63,24 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
         }
         it->second.cone = cone_[sign];
     }
+    if (needsRelaxedConeMap(cfg) && !it->second.relaxedCone) {
+        const int sign = key.first < 0 ? 1 : 0;
+        if (!relaxed_[sign]) {
+            auto t0 = Clock::now();
+            relaxed_[sign] =
+                std::make_shared<const ConeMap>(buildRelaxedConeMap(height_, *cone_[sign]));
+            relaxedMs_[sign] = msSince(t0);
+        }
+        it->second.relaxedCone = relaxed_[sign];
+    }
     return it->second;
 }
 
 double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacement& view) const {
     double ms = needsMinMaxPyramid(cfg) ? pyramidMs_ : 0.0;
-    if (needsConeMap(cfg)) ms += coneMs_[methodScaleBias(cfg, view).first < 0 ? 1 : 0];
+    const int sign = methodScaleBias(cfg, view).first < 0 ? 1 : 0;
+    if (needsConeMap(cfg)) ms += coneMs_[sign];
+    if (needsRelaxedConeMap(cfg)) ms += relaxedMs_[sign];
     return ms;
 }
 
@@ -129,7 +141,7 @@ GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const Fr
                    tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
                    toFloat<Vec2f>(frags.uv0),
                    toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view), repeats,
-                   tex.glMaps.get(), tex.pyramid.get(), tex.cone.get());
+                   tex.glMaps.get(), tex.pyramid.get(), tex.cone.get(), tex.relaxedCone.get());
 }
 
 }  // namespace

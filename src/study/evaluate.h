@@ -26,6 +26,7 @@ struct MethodTextures {
     std::unique_ptr<DerivedMaps> derived;          // only when a method needs them
     std::shared_ptr<const MinMaxPyramid> pyramid;  // maxmip's, shared by every (s, b)
     std::shared_ptr<const ConeMap> cone;           // cone's, for the sign of s
+    std::shared_ptr<const ConeMap> relaxedCone;    // relaxed_cone's, the same
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
     // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),
@@ -47,6 +48,7 @@ MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
     }
     c.pyramid = tex.pyramid.get();
     c.cone = tex.cone.get();
+    c.relaxedCone = tex.relaxedCone.get();
     c.scale = Real(tex.scale);
     c.bias = Real(tex.bias);
     return c;
@@ -66,8 +68,8 @@ class MethodTextureCache {
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }
     // The time its maps took to build a configuration's precomputed data in a view of (s, b)
-    // `view` (ms; 0 if none): the pyramid, and the cone map of the sign of s from it, each
-    // built once for the map and kept across clear().
+    // `view` (ms; 0 if none): the pyramid, the cone map of the sign of s from it and the
+    // relaxed cone map from that, each built once for the map and kept across clear().
     double precomputeMs(const MethodConfig& cfg, const Displacement& view) const;
 
   private:
@@ -76,8 +78,8 @@ class MethodTextureCache {
     std::map<std::pair<double, double>, MethodTextures> cache_;
     std::shared_ptr<const MinMaxPyramid> pyramid_;
     double pyramidMs_ = 0;
-    std::shared_ptr<const ConeMap> cone_[2];  // s >= 0, s < 0
-    double coneMs_[2] = {0, 0};
+    std::shared_ptr<const ConeMap> cone_[2], relaxed_[2];  // s >= 0, s < 0
+    double coneMs_[2] = {0, 0}, relaxedMs_[2] = {0, 0};
 };
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.

@@ -150,6 +150,8 @@ void BM_Method(benchmark::State& state, const char* json) {
         tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
     if (needsConeMap(cfg))
         tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, *tex.pyramid, false));
+    if (needsRelaxedConeMap(cfg))
+        tex.relaxedCone = std::make_shared<const ConeMap>(buildRelaxedConeMap(t, *tex.cone));
     std::vector<Vec2f> uv0(65536);
     Vec3f v(viewFromAngles(60, 20));
     for (size_t k = 0; k < uv0.size(); ++k)
@@ -177,6 +179,7 @@ BENCHMARK_CAPTURE(BM_Method, secant_10_3, R"({"name":"secant"})");
 BENCHMARK_CAPTURE(BM_Method, contact_16, R"({"name":"contact"})");
 BENCHMARK_CAPTURE(BM_Method, maxmip, R"({"name":"maxmip"})");
 BENCHMARK_CAPTURE(BM_Method, cone_32_5, R"({"name":"cone"})");
+BENCHMARK_CAPTURE(BM_Method, relaxed_cone_15_6, R"({"name":"relaxed_cone"})");
 
 // maxmip's precomputation: the minimum-maximum pyramid of a range(0)^2 map (one thread).
 void BM_MinMaxPyramid(benchmark::State& state) {
@@ -189,7 +192,8 @@ void BM_MinMaxPyramid(benchmark::State& state) {
 BENCHMARK(BM_MinMaxPyramid)->Arg(256)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 // cone's precomputation: the conservative cone map of a range(0)^2 brick map (the default
-// scene's, scaled), pyramid included, on every core (TBB).
+// scene's, scaled), pyramid included, on every core (TBB); with range(1) = 1 relaxed_cone's
+// relaxed map built from it (the cone map's own time not included).
 void BM_ConeMap(benchmark::State& state) {
     const int n = int(state.range(0));
     Texture t = makeProceduralHeight(
@@ -198,12 +202,25 @@ void BM_ConeMap(benchmark::State& state) {
                               R"(], "bricks": [4, 8], "mortar": 0.12, "bevel": 0.2,
                               "jitter": 0.3, "seed": 7})"),
         "bench", "heightmap");
+    const ConeMap cone = buildConeMap(t, buildMinMaxPyramid(t), false);
     for (auto _ : state) {
-        ConeMap m = buildConeMap(t, buildMinMaxPyramid(t), false);
-        benchmark::DoNotOptimize(m.ratio.data());
+        if (state.range(1)) {
+            ConeMap m = buildRelaxedConeMap(t, cone);
+            benchmark::DoNotOptimize(m.ratio.data());
+        } else {
+            ConeMap m = buildConeMap(t, buildMinMaxPyramid(t), false);
+            benchmark::DoNotOptimize(m.ratio.data());
+        }
     }
+    state.SetLabel(state.range(1) ? "relaxed (from the cone map)" : "conservative");
 }
-BENCHMARK(BM_ConeMap)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_ConeMap)
+    ->Args({256, 0})
+    ->Args({1024, 0})
+    ->Args({256, 1})
+    ->Args({1024, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // A GLSL preset's draw through the GL path (upload, draw, read back) over range(0)
 // fragments at theta 60: the per-draw overhead shows as the gap between small and large

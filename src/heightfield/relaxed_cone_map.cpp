@@ -1,0 +1,145 @@
+// Relaxed cone maps over the bilinear surface (cone_map.h, buildRelaxedConeMap).
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "heightfield/cone_map.h"
+
+namespace pgt {
+
+namespace {
+
+// e = sign * h over the bilinear surface, in texel-centre lattice units (x = u W - 0.5).
+struct Surface {
+    const Texture& t;
+    double sign;
+
+    // The patch of the cell holding lattice point (x, y), along the line (x, y) + (dx, dy) s:
+    // e = h0 + h1 s + h2 s^2 (MODEL.md §1).
+    void along(double x, double y, double dx, double dy, double& h0, double& h1,
+               double& h2) const {
+        int i0, i1, j0, j1;
+        double fx, fy;
+        detail::texelPair(x, t.width, t.address, i0, i1, fx);
+        detail::texelPair(y, t.height, t.address, j0, j1, fy);
+        const double a = sign * t.texel(i0, j0), b = sign * t.texel(i1, j0);
+        const double c = sign * t.texel(i0, j1), d = sign * t.texel(i1, j1);
+        const double e = b - a, f = c - a, g = a - b - c + d;
+        h0 = a + e * fx + f * fy + g * fx * fy;
+        h1 = e * dx + f * dy + g * (fx * dy + fy * dx);
+        h2 = g * dx * dy;
+    }
+};
+
+// Along the ray x(s) = p + d s (lattice units), e(s) = e0 - s / slope, from s = 0 to sMax:
+// the first s where the ray comes out of the surface (above it after an interval below it;
+// touching is not entering), or -1. Cell by cell the gap ray - surface is a quadratic; between its roots (and the cell's
+// ends) its sign is that at the middle.
+double firstExit(const Surface& surf, double px, double py, double dx, double dy, double e0,
+                 double slope, double sMax) {
+    double s = 0;
+    bool inside = false;
+    for (int guard = 0; s < sMax && guard < 4096; ++guard) {
+        const double x = px + dx * s, y = py + dy * s;
+        // The next cell edge along the line (a tiny step past it keeps the floor stable).
+        auto edge = [](double v, double dv) {
+            if (dv > 0) return (std::floor(v) + 1 - v) / dv;
+            if (dv < 0) return (std::ceil(v) - 1 - v) / dv;
+            return double(INFINITY);
+        };
+        double len = std::min({edge(x, dx), edge(y, dy), sMax - s});
+        if (!(len > 1e-12)) len = 1e-12;
+        const double mx = x + dx * len * 0.5, my = y + dy * len * 0.5;  // the cell's inside
+        double h0, h1, h2;
+        surf.along(mx, my, dx, dy, h0, h1, h2);
+        // gap(sigma) = e(s + len/2 + sigma) - surface, sigma in [-len/2, len/2].
+        const double C = e0 - (s + len * 0.5) / slope - h0, B = -1 / slope - h1, A = -h2;
+        double cuts[4] = {-len * 0.5, len * 0.5, len * 0.5, len * 0.5};
+        int n = 1;
+        if (A != 0) {
+            const double disc = B * B - 4 * A * C;
+            if (disc >= 0) {
+                const double q = -0.5 * (B + std::copysign(std::sqrt(disc), B));
+                for (double r : {q / A, q != 0 ? C / q : double(INFINITY)})
+                    if (r > -len * 0.5 && r < len * 0.5) cuts[n++] = r;
+            }
+        } else if (B != 0) {
+            const double r = -C / B;
+            if (r > -len * 0.5 && r < len * 0.5) cuts[n++] = r;
+        }
+        std::sort(cuts, cuts + n);
+        cuts[n] = len * 0.5;
+        for (int k = 0; k < n; ++k) {
+            // Within rounding of the surface (a ray through a texel's surface point grazes it
+            // there) is neither in nor out.
+            const double mid = 0.5 * (cuts[k] + cuts[k + 1]), gap = C + (B + A * mid) * mid;
+            if (gap > 1e-12 && inside) return s + len * 0.5 + cuts[k];
+            inside = inside || gap < -1e-12;
+        }
+        s += len;
+    }
+    return -1;
+}
+
+}  // namespace
+
+ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
+    PGT_CHECK(t.width == conservative.width && t.height == conservative.height);
+    ConeMap m = conservative;
+    m.relaxed = true;
+    m.cellsX = t.width;  // one ratio per texel
+    m.cellsY = t.height;
+    m.ratio.assign(size_t(t.width) * t.height, 0.0f);
+    const Surface surf{t, conservative.inverted ? -1.0 : 1.0};
+    const double W = t.width, H = t.height, top = conservative.top;
+    const double reach = kRelaxedRadius * std::min(1 / W, 1 / H);  // UV
+    // The texels D around T, nearest first: near exits narrow the cone early, and a narrower
+    // cone shortens every later ray's walk.
+    std::vector<std::pair<int, int>> around;
+    for (int dj = -kRelaxedRadius; dj <= kRelaxedRadius; ++dj)
+        for (int di = -kRelaxedRadius; di <= kRelaxedRadius; ++di)
+            if (di != 0 || dj != 0) around.push_back({di, dj});
+    std::stable_sort(around.begin(), around.end(), [&](auto a, auto b) {
+        return std::hypot(a.first / W, a.second / H) < std::hypot(b.first / W, b.second / H);
+    });
+    tbb::parallel_for(0, t.height, [&](int j) {
+        for (int i = 0; i < t.width; ++i) {
+            const double eT = surf.sign * t.texel(i, j);
+            // Apex at T: the conservative ratio of the cells around it holds too.
+            double safe = kConeRatioCap;
+            for (int cj : {j - 1, j})
+                for (int ci : {i - 1, i}) {
+                    const int k = coneCell(conservative, (ci + 1) / W, (cj + 1) / H);
+                    safe = std::min(safe, double(conservative.ratio[size_t(k)]));
+                }
+            double best = top > eT ? std::min(kConeRatioCap, reach / (top - eT)) : kConeRatioCap;
+            for (auto [di, dj] : around) {
+                    const double eD = surf.sign * t.texel(
+                        t.address == Address::Repeat ? ((i + di) % t.width + t.width) % t.width
+                                                     : std::clamp(i + di, 0, t.width - 1),
+                        t.address == Address::Repeat ? ((j + dj) % t.height + t.height) % t.height
+                                                     : std::clamp(j + dj, 0, t.height - 1));
+                    const double rho = std::hypot(di / W, dj / H);  // UV from T to D
+                    if (!(top > eD)) continue;
+                    // The ray from (T, top) through (D, eD), in lattice steps of one (di, dj),
+                    // to where it meets the side of the cone as it stands (an exit beyond
+                    // could not narrow it; nor beyond the reach of the cap).
+                    const double slope = 1 / (top - eD);  // (di, dj) steps per unit of e
+                    const double side = (top - eT) / ((top - eD) / rho + 1 / best);  // UV
+                    const double s =
+                        firstExit(surf, i, j, di, dj, top, slope, std::min(reach, side) / rho);
+                    if (s < 0) continue;
+                    const double eX = top - s / slope;
+                    if (eX > eT) best = std::min(best, rho * s / (eX - eT));
+                }
+            const double ratio = std::max(best, safe);
+            float f = float(ratio);
+            if (double(f) > ratio) f = std::nextafter(f, 0.0f);
+            m.ratio[size_t(j) * t.width + i] = f;
+        }
+    });
+    return m;
+}
+
+}  // namespace pgt
