@@ -164,11 +164,7 @@ Vec2f tatarchukTwin(const Texture& t, Vec2f uv, Vec3f V, float scale, float lo, 
 // scene's brick map, views to 85 degrees: at least 99.5% within 1e-3 texel (a march may
 // flip a step where a float comparison ties).
 TEST(Gl, UnityAndTatarchukPresetsMatchTheirCppTwins) {
-    Texture bricks = makeProceduralHeight(
-        nlohmann::json::parse(
-            R"({"procedural": "bricks", "size": [128, 128], "bricks": [4, 8], "mortar": 0.12,
-            "bevel": 0.2, "jitter": 0.3, "seed": 7})"),
-        "test", "heightmap");
+    Texture bricks = test::bricks(128);
     test::Fragments in = test::randomFragments(20000, 24);
     for (const char* name : {"unity_hdrp", "tatarchuk"}) {
         GlslRun gl = runPreset(name, bricks, in);

@@ -93,11 +93,7 @@ TEST(Gl, ContextIsHeadlessOpenGl) {
 // offset) everywhere; the
 // marches may flip a layer where a float comparison ties (counted: at most 1% of fragments).
 TEST(Gl, BuiltInShadersMatchTheCppMethods) {
-    Texture bricks = makeProceduralHeight(
-        nlohmann::json::parse(
-            R"({"procedural": "bricks", "size": [128, 128], "bricks": [4, 8], "mortar": 0.12,
-            "bevel": 0.2, "jitter": 0.3, "seed": 7})"),
-        "test", "heightmap");
+    Texture bricks = test::bricks(128);
     const double s = 0.05, b = -0.025;
     Inputs in = randomInputs(20000, 5);
     const std::string bind = R"("uniforms": {"height_scale": "scale", "height_bias": "bias")";

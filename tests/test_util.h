@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "heightfield/heightfield.h"
 #include "heightfield/texture.h"
 #include "methods/config.h"
 #include "methods/registry.h"
@@ -37,6 +38,16 @@ inline Texture smoothTexture(int w, int h, Address address = Address::Repeat) {
             return 0.5 + 0.35 * std::sin(2 * kPi * u) * std::sin(2 * kPi * 2 * v);
         },
         address);
+}
+
+// The default scene's procedural bricks at n x n texels.
+inline Texture bricks(int n) {
+    return makeProceduralHeight(
+        nlohmann::json::parse(R"({"procedural": "bricks", "size": [)" + std::to_string(n) + "," +
+                              std::to_string(n) +
+                              R"(], "bricks": [4, 8], "mortar": 0.12, "bevel": 0.2,
+                              "jitter": 0.3, "seed": 7})"),
+        "test", "heightmap");
 }
 
 inline MethodConfig method(const std::string& json) {

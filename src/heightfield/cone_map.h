@@ -55,22 +55,26 @@ inline constexpr double kConeRatioCap = 1.0;
 
 // The cell that holds UV point (u, v): lattice x = u W - 0.5, floored, then wrapped (repeat)
 // or clamped to the cells (clamp). Any finite or infinite input gives a valid cell.
+// floor(x) wrapped into [0, n) (repeat) or clamped to it; any input, NaN included, gives one.
+template <class Real>
+int coneIndex(Real x, int n, Address address) {
+    x = std::floor(x);
+    if (!(x > Real(-1e9))) x = Real(-1e9);  // NaN and -inf too
+    if (x > Real(1e9)) x = Real(1e9);
+    int64_t i = int64_t(x);
+    if (address == Address::Repeat) {
+        i %= n;
+        if (i < 0) i += n;
+    } else {
+        i = std::min<int64_t>(std::max<int64_t>(i, 0), n - 1);
+    }
+    return int(i);
+}
+
 template <class Real>
 int coneCell(const ConeMap& m, Real u, Real v) {
-    auto axis = [&](Real t, int texels, int cells) {
-        Real x = std::floor(t * Real(texels) - Real(0.5));
-        if (!(x > Real(-1e9))) x = Real(-1e9);  // NaN and -inf too
-        if (x > Real(1e9)) x = Real(1e9);
-        int64_t i = int64_t(x);
-        if (m.address == Address::Repeat) {
-            i %= cells;
-            if (i < 0) i += cells;
-        } else {
-            i = std::min<int64_t>(std::max<int64_t>(i, 0), cells - 1);
-        }
-        return int(i);
-    };
-    return axis(v, m.height, m.cellsY) * m.cellsX + axis(u, m.width, m.cellsX);
+    return coneIndex(v * Real(m.height) - Real(0.5), m.cellsY, m.address) * m.cellsX +
+           coneIndex(u * Real(m.width) - Real(0.5), m.cellsX, m.address);
 }
 
 // Whether cell R = (x, y)'s ancestor at `level`, node (rx, ry), stands for R in cell C = (i,
@@ -114,20 +118,8 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative);
 // The texel whose centre is nearest UV point (u, v): floor(u W), wrapped or clamped.
 template <class Real>
 int relaxedTexel(const ConeMap& m, Real u, Real v) {
-    auto axis = [&](Real t, int n) {
-        Real x = std::floor(t * Real(n));
-        if (!(x > Real(-1e9))) x = Real(-1e9);
-        if (x > Real(1e9)) x = Real(1e9);
-        int64_t i = int64_t(x);
-        if (m.address == Address::Repeat) {
-            i %= n;
-            if (i < 0) i += n;
-        } else {
-            i = std::min<int64_t>(std::max<int64_t>(i, 0), n - 1);
-        }
-        return int(i);
-    };
-    return axis(v, m.height) * m.width + axis(u, m.width);
+    return coneIndex(v * Real(m.height), m.height, m.address) * m.width +
+           coneIndex(u * Real(m.width), m.width, m.address);
 }
 
 }  // namespace pgt

@@ -8,6 +8,25 @@
 
 namespace pgt {
 
+// The eye ray of cone and relaxed_cone over heights e (below): uv(e) = uv0 + dir (a e + b).
+template <class Real>
+struct ConeRay {
+    Vec2<Real> uv0, dir;
+    Real sign, a, b, r;  // e = sign h; a = |s|; r = UV travelled per unit of e
+    ConeRay(const ConeMap& m, const MethodContext<Real>& c, Vec2<Real> uv, Vec3<Real> v)
+        : uv0(uv), dir(Vec2<Real>(v.x, v.y) / v.z), sign(m.inverted ? Real(-1) : Real(1)),
+          a(std::fabs(c.scale)), b(c.bias), r(a * std::sqrt(dir.x * dir.x + dir.y * dir.y)) {}
+    Vec2<Real> at(Real e) const { return uv0 + dir * (a * e + b); }
+};
+
+// Whether the eye is above the surface (V.z > 0); if not there is no first hit: flagged.
+template <class Real>
+bool eyeAbove(MethodContext<Real>& c, Vec3<Real> v) {
+    if (v.z > Real(0)) return true;
+    c.flags |= kFlagZeroDivide;
+    return false;
+}
+
 // The ray in heights e (e = h, or -h when s < 0; heightfield/cone_map.h): uv(e) = uv0 + V.xy /
 // V.z * (|s| e + b), from the map's top e down. It moves r = |s| |V.xy / V.z| in UV per unit
 // of e. A cone step from uv with the surface at e_s below the ray's e and the cell's ratio c
@@ -22,24 +41,18 @@ template <class Real>
 Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                       const MethodConfig& cfg) {
     const ConeMap& m = *c.cone;
-    if (!(v.z > Real(0))) {
-        c.flags |= kFlagZeroDivide;  // the eye is not above the surface: no first hit
-        return Vec2<Real>(NAN);
-    }
-    const Real sign = m.inverted ? Real(-1) : Real(1);
-    const Real a = std::fabs(c.scale), b = c.bias;
-    const Vec2<Real> dir = Vec2<Real>(v.x, v.y) / v.z;
-    const Real r = a * std::sqrt(dir.x * dir.x + dir.y * dir.y);
-    auto at = [&](Real e) { return uv0 + dir * (a * e + b); };
+    if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
+    const ConeRay<Real> ray(m, c, uv0, v);
+    const Real sign = ray.sign;
     Real e = Real(m.top);
-    Vec2<Real> uv = at(e);
+    Vec2<Real> uv = ray.at(e);
     for (int i = 0; i < cfg.coneSteps; ++i) {
         const Real gap = e - sign * c.h(uv);
         if (!(gap > Real(0))) break;  // on the surface (or a NaN height)
         ++c.fetches;
         const Real ratio = Real(m.ratio[size_t(coneCell(m, uv.x, uv.y))]);
-        e -= ratio * gap / (ratio + r);
-        uv = at(e);
+        e -= ratio * gap / (ratio + ray.r);
+        uv = ray.at(e);
     }
     if (cfg.binarySteps == 0) return uv;
     const Real gap = e - sign * c.h(uv);
@@ -47,9 +60,9 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     Real above = e, below = e - gap;
     for (int i = 0; i < cfg.binarySteps; ++i) {
         const Real mid = (above + below) * Real(0.5);
-        (mid - sign * c.h(at(mid)) > Real(0) ? above : below) = mid;
+        (mid - sign * c.h(ray.at(mid)) > Real(0) ? above : below) = mid;
     }
-    return at((above + below) * Real(0.5));
+    return ray.at((above + below) * Real(0.5));
 }
 
 // Relaxed cone stepping (Policarpo & Oliveira, GPU Gems 3 ch. 18, listing 18-3) on the relaxed
@@ -62,30 +75,23 @@ template <class Real>
 Vec2<Real> methodRelaxedCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                              const MethodConfig& cfg) {
     const ConeMap& m = *c.relaxedCone;
-    if (!(v.z > Real(0))) {
-        c.flags |= kFlagZeroDivide;  // the eye is not above the surface: no first hit
-        return Vec2<Real>(NAN);
-    }
-    const Real sign = m.inverted ? Real(-1) : Real(1);
-    const Real a = std::fabs(c.scale), b = c.bias;
-    const Vec2<Real> dir = Vec2<Real>(v.x, v.y) / v.z;
-    const Real r = a * std::sqrt(dir.x * dir.x + dir.y * dir.y);
-    auto at = [&](Real e) { return uv0 + dir * (a * e + b); };
+    if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
+    const ConeRay<Real> ray(m, c, uv0, v);
     const Real top = Real(m.top);
     Real e = top;
     for (int i = 0; i < cfg.coneSteps; ++i) {
-        const Vec2<Real> uv = at(e);
-        const Real gap = std::max(e - sign * c.h(uv), Real(0));
+        const Vec2<Real> uv = ray.at(e);
+        const Real gap = std::max(e - ray.sign * c.h(uv), Real(0));
         ++c.fetches;
         const Real ratio = Real(m.ratio[size_t(relaxedTexel(m, uv.x, uv.y))]);
-        e -= ratio * gap / (ratio + r);
+        e -= ratio * gap / (ratio + ray.r);
     }
     Real half = (top - e) * Real(0.5), mid = top - half;
     for (int i = 0; i < cfg.binarySteps; ++i) {
         half *= Real(0.5);
-        mid += mid - sign * c.h(at(mid)) > Real(0) ? -half : half;
+        mid += mid - ray.sign * c.h(ray.at(mid)) > Real(0) ? -half : half;
     }
-    return at(mid);
+    return ray.at(mid);
 }
 
 }  // namespace pgt

@@ -34,20 +34,34 @@ float coneRatio(vec2 uv) {
     return texelFetch(coneMap, c, 0).r;
 }
 
+// The eye ray over heights e (e = h, or -h for s < 0): uv(e) = uv0 + dir (a e + b); r is the
+// UV it travels per unit of e.
+struct ConeRay {
+    vec2 uv0, dir;
+    float sgn, a, b, r;
+};
+
+ConeRay coneRay(vec2 uv0, vec3 V) {
+    vec2 dir = V.xy / V.z;
+    float a = abs(height_scale);
+    return ConeRay(uv0, dir, pgt_cone_inverted != 0 ? -1.0 : 1.0, a, height_bias,
+                   a * sqrt(dir.x * dir.x + dir.y * dir.y));
+}
+
+vec2 coneAt(ConeRay ray, float e) { return ray.uv0 + ray.dir * (ray.a * e + ray.b); }
+
 vec2 ConeStep(vec2 uv0, vec3 V) {
     if (!(V.z > 0.0)) return vec2(0.0 / 0.0);
-    float sgn = pgt_cone_inverted != 0 ? -1.0 : 1.0;
-    float a = abs(height_scale), b = height_bias;
-    vec2 dir = V.xy / V.z;
-    float r = a * sqrt(dir.x * dir.x + dir.y * dir.y);
+    ConeRay ray = coneRay(uv0, V);
+    float sgn = ray.sgn, r = ray.r;
     float e = pgt_cone_top;
-    vec2 uv = uv0 + dir * (a * e + b);
+    vec2 uv = coneAt(ray, e);
     for (int i = 0; i < steps; ++i) {
         float gap = e - sgn * texture(heightMap, uv).r;
         if (!(gap > 0.0)) break;
         float ratio = coneRatio(uv);
         e -= ratio * gap / (ratio + r);
-        uv = uv0 + dir * (a * e + b);
+        uv = coneAt(ray, e);
     }
     if (refine_steps == 0) return uv;
     float gap = e - sgn * texture(heightMap, uv).r;
@@ -55,13 +69,13 @@ vec2 ConeStep(vec2 uv0, vec3 V) {
     float above = e, below = e - gap;
     for (int i = 0; i < refine_steps; ++i) {
         float mid = (above + below) * 0.5;
-        if (mid - sgn * texture(heightMap, uv0 + dir * (a * mid + b)).r > 0.0)
+        if (mid - sgn * texture(heightMap, coneAt(ray, mid)).r > 0.0)
             above = mid;
         else
             below = mid;
     }
     float e1 = (above + below) * 0.5;
-    return uv0 + dir * (a * e1 + b);
+    return coneAt(ray, e1);
 }
 
 // pgt built-in "relaxed_cone" (src/methods/cone.h; Policarpo & Oliveira, GPU Gems 3 ch. 18):
@@ -84,14 +98,12 @@ int relaxedAxis(float t, int n) {
 
 vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     if (!(V.z > 0.0)) return vec2(0.0 / 0.0);
-    float sgn = pgt_cone_inverted != 0 ? -1.0 : 1.0;
-    float a = abs(height_scale), b = height_bias;
-    vec2 dir = V.xy / V.z;
-    float r = a * sqrt(dir.x * dir.x + dir.y * dir.y);
+    ConeRay ray = coneRay(uv0, V);
+    float sgn = ray.sgn, r = ray.r;
     float top = pgt_cone_top;
     float e = top;
     for (int i = 0; i < cone_steps; ++i) {
-        vec2 uv = uv0 + dir * (a * e + b);
+        vec2 uv = coneAt(ray, e);
         float gap = max(e - sgn * texture(heightMap, uv).r, 0.0);
         ivec2 c = ivec2(relaxedAxis(uv.x, pgt_map_size.x), relaxedAxis(uv.y, pgt_map_size.y));
         float ratio = texelFetch(relaxedConeMap, c, 0).r;
@@ -101,10 +113,10 @@ vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     float mid = top - half_;
     for (int i = 0; i < binary_steps; ++i) {
         half_ *= 0.5;
-        if (mid - sgn * texture(heightMap, uv0 + dir * (a * mid + b)).r > 0.0)
+        if (mid - sgn * texture(heightMap, coneAt(ray, mid)).r > 0.0)
             mid -= half_;
         else
             mid += half_;
     }
-    return uv0 + dir * (a * mid + b);
+    return coneAt(ray, mid);
 }
