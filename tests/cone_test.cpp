@@ -22,7 +22,8 @@ using test::method;
 Texture roughMap(int w, int h, Address address, uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
-    return makeTexture(w, h, [&](int, int) { return uni(rng); }, address);
+    return makeTexture(
+        w, h, [&](int, int) { return uni(rng); }, address);
 }
 
 // The cone map by its definition, pair by pair: O(cells^2), written apart from the build.
@@ -96,8 +97,9 @@ std::vector<float> bruteForceCone(const Texture& t, bool inverted, bool hierarch
                         for (int xx = x0; xx < x1; ++xx)
                             top = std::max(top, cells[size_t(yy) * cx + xx].hi);
                     if (!(top > low)) continue;
-                    double d = std::hypot(gap(interval(i, i + 1, W, cx), interval(x0, x1, W, cx), W) / W,
-                                          gap(interval(j, j + 1, H, cy), interval(y0, y1, H, cy), H) / H);
+                    double d =
+                        std::hypot(gap(interval(i, i + 1, W, cx), interval(x0, x1, W, cx), W) / W,
+                                   gap(interval(j, j + 1, H, cy), interval(y0, y1, H, cy), H) / H);
                     best = std::min(best, std::max(d, delta) / (top - low));
                 }
             float f = float(best);
@@ -167,13 +169,16 @@ TEST(Cone, PureConeSteppingNeverPassesTheFirstIntersection) {
             for (int q = 0; q < 150; ++q) {
                 Vec2d uv0(uni(rng), uni(rng));
                 Vec3d v = viewFromAngles(88 * std::sqrt(uni(rng)), 360 * uni(rng));
-                Vec2d got = cone<double>(tex, uv0, v, R"({"name":"cone","steps":300,"refine_steps":0})");
+                Vec2d got =
+                    cone<double>(tex, uv0, v, R"({"name":"cone","steps":300,"refine_steps":0})");
                 const Vec2d dir = Vec2d(v.x, v.y) / v.z;
                 const double a = std::fabs(s), sg = s < 0 ? -1 : 1;
                 const Vec2d start = uv0 + dir * (a * m.top + b);
                 // The ray's e where it is at uv (along the ray from start).
                 const double len = glm::length(got - start);
-                auto rayE = [&](double f) { return m.top - f * len / std::max(a * glm::length(dir), 1e-300); };
+                auto rayE = [&](double f) {
+                    return m.top - f * len / std::max(a * glm::length(dir), 1e-300);
+                };
                 for (int k = 0; k <= 4000; ++k) {
                     const double f = k / 4000.0;
                     const Vec2d p = start + (got - start) * f;
@@ -199,7 +204,8 @@ TEST(Cone, ClosedFormsOnConstantAndRamp) {
     Texture level = makeTexture(16, 16, [&](int, int) { return h; });
     MethodTextures flat = withCone(level, s, b);
     EXPECT_EQ(flat.cone->ratio[0], float(kConeRatioCap));
-    Texture ramp = makeTexture(64, 64, [](int i, int) { return 0.2 + 0.01 * i; }, Address::Clamp);
+    Texture ramp = makeTexture(
+        64, 64, [](int i, int) { return 0.2 + 0.01 * i; }, Address::Clamp);
     MethodTextures sloped = withCone(ramp, s, b);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -226,8 +232,8 @@ TEST(Cone, HeadOnReturnsUv0AndNoEyeBelow) {
         EXPECT_EQ(cone<float>(tex, uv0, Vec3d(0, 0, 1), R"({"name":"cone"})"), Vec2f(uv0));
     }
     uint32_t flags = 0;
-    Vec2d r = cone<double>(tex, Vec2d(0.5), Vec3d(0.6, 0, -0.8), R"({"name":"cone"})", nullptr,
-                           &flags);
+    Vec2d r =
+        cone<double>(tex, Vec2d(0.5), Vec3d(0.6, 0, -0.8), R"({"name":"cone"})", nullptr, &flags);
     EXPECT_TRUE(std::isnan(r.x));
     EXPECT_TRUE(flags & kFlagZeroDivide);
 }
@@ -248,8 +254,8 @@ TEST(Cone, MoreStepsNeverHurt) {
         double prev = INFINITY;
         int k = 0;
         for (int steps : {4, 16, 64}) {
-            std::string json = R"({"name":"cone","refine_steps":0,"steps":)" +
-                               std::to_string(steps) + "}";
+            std::string json =
+                R"({"name":"cone","refine_steps":0,"steps":)" + std::to_string(steps) + "}";
             double d = glm::length(cone<double>(tex, uv0, v, json) - hit) * 64;
             EXPECT_LE(d, prev + 1e-12) << q << " steps " << steps;
             prev = d;
@@ -258,10 +264,10 @@ TEST(Cone, MoreStepsNeverHurt) {
         refined[0] += glm::length(cone<double>(tex, uv0, v, R"({"name":"cone","steps":4})") - hit);
         refined[1] += glm::length(cone<double>(tex, uv0, v, R"({"name":"cone"})") - hit);
     }
-    std::printf("pure cone mean texels: 4 steps %.4g, 16 %.4g, 64 %.4g; refined 4+5 %.4g, "
-                "32+5 %.4g\n",
-                sum[0] / 500, sum[1] / 500, sum[2] / 500, refined[0] * 64 / 500,
-                refined[1] * 64 / 500);
+    std::printf(
+        "pure cone mean texels: 4 steps %.4g, 16 %.4g, 64 %.4g; refined 4+5 %.4g, "
+        "32+5 %.4g\n",
+        sum[0] / 500, sum[1] / 500, sum[2] / 500, refined[0] * 64 / 500, refined[1] * 64 / 500);
     EXPECT_LT(sum[1], sum[0]);
     EXPECT_LT(sum[2], sum[1]);
     EXPECT_LT(refined[1], refined[0]);
@@ -289,7 +295,8 @@ TEST(RelaxedCone, RaysThroughTexelsEnterAtMostOnceInsideTheCone) {
                 if (di == 0 && dj == 0) continue;
                 const double c = m.ratio[size_t(j) * t.width + i];
                 const double eT = sg * t.texel(i, j);
-                const Vec2d T((i + 0.5) / W, (j + 0.5) / H), D((i + di + 0.5) / W, (j + dj + 0.5) / H);
+                const Vec2d T((i + 0.5) / W, (j + 0.5) / H),
+                    D((i + di + 0.5) / W, (j + dj + 0.5) / H);
                 const double eD = sg * sampleBilinear<double>(t, D);
                 if (!(m.top > eD)) continue;
                 const double rhoD = glm::length(D - T), drop = (m.top - eD) / rhoD;  // e per UV
@@ -319,8 +326,8 @@ TEST(RelaxedCone, RaysThroughTexelsEnterAtMostOnceInsideTheCone) {
                     wider += c / safe;
                 }
         }
-    std::printf("rays %d, %d entering inside their cone; relaxed / conservative ratio %.2f\n",
-                rays, entered, wider / (4 * 19 * 22));
+    std::printf("rays %d, %d entering inside their cone; relaxed / conservative ratio %.2f\n", rays,
+                entered, wider / (4 * 19 * 22));
     EXPECT_GT(rays, 2000);
     EXPECT_GT(entered, 100);  // the relaxed cones do let rays in: the property is not vacuous
 }
@@ -352,9 +359,15 @@ TEST(RelaxedCone, ClosedFormsAndConvergence) {
         Vec2d want = uv0 + Vec2d(v.x, v.y) / v.z * (0.06 * h - 0.03);
         EXPECT_LT(glm::length(relaxed<double>(flat, uv0, v, json) - want), 1e-12) << q;
         Vec2d hit = test::firstHit(smooth, 0.06, -0.03, uv0, v);
-        err[0] += glm::length(relaxed<double>(tex, uv0, v, R"({"name":"relaxed_cone","cone_steps":4,"binary_steps":2})") - hit);
+        err[0] += glm::length(
+            relaxed<double>(tex, uv0, v,
+                            R"({"name":"relaxed_cone","cone_steps":4,"binary_steps":2})") -
+            hit);
         err[1] += glm::length(relaxed<double>(tex, uv0, v, json) - hit);
-        err[2] += glm::length(relaxed<double>(tex, uv0, v, R"({"name":"relaxed_cone","cone_steps":30,"binary_steps":12})") - hit);
+        err[2] += glm::length(
+            relaxed<double>(tex, uv0, v,
+                            R"({"name":"relaxed_cone","cone_steps":30,"binary_steps":12})") -
+            hit);
     }
     std::printf("relaxed_cone mean texels: 4+2 %.4g, 15+6 %.4g, 30+12 %.4g\n", err[0] / 400 * 64,
                 err[1] / 400 * 64, err[2] / 400 * 64);

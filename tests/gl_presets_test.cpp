@@ -26,10 +26,10 @@ GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragmen
 // A preset's shader with its sample counts set to n (min = max).
 GlslRun runWithSamples(const std::string& file, const std::string& function,
                        const std::string& uniforms, const Texture& t, const test::Fragments& in) {
-    MethodConfig cfg = test::method(R"({"name":"p","glsl":")" + test::sourceDir() +
-                                    "/src/shaders/presets/" + file + R"(","function":")" +
-                                    function + R"(","sampler":"heightMap","uniforms":{)" +
-                                    uniforms + "}}");
+    MethodConfig cfg =
+        test::method(R"({"name":"p","glsl":")" + test::sourceDir() + "/src/shaders/presets/" +
+                     file + R"(","function":")" + function +
+                     R"(","sampler":"heightMap","uniforms":{)" + uniforms + "}}");
     return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view);
 }
 
@@ -85,8 +85,8 @@ TEST(Gl, UnityAndTatarchukPresetsConvergeWithSamples) {
             const std::string ns = std::to_string(n) + ".0";
             GlslRun r = variant == 0
                             ? runWithSamples("unity_hdrp.glsl", "UnityHdrpPom",
-                                             R"("height_amplitude":0.05,"ppd_min_samples":)" +
-                                                 ns + R"(,"ppd_max_samples":)" + ns,
+                                             R"("height_amplitude":0.05,"ppd_min_samples":)" + ns +
+                                                 R"(,"ppd_max_samples":)" + ns,
                                              t, in)
                             : runWithSamples("tatarchuk.glsl", "TatarchukPom",
                                              R"("height_map_scale":0.05,"min_samples":)" + ns +

@@ -46,8 +46,8 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
     const ConeMap cone = buildConeMap(t, pyramid, s < 0);
     const ConeMap relaxedCone = needsRelaxedConeMap(cpu) ? buildRelaxedConeMap(t, cone) : ConeMap{};
-    GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0,
-                          nullptr, &pyramid, &cone, &relaxedCone);
+    GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0, nullptr,
+                          &pyramid, &cone, &relaxedCone);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;

@@ -104,8 +104,8 @@ TEST(Stress, SuiteRunsAndKnownCasesHold) {
         if (f[0] == "far_plane" || f[0] == "scale_zero") {
             EXPECT_LT(std::stod(f[15]), 1e-3) << line;  // float truth vs double, texels
         }
-        // A 1x1 map is a constant field: parallax, pom, tangent_plane, secant, contact, maxmip and cone
-        // are exact there.
+        // A 1x1 map is a constant field: parallax, pom, tangent_plane, secant, contact, maxmip and
+        // cone are exact there.
         bool exactOnConstant = f[2] == "parallax" || f[2] == "pom" || f[2] == "tangent_plane" ||
                                f[2] == "secant" || f[2] == "contact" || f[2] == "maxmip" ||
                                f[2] == "cone";

@@ -400,8 +400,8 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
     checkMapFits(spec, "sampler", spec.sampler, &height);
     checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
     checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
-    const DrawMaps maps{height, normal,     parallax, scale, bias, uploads ? *uploads : once,
-                        pyramid, cone, relaxedCone};
+    const DrawMaps maps{height,  normal, parallax,   scale, bias, uploads ? *uploads : once,
+                        pyramid, cone,   relaxedCone};
     if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
     GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
     for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
@@ -423,8 +423,7 @@ GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
-                const MinMaxPyramid* pyramid, const ConeMap* cone,
-                const ConeMap* relaxedCone) {
+                const MinMaxPyramid* pyramid, const ConeMap* cone, const ConeMap* relaxedCone) {
     PGT_CHECK_EQ(uv0.size(), view.size());
     GlslRun run;
     onGlThread([&] {

@@ -38,8 +38,8 @@ struct Cells {
                 hi[k] = std::max({a, b, c, d});
                 // At its corners: (d/dx, d/dy) per UV unit (x = u W, y = v H).
                 double g = 0;
-                for (auto [gx, gy] : {std::pair{b - a, c - a}, {b - a, d - b}, {d - c, c - a},
-                                      {d - c, d - b}})
+                for (auto [gx, gy] :
+                     {std::pair{b - a, c - a}, {b - a, d - b}, {d - c, c - a}, {d - c, d - b}})
                     g = std::max(g, std::hypot(gx * W, gy * H));
                 grad[k] = g;
             }

@@ -26,8 +26,8 @@
 // build of the same definition, and with the exact cell-by-cell optimum.
 #pragma once
 
-#include <cfloat>
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -39,11 +39,11 @@
 namespace pgt {
 
 struct ConeMap {
-    int width = 0, height = 0;  // the map's texels
+    int width = 0, height = 0;   // the map's texels
     int cellsX = 0, cellsY = 0;  // repeat: W x H (the last wraps); clamp: max(W - 1, 1) x ...
     Address address = Address::Repeat;
-    bool inverted = false;     // built for e = -h (s < 0)
-    bool relaxed = false;      // a relaxed cone map (methods/cone.h relaxed_cone)
+    bool inverted = false;      // built for e = -h (s < 0)
+    bool relaxed = false;       // a relaxed cone map (methods/cone.h relaxed_cone)
     float top = 0, bottom = 0;  // the highest and lowest e of the map
     std::vector<float> ratio;   // per cell, j * cellsX + i; at most kConeRatioCap
 };

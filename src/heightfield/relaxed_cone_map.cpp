@@ -17,8 +17,7 @@ struct Surface {
 
     // The patch of the cell holding lattice point (x, y), along the line (x, y) + (dx, dy) s:
     // e = h0 + h1 s + h2 s^2 (MODEL.md §1).
-    void along(double x, double y, double dx, double dy, double& h0, double& h1,
-               double& h2) const {
+    void along(double x, double y, double dx, double dy, double& h0, double& h1, double& h2) const {
         int i0, i1, j0, j1;
         double fx, fy;
         detail::texelPair(x, t.width, t.address, i0, i1, fx);
@@ -34,8 +33,8 @@ struct Surface {
 
 // Along the ray x(s) = p + d s (lattice units), e(s) = e0 - s / slope, from s = 0 to sMax:
 // the first s where the ray comes out of the surface (above it after an interval below it;
-// touching is not entering), or -1. Cell by cell the gap ray - surface is a quadratic; between its roots (and the cell's
-// ends) its sign is that at the middle.
+// touching is not entering), or -1. Cell by cell the gap ray - surface is a quadratic; between its
+// roots (and the cell's ends) its sign is that at the middle.
 double firstExit(const Surface& surf, double px, double py, double dx, double dy, double e0,
                  double slope, double sMax) {
     double s = 0;
@@ -115,24 +114,26 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
                 }
             double best = top > eT ? std::min(kConeRatioCap, reach / (top - eT)) : kConeRatioCap;
             for (auto [di, dj] : around) {
-                    const double eD = surf.sign * t.texel(
-                        t.address == Address::Repeat ? ((i + di) % t.width + t.width) % t.width
-                                                     : std::clamp(i + di, 0, t.width - 1),
-                        t.address == Address::Repeat ? ((j + dj) % t.height + t.height) % t.height
-                                                     : std::clamp(j + dj, 0, t.height - 1));
-                    const double rho = std::hypot(di / W, dj / H);  // UV from T to D
-                    if (!(top > eD)) continue;
-                    // The ray from (T, top) through (D, eD), in lattice steps of one (di, dj),
-                    // to where it meets the side of the cone as it stands (an exit beyond
-                    // could not narrow it; nor beyond the reach of the cap).
-                    const double slope = 1 / (top - eD);  // (di, dj) steps per unit of e
-                    const double side = (top - eT) / ((top - eD) / rho + 1 / best);  // UV
-                    const double s =
-                        firstExit(surf, i, j, di, dj, top, slope, std::min(reach, side) / rho);
-                    if (s < 0) continue;
-                    const double eX = top - s / slope;
-                    if (eX > eT) best = std::min(best, rho * s / (eX - eT));
-                }
+                const double eD =
+                    surf.sign * t.texel(t.address == Address::Repeat
+                                            ? ((i + di) % t.width + t.width) % t.width
+                                            : std::clamp(i + di, 0, t.width - 1),
+                                        t.address == Address::Repeat
+                                            ? ((j + dj) % t.height + t.height) % t.height
+                                            : std::clamp(j + dj, 0, t.height - 1));
+                const double rho = std::hypot(di / W, dj / H);  // UV from T to D
+                if (!(top > eD)) continue;
+                // The ray from (T, top) through (D, eD), in lattice steps of one (di, dj),
+                // to where it meets the side of the cone as it stands (an exit beyond
+                // could not narrow it; nor beyond the reach of the cap).
+                const double slope = 1 / (top - eD);  // (di, dj) steps per unit of e
+                const double side = (top - eT) / ((top - eD) / rho + 1 / best);  // UV
+                const double s =
+                    firstExit(surf, i, j, di, dj, top, slope, std::min(reach, side) / rho);
+                if (s < 0) continue;
+                const double eX = top - s / slope;
+                if (eX > eT) best = std::min(best, rho * s / (eX - eT));
+            }
             const double ratio = std::max(best, safe);
             float f = float(ratio);
             if (double(f) > ratio) f = std::nextafter(f, 0.0f);

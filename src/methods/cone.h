@@ -14,8 +14,12 @@ struct ConeRay {
     Vec2<Real> uv0, dir;
     Real sign, a, b, r;  // e = sign h; a = |s|; r = UV travelled per unit of e
     ConeRay(const ConeMap& m, const MethodContext<Real>& c, Vec2<Real> uv, Vec3<Real> v)
-        : uv0(uv), dir(Vec2<Real>(v.x, v.y) / v.z), sign(m.inverted ? Real(-1) : Real(1)),
-          a(std::fabs(c.scale)), b(c.bias), r(a * std::sqrt(dir.x * dir.x + dir.y * dir.y)) {}
+        : uv0(uv),
+          dir(Vec2<Real>(v.x, v.y) / v.z),
+          sign(m.inverted ? Real(-1) : Real(1)),
+          a(std::fabs(c.scale)),
+          b(c.bias),
+          r(a * std::sqrt(dir.x * dir.x + dir.y * dir.y)) {}
     Vec2<Real> at(Real e) const { return uv0 + dir * (a * e + b); }
 };
 

@@ -15,9 +15,9 @@ struct GlslSpec {
     std::string sampler = "depthMap";            // "" = the function samples no height map
     std::string normalSampler, parallaxSampler;  // optional: 003's derived maps
     std::string pyramidSampler;                  // optional: the minimum-maximum pyramid (maxmip)
-    std::string coneSampler;  // optional: the conservative cone map for the sign of s (cone)
+    std::string coneSampler;         // optional: the conservative cone map for the sign of s (cone)
     std::string relaxedConeSampler;  // optional: the relaxed cone map (relaxed_cone)
-    bool depthTexture = false;  // "texture": "depth" -> the sampler holds d = 1 - h
+    bool depthTexture = false;       // "texture": "depth" -> the sampler holds d = 1 - h
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
     // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
     struct Uniform {

@@ -37,8 +37,8 @@ struct MethodKindInfo {
     bool derivedMaps = false;  // reads 003's normal and parallax maps
     MethodFunction<float> runFloat = nullptr;
     MethodFunction<double> runDouble = nullptr;
-    bool minMaxPyramid = false;  // traces heightfield/minmax_pyramid.h (precomputed per map)
-    bool coneMap = false;        // reads heightfield/cone_map.h (per map and sign of s)
+    bool minMaxPyramid = false;   // traces heightfield/minmax_pyramid.h (precomputed per map)
+    bool coneMap = false;         // reads heightfield/cone_map.h (per map and sign of s)
     bool relaxedConeMap = false;  // reads its relaxed cone map (the same)
 };
 

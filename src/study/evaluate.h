@@ -9,8 +9,8 @@
 
 #include "core/image.h"
 #include "core/samples.h"
-#include "heightfield/heightfield.h"
 #include "heightfield/cone_map.h"
+#include "heightfield/heightfield.h"
 #include "heightfield/minmax_pyramid.h"
 #include "methods/method.h"
 #include "raster/fragment_list.h"
