@@ -183,8 +183,9 @@ TEST(Cone, PureConeSteppingNeverPassesTheFirstIntersection) {
                     const double f = k / 4000.0;
                     const Vec2d p = start + (got - start) * f;
                     const double surface = sg * sampleBilinear<double>(t, p);
-                    if (glm::length(dir) > 0)
+                    if (glm::length(dir) > 0) {
                         ASSERT_GE(rayE(f), surface - 1e-9) << q << " at " << f;
+                    }
                 }
                 Vec2d hit = test::firstHit(t, s, b, uv0, v);
                 EXPECT_LE(len, glm::length(hit - start) + 1e-9) << q;

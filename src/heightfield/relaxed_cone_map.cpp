@@ -67,7 +67,8 @@ double firstExit(const Surface& surf, double px, double py, double dx, double dy
             const double r = -C / B;
             if (r > -len * 0.5 && r < len * 0.5) cuts[n++] = r;
         }
-        std::sort(cuts, cuts + n);
+        for (int a = 1; a < n; ++a)  // at most three: an insertion sort
+            for (int b = a; b > 0 && cuts[b] < cuts[b - 1]; --b) std::swap(cuts[b], cuts[b - 1]);
         cuts[n] = len * 0.5;
         for (int k = 0; k < n; ++k) {
             // Within rounding of the surface (a ray through a texel's surface point grazes it
