@@ -64,9 +64,19 @@ template <class Real>
 
 }  // namespace detail
 
-// Bilinear interpolation of texel centres (MODEL.md §1) of channel c; NaN in, NaN out.
-// (Always inlined: the methods' marches are a loop around it; measured in BM_Method.)
+// The fraction of 8 fractional bits a GPU's bilinear filter weighs with: NVIDIA documents its
+// weights as 9-bit fixed point with 8 fractional bits (CUDA C Programming Guide, "Linear
+// Filtering"); AMD's are the same width. Rounded to nearest here (the rounding is not
+// documented).
 template <class Real>
+inline Real gpu8Fraction(Real f) {
+    return std::floor(f * Real(256) + Real(0.5)) / Real(256);
+}
+
+// Bilinear interpolation of texel centres (MODEL.md §1) of channel c; NaN in, NaN out.
+// kGpu8: the weights' fractions rounded to 8 bits as a GPU's filter does (gpu8Fraction).
+// (Always inlined: the methods' marches are a loop around it; measured in BM_Method.)
+template <class Real, bool kGpu8 = false>
 [[gnu::always_inline]] inline Real sampleBilinear(const Texture& t, Vec2<Real> uv, int c = 0) {
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return Real(NAN);
     Real x = uv.x * Real(t.width) - Real(0.5);
@@ -75,6 +85,10 @@ template <class Real>
     Real fx, fy;
     detail::texelPair(x, t.width, t.address, i0, i1, fx);
     detail::texelPair(y, t.height, t.address, j0, j1, fy);
+    if constexpr (kGpu8) {
+        fx = gpu8Fraction(fx);
+        fy = gpu8Fraction(fy);
+    }
     Real a = Real(t.texel(i0, j0, c)), b = Real(t.texel(i1, j0, c));
     Real d = Real(t.texel(i0, j1, c)), e = Real(t.texel(i1, j1, c));
     Real bottom = a + (b - a) * fx;
@@ -83,10 +97,10 @@ template <class Real>
 }
 
 // All channels at once (normal maps): same weights as sampleBilinear.
-template <class Real>
+template <class Real, bool kGpu8 = false>
 inline Vec3<Real> sampleBilinear3(const Texture& t, Vec2<Real> uv) {
-    return {sampleBilinear<Real>(t, uv, 0), sampleBilinear<Real>(t, uv, 1),
-            sampleBilinear<Real>(t, uv, 2)};
+    return {sampleBilinear<Real, kGpu8>(t, uv, 0), sampleBilinear<Real, kGpu8>(t, uv, 1),
+            sampleBilinear<Real, kGpu8>(t, uv, 2)};
 }
 
 }  // namespace pgt

@@ -113,6 +113,7 @@ std::string parameterSuffix(const MethodConfig& c) {
         s += value;
     };
     if (c.doublePrecision) add("f64");
+    if (c.gpu8Filter) add("gpu8");
     if (c.discardOutside) add("discard");
     // Numbers as an ostream's default %g shows them.
     if (std::isfinite(c.scale)) add("s", formatNumber(c.scale, 6));
@@ -134,6 +135,8 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
     cfg.bias = f.number("bias", cfg.bias, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.doublePrecision = f.choice("precision", {"float", "double"},
                                    cfg.doublePrecision ? "double" : "float") == "double";
+    cfg.gpu8Filter =
+        f.choice("filter", {"exact", "gpu8"}, cfg.gpu8Filter ? "gpu8" : "exact") == "gpu8";
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -235,6 +238,7 @@ Json toJson(const MethodConfig& c) {
     if (std::isfinite(c.scale)) j["scale"] = c.scale;
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
     j["precision"] = c.doublePrecision ? "double" : "float";
+    if (c.gpu8Filter) j["filter"] = "gpu8";  // absent when exact: older studies keep their identity
     return j;
 }
 

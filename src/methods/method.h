@@ -47,8 +47,9 @@ struct MethodConfig {
     int secantSteps = 3;                    // secant (Risser et al. 2007)
     int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
     int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
-    bool discardOutside = false;            // LearnOpenGL: discard when uv' leaves [0, tiling]^2
+    bool discardOutside = false;   // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
+    bool gpu8Filter = false;       // "filter": "gpu8": bilinear weights of 8 fractional bits
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (MODEL.md §3).
     double scale = NAN, bias = NAN;
@@ -78,19 +79,21 @@ struct MethodContext {
     Real scale = 0, bias = 0;                // s, b in UV units (MODEL.md §3)
     int fetches = 0;
     uint32_t flags = 0;
+    bool gpu8 = false;  // the GPU's 8-bit filter weights (runMethod sets it from the config)
 
     Real h(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear<Real>(*height, uv);
+        return gpu8 ? sampleBilinear<Real, true>(*height, uv) : sampleBilinear<Real>(*height, uv);
     }
     Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (002)
     Real parallaxMap(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear<Real>(*parallax, uv);
+        return gpu8 ? sampleBilinear<Real, true>(*parallax, uv)
+                    : sampleBilinear<Real>(*parallax, uv);
     }
     Vec3<Real> normalMap(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear3<Real>(*normal, uv);
+        return gpu8 ? sampleBilinear3<Real, true>(*normal, uv) : sampleBilinear3<Real>(*normal, uv);
     }
 };
 

@@ -4,8 +4,8 @@
 #include <type_traits>
 
 #include "core/error.h"
-#include "methods/glsl_spec.h"
 #include "methods/cone.h"
+#include "methods/glsl_spec.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
 #include "methods/maxmip.h"
@@ -223,6 +223,7 @@ Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Rea
                      Vec3<Real> v) {
     const MethodKindInfo* info = kindInfo(cfg.kind);
     if (!info) return uv0;  // a GLSL method runs in OpenGL (study/evaluate.cpp), never here
+    ctx.gpu8 = cfg.gpu8Filter;
     if constexpr (std::is_same_v<Real, float>)
         return info->runFloat(ctx, uv0, v, cfg);
     else
