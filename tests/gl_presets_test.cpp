@@ -11,6 +11,7 @@
 #include "gl/glsl_method.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
+#include "methods/presets.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -26,10 +27,9 @@ GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragmen
 // A preset's shader with its sample counts set to n (min = max).
 GlslRun runWithSamples(const std::string& file, const std::string& function,
                        const std::string& uniforms, const Texture& t, const test::Fragments& in) {
-    MethodConfig cfg =
-        test::method(R"({"name":"p","glsl":")" + test::sourceDir() + "/src/shaders/presets/" +
-                     file + R"(","function":")" + function +
-                     R"(","sampler":"heightMap","uniforms":{)" + uniforms + "}}");
+    MethodConfig cfg = test::method(R"({"name":"p","glsl":")" + shaderDir() + "/presets/" + file +
+                                    R"(","function":")" + function +
+                                    R"(","sampler":"heightMap","uniforms":{)" + uniforms + "}}");
     return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view);
 }
 
@@ -206,6 +206,24 @@ TEST(Gl, UnityAndTatarchukPresetsAreFiniteOnTheStiffSuite) {
         ++scenes;
     }
     EXPECT_GE(scenes, 13);
+}
+
+// Bevy does not clamp |V.z| (its parallax_mapping.wgsl divides by abs(Vt.z)): at V.z = 0 the
+// offset is infinite or NaN. The draw survives and uv' is non-finite, which the comparator
+// counts as a divergence; just above 0 the march stays bounded (at most layers + 1 steps).
+TEST(Gl, BevyAtGrazingZeroDivergesWithoutACrash) {
+    Texture t = test::smoothTexture(32, 32);
+    test::Fragments in = test::randomFragments(64, 26);
+    for (size_t k = 0; k < in.view.size(); ++k)
+        in.view[k] = k % 2 ? Vec3f(0.6f, 0.8f, 0.0f) : Vec3f(viewFromAngles(89.99, 40));
+    for (const char* name : {"bevy_occlusion", "bevy_relief"}) {
+        GlslRun r = runPreset(name, t, in);
+        for (size_t k = 0; k < in.uv0.size(); ++k) {
+            const bool finite = std::isfinite(r.uv[k].x) && std::isfinite(r.uv[k].y);
+            EXPECT_EQ(finite, k % 2 == 0) << name << " " << k;
+            EXPECT_LE(r.fetches[k], 19u) << name << " " << k;  // 16 layers + 2, + relief's 5
+        }
+    }
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // Engine preset: Bevy's StandardMaterial parallax mapping, re-implemented from its documented
 // behaviour (README "Engine presets"): a depth map (sampler holds d; "texture": "depth"),
 // parallax_depth_scale (default 0.1), max_parallax_layer_count (default 16), layers mixed
-// from max down to 1 by |V.z| (V.z clamped away from 0), a march of at most layer_count + 1
-// steps from the base UV, then either the occlusion interpolation (the default method) or
+// from max down to 1 by |V.z| (not clamped: V.z = 0 gives no finite uv'), a march of at
+// most layer_count + 1 steps from the base UV, then either the occlusion interpolation (the default method) or
 // `max_steps` binary refinements (the Relief method, default 5 steps).
 // Bevy's tangent-space view vector points from the camera with its y flipped for UVs whose
 // v runs down the image; pgt's V points to the eye with v up, so Bevy's
@@ -16,7 +16,7 @@ float bevyDepth(vec2 uv) { return texture(depthMap, uv).r; }
 
 vec2 bevyMarch(vec2 uv, vec3 V, out vec2 delta_uv, out float layer_depth,
                out float current_layer_depth, out float texture_depth) {
-    float view_steepness = max(abs(V.z), 1.0e-4);
+    float view_steepness = abs(V.z);  // not clamped (Bevy's code): V.z = 0 diverges
     float layer_count = mix(max_layer_count, 1.0, view_steepness);
     layer_depth = 1.0 / layer_count;
     delta_uv = depth_scale * layer_depth * (-V.xy) / view_steepness;
