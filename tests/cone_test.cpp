@@ -8,7 +8,6 @@
 #include <random>
 
 #include "heightfield/cone_map.h"
-#include "heightfield/minmax_pyramid.h"
 #include "methods/registry.h"
 #include "study/evaluate.h"
 #include "test_util.h"
@@ -119,7 +118,7 @@ TEST(Cone, FastBuildEqualsTheBruteForceOne) {
                             std::pair{24, 3}, std::pair{40, 33}})
             for (bool inverted : {false, true}) {
                 Texture t = roughMap(w, h, address, uint32_t(w * 31 + h));
-                ConeMap m = buildConeMap(t, buildMinMaxPyramid(t), inverted);
+                ConeMap m = buildConeMap(t, inverted);
                 std::vector<float> brute = bruteForceCone(t, inverted, true);
                 std::vector<float> optimum = bruteForceCone(t, inverted, false);
                 ASSERT_EQ(m.ratio.size(), brute.size());
@@ -136,8 +135,7 @@ TEST(Cone, FastBuildEqualsTheBruteForceOne) {
 
 MethodTextures withCone(const Texture& t, double s, double b) {
     MethodTextures tex = makeMethodTextures(t, s, b, UvExtent{}, false);
-    tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
-    tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, *tex.pyramid, s < 0));
+    tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, s < 0));
     tex.relaxedCone = std::make_shared<const ConeMap>(buildRelaxedConeMap(t, *tex.cone));
     return tex;
 }

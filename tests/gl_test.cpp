@@ -45,7 +45,7 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
                 double b, const Inputs& in, double tolTexels) {
     DerivedMaps dm = makeDerivedMaps(t, s, b);
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
-    const ConeMap cone = buildConeMap(t, pyramid, s < 0);
+    const ConeMap cone = buildConeMap(t, s < 0);
     const ConeMap relaxedCone = needsRelaxedConeMap(cpu) ? buildRelaxedConeMap(t, cone) : ConeMap{};
     GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0, nullptr,
                           &pyramid, &cone, &relaxedCone);

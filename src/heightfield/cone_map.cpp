@@ -1,10 +1,10 @@
-// Conservative cone maps by branch and bound over the pyramid (cone_map.h).
+// Conservative cone maps: near gradient bounds and a far bound over a pyramid of cells
+// (cone_map.h).
 #include "heightfield/cone_map.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <bit>
 
 #include "core/error.h"
 
@@ -117,18 +117,10 @@ std::vector<std::vector<double>> highPyramid(const Cells& g, int levels) {
     return up;
 }
 
-// The largest float not above x (the map must not promise more than the double did).
-float floatBelow(double x) {
-    if (!(x < double(FLT_MAX))) return FLT_MAX;
-    float f = float(x);
-    if (double(f) > x) f = std::nextafter(f, 0.0f);
-    return f;
-}
-
 }  // namespace
 
-ConeMap buildConeMap(const Texture& t, const MinMaxPyramid& p, bool inverted) {
-    PGT_CHECK(t.width > 0 && t.height > 0 && p.width == t.width && p.height == t.height);
+ConeMap buildConeMap(const Texture& t, bool inverted) {
+    PGT_CHECK(t.width > 0 && t.height > 0);
     const Cells g(t, inverted);
     const std::vector<double> near = blockGradient(g);
     ConeMap m;
@@ -138,8 +130,7 @@ ConeMap buildConeMap(const Texture& t, const MinMaxPyramid& p, bool inverted) {
     m.cellsY = g.cy;
     m.address = t.address;
     m.inverted = inverted;
-    m.top = inverted ? -p.lo : p.hi;
-    m.bottom = inverted ? -p.hi : p.lo;
+    m.top = float(*std::max_element(g.hi.begin(), g.hi.end()));  // e of a texel: exact
     m.ratio.resize(size_t(g.cx) * g.cy);
     const double delta = kConeBlock * std::min(1.0 / g.W, 1.0 / g.H);
     int levels = 1;
@@ -170,7 +161,7 @@ ConeMap buildConeMap(const Texture& t, const MinMaxPyramid& p, bool inverted) {
                         best = std::min(best, std::max(d, delta) / (top - g.lo[k]));
                     }
             }
-            m.ratio[k] = floatBelow(best);
+            m.ratio[k] = coneRatioBelow(best);
         }
     });
     return m;

@@ -17,7 +17,7 @@
 //    from C to a point outside its block.
 // With a clamped map the edge cells reach to the map's border, and points beyond it see the
 // border's heights (clamping is a projection, so distances only shrink: still covered).
-// and, for speed, each cell R enters the far minimum through its ancestor node in a pyramid
+// For speed each cell R enters the far minimum through its ancestor node in a pyramid
 // of cells (the node's highest e, its distance), at the level where R's and C's parents first
 // touch (coneLevelUsed): a node's bound is below every cell's in it, so this only makes c
 // smaller (safer), and it visits a few dozen nodes a level: O(N^2 log N) for N^2 cells, after
@@ -33,7 +33,6 @@
 #include <cstdlib>
 #include <vector>
 
-#include "heightfield/minmax_pyramid.h"
 #include "heightfield/texture.h"
 
 namespace pgt {
@@ -42,10 +41,9 @@ struct ConeMap {
     int width = 0, height = 0;   // the map's texels
     int cellsX = 0, cellsY = 0;  // repeat: W x H (the last wraps); clamp: max(W - 1, 1) x ...
     Address address = Address::Repeat;
-    bool inverted = false;      // built for e = -h (s < 0)
-    bool relaxed = false;       // a relaxed cone map (methods/cone.h relaxed_cone)
-    float top = 0, bottom = 0;  // the highest and lowest e of the map
-    std::vector<float> ratio;   // per cell, j * cellsX + i; at most kConeRatioCap
+    bool inverted = false;     // built for e = -h (s < 0)
+    float top = 0;             // the highest e of the map (where the rays start)
+    std::vector<float> ratio;  // per cell (relaxed: per texel), j * cellsX + i; <= kConeRatioCap
 };
 
 // The block radius of the near bound (cells).
@@ -53,8 +51,6 @@ inline constexpr int kConeBlock = 4;
 // The largest ratio a cone map holds (UV per unit of height): Dummer's maps store 0..1.
 inline constexpr double kConeRatioCap = 1.0;
 
-// The cell that holds UV point (u, v): lattice x = u W - 0.5, floored, then wrapped (repeat)
-// or clamped to the cells (clamp). Any finite or infinite input gives a valid cell.
 // floor(x) wrapped into [0, n) (repeat) or clamped to it; any input, NaN included, gives one.
 template <class Real>
 int coneIndex(Real x, int n, Address address) {
@@ -71,6 +67,16 @@ int coneIndex(Real x, int n, Address address) {
     return int(i);
 }
 
+// The largest float not above x: a stored ratio never promises more than the double did.
+inline float coneRatioBelow(double x) {
+    if (!(x < double(FLT_MAX))) return FLT_MAX;
+    float f = float(x);
+    if (double(f) > x) f = std::nextafter(f, 0.0f);
+    return f;
+}
+
+// The cell that holds UV point (u, v): lattice x = u W - 0.5, floored, then wrapped (repeat)
+// or clamped to the cells (clamp). Any finite or infinite input gives a valid cell.
 template <class Real>
 int coneCell(const ConeMap& m, Real u, Real v) {
     return coneIndex(v * Real(m.height) - Real(0.5), m.cellsY, m.address) * m.cellsX +
@@ -90,12 +96,8 @@ inline bool coneLevelUsed(int i, int j, int rx, int ry, int level, int levels) {
     return parentsTouch && !touchedBelow;
 }
 
-// The conservative cone map of `t` (e = h, or -h when `inverted`), from its pyramid.
-ConeMap buildConeMap(const Texture& t, const MinMaxPyramid& p, bool inverted);
-
-}  // namespace pgt
-
-namespace pgt {
+// The conservative cone map of `t` (e = h, or -h when `inverted`).
+ConeMap buildConeMap(const Texture& t, bool inverted);
 
 // Relaxed cone maps (Policarpo & Oliveira, "Relaxed Cone Stepping for Relief Mapping", GPU
 // Gems 3, ch. 18, §18.3): one ratio per texel T, the apex at T's centre and height e_T.

@@ -87,7 +87,6 @@ double firstExit(const Surface& surf, double px, double py, double dx, double dy
 ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
     PGT_CHECK(t.width == conservative.width && t.height == conservative.height);
     ConeMap m = conservative;
-    m.relaxed = true;
     m.cellsX = t.width;  // one ratio per texel
     m.cellsY = t.height;
     m.ratio.assign(size_t(t.width) * t.height, 0.0f);
@@ -116,12 +115,8 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
             double best = top > eT ? std::min(kConeRatioCap, reach / (top - eT)) : kConeRatioCap;
             for (auto [di, dj] : around) {
                 const double eD =
-                    surf.sign * t.texel(t.address == Address::Repeat
-                                            ? ((i + di) % t.width + t.width) % t.width
-                                            : std::clamp(i + di, 0, t.width - 1),
-                                        t.address == Address::Repeat
-                                            ? ((j + dj) % t.height + t.height) % t.height
-                                            : std::clamp(j + dj, 0, t.height - 1));
+                    surf.sign * t.texel(coneIndex(double(i + di), t.width, t.address),
+                                        coneIndex(double(j + dj), t.height, t.address));
                 const double rho = std::hypot(di / W, dj / H);  // UV from T to D
                 if (!(top > eD)) continue;
                 // The ray from (T, top) through (D, eD), in lattice steps of one (di, dj),
@@ -135,10 +130,7 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
                 const double eX = top - s / slope;
                 if (eX > eT) best = std::min(best, rho * s / (eX - eT));
             }
-            const double ratio = std::max(best, safe);
-            float f = float(ratio);
-            if (double(f) > ratio) f = std::nextafter(f, 0.0f);
-            m.ratio[size_t(j) * t.width + i] = f;
+            m.ratio[size_t(j) * t.width + i] = coneRatioBelow(std::max(best, safe));
         }
     });
     return m;

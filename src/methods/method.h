@@ -111,7 +111,7 @@ bool needsDerivedMaps(MethodKind kind);
 bool needsDerivedMaps(const MethodConfig& cfg);
 // Which configurations trace the minimum-maximum pyramid (built once per height map).
 bool needsMinMaxPyramid(const MethodConfig& cfg);
-// Which read a conservative cone map (built once per map and sign of s, from the pyramid).
+// Which read a conservative cone map (built once per map and sign of s).
 bool needsConeMap(const MethodConfig& cfg);
 // Which read a relaxed cone map (built from the cone map; per map and sign of s).
 bool needsRelaxedConeMap(const MethodConfig& cfg);

@@ -133,9 +133,9 @@ const std::vector<MethodKindInfo>& methodKinds() {
         {"maxmip", K::MaxMip, kMaxMipParameters, nullptr, nullptr, false, methodMaxMip<float>,
          methodMaxMip<double>, true},
         {"cone", K::Cone, kConeParameters, "steps", coneLabel, false, methodCone<float>,
-         methodCone<double>, true, true},
+         methodCone<double>, false, true},
         {"relaxed_cone", K::RelaxedCone, kRelaxedConeParameters, "cone_steps", coneLabel, false,
-         methodRelaxedCone<float>, methodRelaxedCone<double>, true, true, true},
+         methodRelaxedCone<float>, methodRelaxedCone<double>, false, true, true},
     };
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
@@ -187,9 +187,7 @@ void applyKindDefaults(MethodConfig& cfg) {
 }
 
 bool needsMinMaxPyramid(const MethodConfig& cfg) {
-    if (cfg.glsl)
-        return !cfg.glsl->pyramidSampler.empty() || !cfg.glsl->coneSampler.empty() ||
-               !cfg.glsl->relaxedConeSampler.empty();
+    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty();
     const MethodKindInfo* info = kindInfo(cfg.kind);
     return info && info->minMaxPyramid;
 }

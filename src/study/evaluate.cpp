@@ -34,14 +34,21 @@ std::pair<double, double> methodScaleBias(const MethodConfig& cfg, const Displac
 }
 }  // namespace
 
+namespace {
+// A per-map precomputation, built (and its time kept) on first use.
+template <class T, class Build>
+void buildOnce(std::shared_ptr<const T>& map, double& ms, Build build) {
+    if (map) return;
+    auto t0 = Clock::now();
+    map = std::make_shared<const T>(build());
+    ms = msSince(t0);
+}
+}  // namespace
+
 const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
     const auto key = methodScaleBias(cfg, view);
     const bool needDerived = needsDerivedMaps(cfg), needPyramid = needsMinMaxPyramid(cfg);
-    if (needPyramid && !pyramid_) {
-        auto t0 = Clock::now();
-        pyramid_ = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(height_));
-        pyramidMs_ = msSince(t0);
-    }
+    if (needPyramid) buildOnce(pyramid_, pyramidMs_, [&] { return buildMinMaxPyramid(height_); });
     auto it = cache_.find(key);
     if (it == cache_.end())
         it = cache_
@@ -54,23 +61,14 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
         it->second.derived =
             std::make_unique<DerivedMaps>(makeDerivedMaps(height_, key.first, key.second));
     if (needPyramid && !it->second.pyramid) it->second.pyramid = pyramid_;  // a hit only reads
+    const int sign = key.first < 0 ? 1 : 0;  // cone maps: one per sign of s
     if (needsConeMap(cfg) && !it->second.cone) {
-        const int sign = key.first < 0 ? 1 : 0;
-        if (!cone_[sign]) {
-            auto t0 = Clock::now();
-            cone_[sign] = std::make_shared<const ConeMap>(buildConeMap(height_, *pyramid_, sign));
-            coneMs_[sign] = msSince(t0);
-        }
+        buildOnce(cone_[sign], coneMs_[sign], [&] { return buildConeMap(height_, sign); });
         it->second.cone = cone_[sign];
     }
     if (needsRelaxedConeMap(cfg) && !it->second.relaxedCone) {
-        const int sign = key.first < 0 ? 1 : 0;
-        if (!relaxed_[sign]) {
-            auto t0 = Clock::now();
-            relaxed_[sign] =
-                std::make_shared<const ConeMap>(buildRelaxedConeMap(height_, *cone_[sign]));
-            relaxedMs_[sign] = msSince(t0);
-        }
+        buildOnce(relaxed_[sign], relaxedMs_[sign],
+                  [&] { return buildRelaxedConeMap(height_, *cone_[sign]); });
         it->second.relaxedCone = relaxed_[sign];
     }
     return it->second;

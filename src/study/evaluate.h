@@ -68,8 +68,9 @@ class MethodTextureCache {
     // bytes each, so keeping every (s, b) would grow with the study).
     void clear() { cache_.clear(); }
     // The time its maps took to build a configuration's precomputed data in a view of (s, b)
-    // `view` (ms; 0 if none): the pyramid, the cone map of the sign of s from it and the
-    // relaxed cone map from that, each built once for the map and kept across clear().
+    // `view` (ms; 0 if none): maxmip's pyramid, cone's map for the sign of s, and for
+    // relaxed_cone that map plus the relaxed one built from it; each is built once for the map
+    // and kept across clear().
     double precomputeMs(const MethodConfig& cfg, const Displacement& view) const;
 
   private:

@@ -148,8 +148,7 @@ void BM_Method(benchmark::State& state, const char* json) {
     MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, needsDerivedMaps(cfg.kind));
     if (needsMinMaxPyramid(cfg))
         tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
-    if (needsConeMap(cfg))
-        tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, *tex.pyramid, false));
+    if (needsConeMap(cfg)) tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, false));
     if (needsRelaxedConeMap(cfg))
         tex.relaxedCone = std::make_shared<const ConeMap>(buildRelaxedConeMap(t, *tex.cone));
     std::vector<Vec2f> uv0(65536);
@@ -192,7 +191,7 @@ void BM_MinMaxPyramid(benchmark::State& state) {
 BENCHMARK(BM_MinMaxPyramid)->Arg(256)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
 
 // cone's precomputation: the conservative cone map of a range(0)^2 brick map (the default
-// scene's, scaled), pyramid included, on every core (TBB); with range(1) = 1 relaxed_cone's
+// scene's, scaled), on every core (TBB); with range(1) = 1 relaxed_cone's
 // relaxed map built from it (the cone map's own time not included).
 void BM_ConeMap(benchmark::State& state) {
     const int n = int(state.range(0));
@@ -202,13 +201,13 @@ void BM_ConeMap(benchmark::State& state) {
                               R"(], "bricks": [4, 8], "mortar": 0.12, "bevel": 0.2,
                               "jitter": 0.3, "seed": 7})"),
         "bench", "heightmap");
-    const ConeMap cone = buildConeMap(t, buildMinMaxPyramid(t), false);
+    const ConeMap cone = buildConeMap(t, false);
     for (auto _ : state) {
         if (state.range(1)) {
             ConeMap m = buildRelaxedConeMap(t, cone);
             benchmark::DoNotOptimize(m.ratio.data());
         } else {
-            ConeMap m = buildConeMap(t, buildMinMaxPyramid(t), false);
+            ConeMap m = buildConeMap(t, false);
             benchmark::DoNotOptimize(m.ratio.data());
         }
     }
