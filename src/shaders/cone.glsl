@@ -16,21 +16,21 @@ uniform int pgt_cone_inverted;
 uniform ivec2 pgt_map_size;
 uniform int pgt_map_repeat;
 
-// The cell of lattice coordinate t * texels - 0.5 along one axis (heightfield/cone_map.h).
-int coneAxis(float t, int texels, int cells) {
-    float x = clamp(floor(t * float(texels) - 0.5), -1.0e9, 1.0e9);
-    int i = int(x);
+// floor(x) wrapped into [0, n) (repeat) or clamped to it (heightfield/cone_map.h coneIndex).
+int coneIndex(float x, int n) {
+    int i = int(clamp(floor(x), -1.0e9, 1.0e9));
     if (pgt_map_repeat != 0) {
-        i = i % cells;
-        if (i < 0) i += cells;
+        i = i % n;
+        if (i < 0) i += n;
         return i;
     }
-    return clamp(i, 0, cells - 1);
+    return clamp(i, 0, n - 1);
 }
 
+// The cone map's cell holding uv: lattice x = u W - 0.5.
 float coneRatio(vec2 uv) {
-    ivec2 c = ivec2(coneAxis(uv.x, pgt_map_size.x, pgt_cone_cells.x),
-                    coneAxis(uv.y, pgt_map_size.y, pgt_cone_cells.y));
+    ivec2 c = ivec2(coneIndex(uv.x * float(pgt_map_size.x) - 0.5, pgt_cone_cells.x),
+                    coneIndex(uv.y * float(pgt_map_size.y) - 0.5, pgt_cone_cells.y));
     return texelFetch(coneMap, c, 0).r;
 }
 
@@ -86,16 +86,6 @@ uniform sampler2D relaxedConeMap;
 uniform int cone_steps;
 uniform int binary_steps;
 
-int relaxedAxis(float t, int n) {
-    int i = int(clamp(floor(t * float(n)), -1.0e9, 1.0e9));
-    if (pgt_map_repeat != 0) {
-        i = i % n;
-        if (i < 0) i += n;
-        return i;
-    }
-    return clamp(i, 0, n - 1);
-}
-
 vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     if (!(V.z > 0.0)) return vec2(0.0 / 0.0);
     ConeRay ray = coneRay(uv0, V);
@@ -105,7 +95,8 @@ vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     for (int i = 0; i < cone_steps; ++i) {
         vec2 uv = coneAt(ray, e);
         float gap = max(e - sgn * texture(heightMap, uv).r, 0.0);
-        ivec2 c = ivec2(relaxedAxis(uv.x, pgt_map_size.x), relaxedAxis(uv.y, pgt_map_size.y));
+        ivec2 c = ivec2(coneIndex(uv.x * float(pgt_map_size.x), pgt_map_size.x),
+                        coneIndex(uv.y * float(pgt_map_size.y), pgt_map_size.y));
         float ratio = texelFetch(relaxedConeMap, c, 0).r;
         e -= ratio * gap / (ratio + r);
     }
