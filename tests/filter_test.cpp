@@ -24,10 +24,10 @@ TEST(Gpu8, WeightsOnTheLatticeAreExactAndOthersMoveByAtMostHalfAStep) {
         // On the lattice: x = i + k/256 in texel-centre units.
         const double x = texel(rng) + step(rng) / 256.0, y = 3.5;
         const Vec2d onLattice((x + 0.5) / 64, (y + 0.5) / 8);
-        EXPECT_EQ((sampleBilinear<double, true>(ramp, onLattice)),
+        EXPECT_EQ(sampleBilinear<double>(ramp, onLattice, 0, true),
                   sampleBilinear<double>(ramp, onLattice));
         const Vec2d anywhere(0.05 + 0.9 * uni(rng), uni(rng));
-        const double d = std::fabs(sampleBilinear<double, true>(ramp, anywhere) -
+        const double d = std::fabs(sampleBilinear<double>(ramp, anywhere, 0, true) -
                                    sampleBilinear<double>(ramp, anywhere));
         EXPECT_LE(d, slope / 512 + 1e-12) << q;
         moved += d > 1e-9;

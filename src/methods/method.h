@@ -83,17 +83,16 @@ struct MethodContext {
 
     Real h(Vec2<Real> uv) {
         ++fetches;
-        return gpu8 ? sampleBilinear<Real, true>(*height, uv) : sampleBilinear<Real>(*height, uv);
+        return sampleBilinear<Real>(*height, uv, 0, gpu8);
     }
     Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (002)
     Real parallaxMap(Vec2<Real> uv) {
         ++fetches;
-        return gpu8 ? sampleBilinear<Real, true>(*parallax, uv)
-                    : sampleBilinear<Real>(*parallax, uv);
+        return sampleBilinear<Real>(*parallax, uv, 0, gpu8);
     }
     Vec3<Real> normalMap(Vec2<Real> uv) {
         ++fetches;
-        return gpu8 ? sampleBilinear3<Real, true>(*normal, uv) : sampleBilinear3<Real>(*normal, uv);
+        return sampleBilinear3<Real>(*normal, uv, gpu8);
     }
 };
 
