@@ -189,8 +189,7 @@ TEST(Gl, UnityAndTatarchukPresetsMatchTheirCppTwins) {
 // fragment (their step counts are bounded; Tatarchuk's zero denominator gives amount 0).
 TEST(Gl, UnityAndTatarchukPresetsAreFiniteOnTheStiffSuite) {
     int scenes = 0;
-    for (const auto& entry :
-         std::filesystem::directory_iterator(test::sourceDir() + "/scenes/stress")) {
+    for (const auto& entry : std::filesystem::directory_iterator(test::sceneDir() + "/stress")) {
         if (entry.path().extension() != ".json") continue;
         Scene scene = loadScene(entry.path().string());
         test::Fragments in = test::randomFragments(2000, 25);

@@ -361,7 +361,7 @@ TEST(Gl, DeferredDrawsEqualTheBandDraws) {
     TruthBuilder builder(s);
     TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
     MethodTextureCache textures(s.height, s.uvExtent);
-    const TimingSpec timing{1, 0, 1};
+    const TimingSpec timing{1, 0, 1, 4096, 0};
     FrameOptions inBand{false, {}, false, true};
     RenderResult a = renderView(s, s.view(), truths, s.methods, textures, timing, inBand);
     FrameOptions deferred = inBand;
@@ -369,7 +369,7 @@ TEST(Gl, DeferredDrawsEqualTheBandDraws) {
     RenderResult b = renderView(s, s.view(), truths, s.methods, textures, timing, deferred);
     EXPECT_TRUE(b.glslPending);
     EXPECT_EQ(b.methods[0].stats.error.count, 0);  // not drawn yet
-    drawGlslMethods(b, s, textures, timing);
+    drawGlslMethods(b, s, textures);
     EXPECT_FALSE(b.glslPending);
     EXPECT_TRUE(b.truth.data.empty());
     ASSERT_EQ(a.methods.size(), b.methods.size());
@@ -381,7 +381,14 @@ TEST(Gl, DeferredDrawsEqualTheBandDraws) {
         EXPECT_EQ(x.error.max, y.error.max) << i;
         EXPECT_NEAR(x.error.mean, y.error.mean, 1e-12 * x.error.mean) << i;
     }
-    EXPECT_GT(b.methods[0].nsPerPixel, 0);  // the GLSL method's draws were timed
+    // The GLSL method is timed with the C++ ones (deferTiming: by timeMethods), on a workload
+    // of at least TimingSpec::glFragments.
+    EXPECT_EQ(b.methods[0].nsPerPixel, 0);
+    timeMethods(b, textures, timing);
+    EXPECT_GT(b.methods[0].nsPerPixel, 0);
+    EXPECT_GE(b.methods[0].timing.fragments, 4096);
+    EXPECT_EQ(b.methods[0].timing.repeats, 1);
+    EXPECT_GE(b.methods[0].timing.p75, b.methods[0].timing.p25);
 }
 
 }  // namespace

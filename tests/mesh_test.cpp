@@ -215,7 +215,7 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
 
 TEST(MeshRender, BundledMeshScenesRender) {
     for (const char* name : {"cube", "cylinder", "torus", "saddle_obj"}) {
-        Scene s = loadScene(test::sourceDir() + "/scenes/" + name + ".json");
+        Scene s = loadScene(test::sceneDir() + "/" + name + ".json");
         s.camera.width = s.camera.height = 48;
         s.truth.rate = 1;
         RenderResult r = renderFrame(s, {1});
@@ -337,7 +337,7 @@ namespace {
 // half; on the mirror line itself the two halves' tangents cancel (fallbacks counted), and
 // the error map shows the seam: most of pom's error there is frame error.
 TEST(MeshRender, MirroredStripShowsItsSeam) {
-    Scene s = loadScene(test::sourceDir() + "/scenes/mirrored_obj.json");
+    Scene s = loadScene(test::sceneDir() + "/mirrored_obj.json");
     const auto& drawn = *s.mesh.drawn;
     int right = 0, left = 0;
     for (size_t k = 0; k < drawn.mesh.vertices.size(); ++k) {
@@ -395,7 +395,7 @@ TEST(MeshRender, LoopSchemeOnATriangleCage) {
 // Done means `pgt sweep` works on every bundled mesh scene: two cases each, small.
 TEST(MeshRender, BundledMeshScenesSweep) {
     for (const char* name : {"cube", "cylinder", "torus", "saddle_obj", "mirrored_obj"}) {
-        Scene s = loadScene(test::sourceDir() + "/scenes/" + name + ".json");
+        Scene s = loadScene(test::sceneDir() + "/" + name + ".json");
         s.truth.rate = 1;
         Study st = parseStudy(s);
         st.width = st.height = 32;
@@ -428,7 +428,7 @@ namespace {
 // [0, 2] x [0, 1] with tiling [2, 1]), not a plane's default [0, 1]^2: a pixel is dropped
 // exactly when the same method without the discard lands outside that extent.
 TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
-    Scene s = loadScene(test::sourceDir() + "/scenes/cylinder.json");
+    Scene s = loadScene(test::sceneDir() + "/cylinder.json");
     s.camera.width = s.camera.height = 128;
     s.methods = parseMethods(
         nlohmann::json::parse(R"(["parallax", {"name": "parallax", "discard_outside": true}])"),

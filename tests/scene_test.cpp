@@ -27,7 +27,7 @@ const char* kValid = R"({"heightmap":{"procedural":"sine","size":[16,16]},
 
 TEST(Scene, BundledScenesParse) {
     int n = 0;
-    for (const auto& e : std::filesystem::directory_iterator(test::sourceDir() + "/scenes")) {
+    for (const auto& e : std::filesystem::directory_iterator(test::sceneDir())) {
         if (e.path().extension() != ".json") continue;
         EXPECT_NO_THROW(loadScene(e.path().string())) << e.path();
         ++n;

@@ -81,7 +81,7 @@ TEST(Stress, SuiteRunsAndKnownCasesHold) {
     opt.resolution = 32;
     opt.precisionSamples = 256;
     opt.progress = false;
-    int n = runStress({test::sourceDir() + "/scenes/stress"}, opt);
+    int n = runStress({test::sceneDir() + "/stress"}, opt);
     EXPECT_GE(n, 14);
     std::ifstream in(dir / "stress.csv");
     std::string line;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -124,5 +125,11 @@ inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) 
 
 inline std::string sharedDir() { return PGT_SHARED_DIR; }
 inline std::string sourceDir() { return PGT_SOURCE_DIR; }
+// The bundled scenes, found at run time: PGT_SCENE_DIR in the environment (a build carried to
+// another machine, ../shared/tools/gpu/), else the source tree's scenes/.
+inline std::string sceneDir() {
+    const char* env = std::getenv("PGT_SCENE_DIR");
+    return env ? env : sourceDir() + "/scenes";
+}
 
 }  // namespace pgt::test

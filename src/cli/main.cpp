@@ -156,6 +156,10 @@ void defineCommands(CLI::App& app, CommandLine& c) {
         ->add_option("--timing-fragments", c.renderOpt.timingFragments,
                      "Time methods on a seeded subset of this many fragments (0: all)")
         ->check(CLI::Range(0, 1 << 26));
+    c.render
+        ->add_option("--gl-timing-fragments", c.renderOpt.glTimingFragments,
+                     "GLSL methods: repeat the subset to this many fragments per timed draw")
+        ->check(CLI::Range(int64_t(1), int64_t(1) << 23));
 
     c.sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
     c.sweep->add_option("scene", c.scenePath, "Scene file (JSON) with a \"sweep\" block")

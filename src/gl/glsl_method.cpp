@@ -37,7 +37,8 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
 // A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
 // bilinear, the map's address mode (MODEL.md §1: texel centres at (i + 0.5) / W, as GL
 // samples).
-GLuint uploadMap(const Texture& t, bool depth) {
+// The map's texels as the GL takes them: 1 or 3 channels, d = 1 - h when `depth`.
+std::vector<float> mapTexels(const Texture& t, bool depth) {
     const int c = t.channels >= 3 ? 3 : 1;
     std::vector<float> data(size_t(t.width) * t.height * size_t(c));
     for (size_t k = 0; k < size_t(t.width) * t.height; ++k)
@@ -45,9 +46,25 @@ GLuint uploadMap(const Texture& t, bool depth) {
             float h = t.texels[k * size_t(t.channels) + size_t(ch)];
             data[k * size_t(c) + size_t(ch)] = depth ? 1.0f - h : h;
         }
-    return makeTexture(c == 3 ? GL_RGB32F : GL_R32F, c == 3 ? GL_RGB : GL_RED, t.width, t.height,
-                       data.data(), GL_LINEAR,
-                       t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    return data;
+}
+
+// A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not glGenerateMipmap's, and
+// trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and GL filter alike.
+GLuint uploadMap(const Texture& t, bool depth) {
+    const bool rgb = t.channels >= 3;
+    const GLenum internal = rgb ? GL_RGB32F : GL_R32F, format = rgb ? GL_RGB : GL_RED;
+    GLuint id = makeTexture(internal, format, t.width, t.height, mapTexels(t, depth).data(),
+                            GL_LINEAR, t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+    if (!t.mips || t.mips->empty()) return id;
+    for (size_t k = 0; k < t.mips->size(); ++k) {
+        const Texture& level = (*t.mips)[k];
+        glTexImage2D(GL_TEXTURE_2D, GLint(k + 1), GLint(internal), level.width, level.height, 0,
+                     format, GL_FLOAT, mapTexels(level, depth).data());
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, GLint(t.mips->size()));
+    return id;
 }
 
 // Map textures alive in the process, over every GlMapUploads (for tests).
@@ -162,36 +179,53 @@ size_t GlMapUploads::liveTextures() { return gLiveMaps; }
 
 namespace {
 
-// What a draw samples besides its fragments: the maps (uploaded through `uploads`) and the
-// case's (s, b) for uniforms bound to them.
-struct DrawMaps {
-    const Texture& height;
-    const Texture* normal;
-    const Texture* parallax;
-    double scale, bias;
-    GlMapUploads& uploads;
-    const MinMaxPyramid* pyramid;
-    const ConeMap* cone;
-    const ConeMap* relaxedCone;
+// What a draw samples besides its fragments: GlslMaps with the uploads resolved.
+struct DrawMaps : GlslMaps {
+    GlMapUploads& store;
 };
 
-// A chunk's fragments as two input images and its two outputs: fragment k at texel
-// (k % w, k / w); deleted with this object.
-struct FragmentImages {
-    int n = 0, w = 0, h = 0;
-    GLuint uv0 = 0, view = 0, outUv = 0, outFetches = 0, fbo = 0;
+// One draw's images, w x h: the inputs (uv0; V with the texel's state in w: 2 a fragment, 1
+// a helper, 0 nothing; uv0's derivatives) and the two outputs; deleted with this object.
+// `texel[i]` is where fragment `fragment[i]` of the GlslInputs sits.
+struct DrawImages {
+    int w = 0, h = 0;
+    std::vector<size_t> fragment;
+    std::vector<size_t> texel;
+    std::vector<float> uvData, viewData, gradData;
+    GLuint uv0 = 0, view = 0, grad = 0, outUv = 0, outFetches = 0, fbo = 0;
 
-    FragmentImages(const std::vector<Vec2f>& uvs, const std::vector<Vec3f>& views)
-        : n(int(uvs.size())), w(std::min(n, 2048)), h((n + w - 1) / w) {
-        std::vector<float> uvData(size_t(w) * h * 2, 0.0f), viewData(size_t(w) * h * 4, 0.0f);
-        for (size_t k = 0; k < uvs.size(); ++k) {
-            uvData[2 * k] = uvs[k].x, uvData[2 * k + 1] = uvs[k].y;
-            viewData[4 * k] = views[k].x, viewData[4 * k + 1] = views[k].y;
-            viewData[4 * k + 2] = views[k].z;
+    DrawImages(int width, int height)
+        : w(width),
+          h(height),
+          uvData(size_t(w) * h * 2, 0.0f),
+          viewData(size_t(w) * h * 4, 0.0f),
+          gradData(size_t(w) * h * 4, 0.0f) {}
+    // Texel t gets fragment k of `in` (state 2) or, as a helper (state 1), k's values with uv0
+    // moved by `offset` pixels along its derivatives.
+    void put(size_t t, const GlslInputs& in, size_t k, float state, Vec2f offset = {0, 0}) {
+        Vec2f uv = in.uv0[k];
+        if (!in.uvDx.empty()) {
+            uv += in.uvDx[k] * offset.x + in.uvDy[k] * offset.y;
+            gradData[4 * t] = in.uvDx[k].x, gradData[4 * t + 1] = in.uvDx[k].y;
+            gradData[4 * t + 2] = in.uvDy[k].x, gradData[4 * t + 3] = in.uvDy[k].y;
         }
+        uvData[2 * t] = uv.x, uvData[2 * t + 1] = uv.y;
+        viewData[4 * t] = in.view[k].x, viewData[4 * t + 1] = in.view[k].y;
+        viewData[4 * t + 2] = in.view[k].z, viewData[4 * t + 3] = state;
+        if (state == 2.0f) {
+            fragment.push_back(k);
+            texel.push_back(t);
+        }
+    }
+    float state(size_t t) const { return viewData[4 * t + 3]; }
+    // The GL images (after every put).
+    void upload() {
         uv0 = makeTexture(GL_RG32F, GL_RG, w, h, uvData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
         view =
             makeTexture(GL_RGBA32F, GL_RGBA, w, h, viewData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+        grad =
+            makeTexture(GL_RGBA32F, GL_RGBA, w, h, gradData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
+        uvData = {}, viewData = {}, gradData = {};
         outUv = makeTexture(GL_RG32F, GL_RG, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
         outFetches = makeTexture(GL_R32F, GL_RED, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
         glGenFramebuffers(1, &fbo);
@@ -202,15 +236,50 @@ struct FragmentImages {
         glDrawBuffers(2, bufs);
         PGT_CHECK(glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
     }
-    ~FragmentImages() {
+    ~DrawImages() {
+        if (!fbo) return;
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         glDeleteFramebuffers(1, &fbo);
-        GLuint textures[4] = {uv0, view, outUv, outFetches};
-        glDeleteTextures(4, textures);
+        GLuint textures[5] = {uv0, view, grad, outUv, outFetches};
+        glDeleteTextures(5, textures);
     }
-    FragmentImages(const FragmentImages&) = delete;
-    FragmentImages& operator=(const FragmentImages&) = delete;
+    DrawImages(const DrawImages&) = delete;
+    DrawImages& operator=(const DrawImages&) = delete;
 };
+
+// Fragments [first, last) of `in` packed: the i-th at texel (i % w, i / w).
+std::unique_ptr<DrawImages> packedImages(const GlslInputs& in, size_t first, size_t last) {
+    const int n = int(last - first), w = std::min(n, 2048);
+    auto img = std::make_unique<DrawImages>(w, (n + w - 1) / w);
+    for (size_t k = first; k < last; ++k) img->put(k - first, in, k, 2.0f);
+    return img;
+}
+
+// The screen-layout tile of `in` at (x0, y0) (both even), w x h: its fragments at their
+// pixels, then the helpers of their quads (GlslInputs).
+std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<size_t>& inTile,
+                                       int x0, int y0, int w, int h) {
+    auto img = std::make_unique<DrawImages>(w, h);
+    auto texelOf = [&](int x, int y) { return size_t(y - y0) * size_t(w) + size_t(x - x0); };
+    for (size_t k : inTile) {
+        const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
+        img->put(texelOf(x, y), in, k, 2.0f);
+    }
+    // Helpers along a fragment's row or column first (exact: what fine derivatives read),
+    // then the diagonal ones left (extrapolated along both).
+    for (int diagonal = 0; diagonal < 2; ++diagonal)
+        for (size_t k : inTile) {
+            const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
+            const int nx = x ^ 1, ny = y ^ 1;
+            const int at[3][2] = {{nx, y}, {x, ny}, {nx, ny}};
+            for (int a = diagonal ? 2 : 0; a < (diagonal ? 3 : 2); ++a) {
+                const size_t t = texelOf(at[a][0], at[a][1]);
+                if (img->state(t) == 0.0f)
+                    img->put(t, in, k, 1.0f, Vec2f(float(at[a][0] - x), float(at[a][1] - y)));
+            }
+        }
+    return img;
+}
 
 // One user uniform: its value(s), or the case's s or b; a type mismatch names the uniform.
 void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
@@ -251,7 +320,7 @@ void bindPyramid(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
                          "is not an active sampler2D uniform of the shader");
     PGT_CHECK(maps.pyramid != nullptr);
     glActiveTexture(GL_TEXTURE5);
-    glBindTexture(GL_TEXTURE_2D, maps.uploads.pyramid(*maps.pyramid));
+    glBindTexture(GL_TEXTURE_2D, maps.store.pyramid(*maps.pyramid));
     glUniform1i(loc, 5);
     int row = 0;
     for (size_t k = 0; k < maps.pyramid->levels.size(); ++k) {
@@ -284,151 +353,229 @@ void bindConeMap(GLuint prog, const GlslSpec& spec, const char* field, const std
 
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
 // 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map, 7 = the
-// relaxed cone map.
-void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps,
-                const FragmentImages& img) {
+// relaxed cone map, 8 = uv0's derivatives.
+void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const DrawImages& img) {
     bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
-                maps.uploads);
+                maps.store);
     bindSampler(prog, spec, "normal_sampler", spec.normalSampler, 3, maps.normal, false,
-                maps.uploads);
+                maps.store);
     bindSampler(prog, spec, "parallax_sampler", spec.parallaxSampler, 4, maps.parallax, false,
-                maps.uploads);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, img.uv0);
-    glUniform1i(glGetUniformLocation(prog, "pgt_uv0"), 1);
-    glActiveTexture(GL_TEXTURE2);
-    glBindTexture(GL_TEXTURE_2D, img.view);
-    glUniform1i(glGetUniformLocation(prog, "pgt_view"), 2);
-    glUniform1i(glGetUniformLocation(prog, "pgt_count"), img.n);
-    glUniform1i(glGetUniformLocation(prog, "pgt_width"), img.w);
+                maps.store);
+    const std::pair<const char*, GLuint> inputs[3] = {
+        {"pgt_uv0", img.uv0}, {"pgt_view", img.view}, {"pgt_grad", img.grad}};
+    const int units[3] = {1, 2, 8};
+    for (int i = 0; i < 3; ++i) {
+        glActiveTexture(GLenum(GL_TEXTURE0 + units[i]));
+        glBindTexture(GL_TEXTURE_2D, inputs[i].second);
+        glUniform1i(glGetUniformLocation(prog, inputs[i].first), units[i]);
+    }
+    glUniform1i(glGetUniformLocation(prog, "pgt_lod_grad"), maps.lodGrad ? 1 : 0);
     bindPyramid(prog, spec, maps);
-    bindConeMap(prog, spec, "cone_sampler", spec.coneSampler, maps.cone, 6, maps.uploads);
+    bindConeMap(prog, spec, "cone_sampler", spec.coneSampler, maps.cone, 6, maps.store);
     bindConeMap(prog, spec, "relaxed_cone_sampler", spec.relaxedConeSampler, maps.relaxedCone, 7,
-                maps.uploads);
+                maps.store);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
 }
 
-// The draw, `timingRepeats` times when timed (each between two glFinish and inside a
-// GL_TIME_ELAPSED query; every draw writes the same outputs), once otherwise. Sets the
-// medians per fragment in `run`.
-void drawTimed(const FragmentImages& img, int timingRepeats, GlslRun& run) {
+// Draws `img` once, or times it: one warm-up draw, then draws (each between two glFinish and
+// inside a GL_TIME_ELAPSED query; every draw writes the same outputs) until `plan`'s GL
+// time and repeats are reached. Sets the median and quartiles per fragment in `run`.
+void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, GlslRun& run) {
     glViewport(0, 0, img.w, img.h);
     glDisable(GL_BLEND);
     glDisable(GL_DEPTH_TEST);
     const float clear[4] = {NAN, NAN, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_COLOR, 1, clear + 2);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    if (!plan) return;
     GLuint query = 0;
-    if (timingRepeats > 0) glGenQueries(1, &query);
+    glGenQueries(1, &query);
     std::vector<double> gpuNs, wallNs;
-    for (int r = 0; r < std::max(1, timingRepeats); ++r) {
-        if (query) glFinish();
+    double totalMs = 0;
+    const bool software = contextInfo().software;
+    while (int(gpuNs.size()) < plan->maxRepeats &&
+           (int(gpuNs.size()) < plan->minRepeats || totalMs < plan->minGpuMs)) {
+        glFinish();
         auto t0 = std::chrono::steady_clock::now();
-        if (query) glBeginQuery(GL_TIME_ELAPSED, query);
+        glBeginQuery(GL_TIME_ELAPSED, query);
         glDrawArrays(GL_TRIANGLES, 0, 3);
-        if (!query) break;
         glEndQuery(GL_TIME_ELAPSED);
         glFinish();
-        wallNs.push_back(
-            std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0)
-                .count() /
-            img.n);
+        const double wall =
+            std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
         GLuint64 t = 0;
         glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
-        gpuNs.push_back(double(t) / img.n);
+        gpuNs.push_back(double(t) / double(fragments));
+        wallNs.push_back(wall / double(fragments));
+        totalMs += (software ? wall : double(t)) * 1e-6;
     }
-    if (!query) return;
     glDeleteQueries(1, &query);
+    // llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation: its time is the
+    // wall clock around the draw (study/evaluate.cpp glNsPerPixel).
+    std::vector<double>& main = software ? wallNs : gpuNs;
     std::sort(gpuNs.begin(), gpuNs.end());
     std::sort(wallNs.begin(), wallNs.end());
+    auto at = [&](double q) { return main[size_t(q * double(main.size() - 1) + 0.5)]; };
     run.gpuNsPerPixel = gpuNs[gpuNs.size() / 2];
     run.wallNsPerPixel = wallNs[wallNs.size() / 2];
+    run.gpuNsP25 = at(0.25);
+    run.gpuNsP75 = at(0.75);
+    run.repeats = int(main.size());
+    run.timedFragments = fragments;
 }
 
-// uv' and the fetch count of every fragment, from the two outputs.
-void readBack(const FragmentImages& img, GlslRun& run) {
+// uv' and the fetch count of every fragment of `img` into `run` (indexed as GlslInputs).
+void readBack(const DrawImages& img, GlslRun& run) {
     std::vector<float> uvData(size_t(img.w) * img.h * 2), fetchData(size_t(img.w) * img.h);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, img.w, img.h, GL_RG, GL_FLOAT, uvData.data());
     glReadBuffer(GL_COLOR_ATTACHMENT1);
     glReadPixels(0, 0, img.w, img.h, GL_RED, GL_FLOAT, fetchData.data());
-    run.uv.resize(size_t(img.n));
-    run.fetches.resize(size_t(img.n));
-    for (size_t k = 0; k < size_t(img.n); ++k) {
-        run.uv[k] = Vec2f(uvData[2 * k], uvData[2 * k + 1]);
-        run.fetches[k] = uint32_t(std::max(0.0f, fetchData[k]));
+    for (size_t i = 0; i < img.fragment.size(); ++i) {
+        const size_t k = img.fragment[i], t = img.texel[i];
+        run.uv[k] = Vec2f(uvData[2 * t], uvData[2 * t + 1]);
+        run.fetches[k] = uint32_t(std::max(0.0f, fetchData[t]));
     }
 }
 
-// One draw over at most kChunkFragments fragments (runGlsl splits longer lists).
-GlslRun runGlslChunk(const GlslSpec& spec, const DrawMaps& maps, const std::vector<Vec2f>& uv0,
-                     const std::vector<Vec3f>& view, int timingRepeats) {
-    GlslRun run;
-    if (uv0.empty()) return run;
+// One draw of `img` with the spec's program; its outputs into `run` when `read`.
+void drawImages(const GlslSpec& spec, const DrawMaps& maps, DrawImages& img,
+                const GlslTimingPlan* plan, int64_t fragments, bool read, GlslRun& run) {
     GLuint prog = programFor(spec);
     glUseProgram(prog);
     if (!gVao) glGenVertexArrays(1, &gVao);
     glBindVertexArray(gVao);
-    FragmentImages img(uv0, view);
+    img.upload();
     bindInputs(prog, spec, maps, img);
-    drawTimed(img, timingRepeats, run);
+    draw(img, plan, fragments, run);
     checkGl("the draw of " + spec.path);
-    readBack(img, run);
+    if (read) readBack(img, run);
     checkGl("reading back " + spec.path);
-    return run;
 }
 
-// Fragments per draw: the input and output images are 2048 wide, so this keeps them at most
-// 2048 x 4096, within the 8192-texel minimum that GL 4.3 guarantees for GL_MAX_TEXTURE_SIZE.
+// Fragments per packed draw: the images are 2048 wide, so this keeps them at most 2048 x
+// 4096, within the 8192-texel minimum that GL 4.3 guarantees for GL_MAX_TEXTURE_SIZE; screen
+// tiles are at most kTile x kTile.
 constexpr size_t kChunkFragments = size_t(2048) * 4096;
+constexpr int kTile = 2048;
+
+// Every fragment of `in` drawn (packed in chunks, or screen tile by screen tile).
+void drawAll(const GlslSpec& spec, const DrawMaps& maps, const GlslInputs& in, GlslRun& run) {
+    if (in.frameWidth <= 0) {
+        for (size_t first = 0; first < in.uv0.size(); first += kChunkFragments) {
+            auto img = packedImages(in, first, std::min(in.uv0.size(), first + kChunkFragments));
+            drawImages(spec, maps, *img, nullptr, 0, true, run);
+        }
+        return;
+    }
+    const int tilesX = (in.frameWidth + kTile - 1) / kTile;
+    const int tilesY = (in.frameHeight + kTile - 1) / kTile;
+    std::vector<std::vector<size_t>> byTile(size_t(tilesX) * size_t(tilesY));
+    for (size_t k = 0; k < in.pixel.size(); ++k) {
+        const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
+        byTile[size_t(y / kTile) * size_t(tilesX) + size_t(x / kTile)].push_back(k);
+    }
+    for (int ty = 0; ty < tilesY; ++ty)
+        for (int tx = 0; tx < tilesX; ++tx) {
+            const auto& inTile = byTile[size_t(ty) * size_t(tilesX) + size_t(tx)];
+            if (inTile.empty()) continue;
+            // Even sides: a quad at the frame's odd right or bottom edge keeps its helpers.
+            const int x0 = tx * kTile, y0 = ty * kTile;
+            const int w = std::min(kTile, (in.frameWidth - x0 + 1) & ~1);
+            const int h = std::min(kTile, (in.frameHeight - y0 + 1) & ~1);
+            auto img = screenTile(in, inTile, x0, y0, w, h);
+            drawImages(spec, maps, *img, nullptr, 0, true, run);
+        }
+}
+
+void checkInputs(const GlslInputs& in) {
+    PGT_CHECK_EQ(in.uv0.size(), in.view.size());
+    PGT_CHECK(in.uvDx.empty() ||
+              (in.uvDx.size() == in.uv0.size() && in.uvDy.size() == in.uv0.size()));
+    PGT_CHECK(in.frameWidth <= 0 || in.pixel.size() == in.uv0.size());
+}
+
+// A job on the GL thread with the maps checked and the uploads resolved.
+template <class Job>
+void withMaps(const GlslSpec& spec, const GlslMaps& maps, Job job) {
+    onGlThread([&] {
+        GlMapUploads once;  // without an owner's uploads: this call's, freed at return
+        std::lock_guard<std::mutex> lock(gMutex);
+        ensureContext();
+        drainGlErrors();
+        checkMapFits(spec, "sampler", spec.sampler, &maps.height);
+        checkMapFits(spec, "normal_sampler", spec.normalSampler, maps.normal);
+        checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, maps.parallax);
+        const DrawMaps draw{maps, maps.uploads ? *maps.uploads : once};
+        job(draw);
+    });
+}
 
 }  // namespace
 
-namespace {
-
-// runGlsl on the GL thread.
-GlslRun runGlslHere(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                    const Texture* parallax, double scale, double bias,
-                    const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
-                    int timingRepeats, GlMapUploads* uploads, const MinMaxPyramid* pyramid,
-                    const ConeMap* cone, const ConeMap* relaxedCone) {
-    GlMapUploads once;  // without an owner's uploads: this call's, freed at return (unlocked)
-    std::lock_guard<std::mutex> lock(gMutex);
-    ensureContext();
-    drainGlErrors();
-    checkMapFits(spec, "sampler", spec.sampler, &height);
-    checkMapFits(spec, "normal_sampler", spec.normalSampler, normal);
-    checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, parallax);
-    const DrawMaps maps{height,  normal, parallax,   scale, bias, uploads ? *uploads : once,
-                        pyramid, cone,   relaxedCone};
-    if (uv0.size() <= kChunkFragments) return runGlslChunk(spec, maps, uv0, view, timingRepeats);
-    GlslRun run;  // a long list: draw by chunks; times are the fragment-weighted mean
-    for (size_t first = 0; first < uv0.size(); first += kChunkFragments) {
-        size_t last = std::min(uv0.size(), first + kChunkFragments);
-        std::vector<Vec2f> u(uv0.begin() + long(first), uv0.begin() + long(last));
-        std::vector<Vec3f> v(view.begin() + long(first), view.begin() + long(last));
-        GlslRun part = runGlslChunk(spec, maps, u, v, timingRepeats);
-        double weight = double(last - first) / double(uv0.size());
-        run.gpuNsPerPixel += part.gpuNsPerPixel * weight;
-        run.wallNsPerPixel += part.wallNsPerPixel * weight;
-        run.uv.insert(run.uv.end(), part.uv.begin(), part.uv.end());
-        run.fetches.insert(run.fetches.end(), part.fetches.begin(), part.fetches.end());
+GlslRun runGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
+                int timingRepeats) {
+    checkInputs(in);
+    GlslRun run;
+    run.uv.resize(in.uv0.size());
+    run.fetches.resize(in.uv0.size());
+    if (in.uv0.empty()) return run;
+    withMaps(spec, maps, [&](const DrawMaps& draw) { drawAll(spec, draw, in, run); });
+    if (timingRepeats > 0) {
+        GlslTimingPlan plan;
+        plan.minFragments = 0;
+        plan.minGpuMs = 0;
+        plan.minRepeats = plan.maxRepeats = timingRepeats;
+        GlslRun timed = timeGlsl(spec, maps, in, plan);
+        run.gpuNsPerPixel = timed.gpuNsPerPixel;
+        run.wallNsPerPixel = timed.wallNsPerPixel;
+        run.gpuNsP25 = timed.gpuNsP25;
+        run.gpuNsP75 = timed.gpuNsP75;
+        run.repeats = timed.repeats;
+        run.timedFragments = timed.timedFragments;
     }
     return run;
 }
-
-}  // namespace
 
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
                 const MinMaxPyramid* pyramid, const ConeMap* cone, const ConeMap* relaxedCone) {
-    PGT_CHECK_EQ(uv0.size(), view.size());
+    GlslInputs in;
+    in.uv0 = uv0;
+    in.view = view;
+    return runGlsl(
+        spec,
+        GlslMaps{height, normal, parallax, scale, bias, uploads, pyramid, cone, relaxedCone, false},
+        in, timingRepeats);
+}
+
+GlslRun timeGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
+                 const GlslTimingPlan& plan) {
+    checkInputs(in);
     GlslRun run;
-    onGlThread([&] {
-        run = runGlslHere(spec, height, normal, parallax, scale, bias, uv0, view, timingRepeats,
-                          uploads, pyramid, cone, relaxedCone);
+    if (in.uv0.empty()) return run;
+    // The workload: the fragments repeated (packed) to at least plan.minFragments, at most
+    // one chunk.
+    const size_t n = in.uv0.size();
+    const size_t copies =
+        std::max<size_t>(1, size_t((plan.minFragments + int64_t(n) - 1) / int64_t(n)));
+    const size_t total = std::min(kChunkFragments, n * copies);
+    GlslInputs work;
+    work.uv0.reserve(total);
+    for (size_t k = 0; k < total; ++k) {
+        work.uv0.push_back(in.uv0[k % n]);
+        work.view.push_back(in.view[k % n]);
+        if (!in.uvDx.empty()) {
+            work.uvDx.push_back(in.uvDx[k % n]);
+            work.uvDy.push_back(in.uvDy[k % n]);
+        }
+    }
+    withMaps(spec, maps, [&](const DrawMaps& draw) {
+        auto img = packedImages(work, 0, total);
+        drawImages(spec, draw, *img, &plan, int64_t(total), false, run);
     });
     return run;
 }

@@ -64,19 +64,66 @@ struct GlslRun {
     std::vector<uint32_t> fetches;  // texture() calls per fragment
     double gpuNsPerPixel = 0;       // GL_TIME_ELAPSED of the draw, median of the repeats
     double wallNsPerPixel = 0;      // the same draw between two glFinish, wall clock
+    // The spread of the repeats: the GL time's 25th and 75th percentiles, the repeats and
+    // the fragments each draw evaluated.
+    double gpuNsP25 = 0, gpuNsP75 = 0;
+    int repeats = 0;
+    int64_t timedFragments = 0;
+};
+
+// What a draw samples: the maps (uploaded through `uploads` when given, else for the call
+// only), the case's (s, b) for uniforms bound to them, and the method's level of detail.
+// `normal` and `parallax` are 003's derived maps (needed when the spec names their
+// samplers); `pyramid`, `cone`, `relaxedCone` the height map's (when it names theirs).
+struct GlslMaps {
+    const Texture& height;
+    const Texture* normal = nullptr;
+    const Texture* parallax = nullptr;
+    double scale = 0, bias = 0;
+    GlMapUploads* uploads = nullptr;
+    const MinMaxPyramid* pyramid = nullptr;
+    const ConeMap* cone = nullptr;
+    const ConeMap* relaxedCone = nullptr;
+    bool lodGrad = false;  // pgt_sample: textureGrad with uv0's derivatives, else level 0
+};
+
+// The fragments of a draw. Packed (frameWidth 0): fragment k at texel (k % w, k / w), so
+// a shader's own dFdx/dFdy see unrelated fragments. Screen layout (frameWidth > 0): each
+// fragment at its pixel (y * frameWidth + x, y downward), drawn in tiles that keep the 2x2
+// quads; a quad's uncovered pixels are helper invocations whose uv0 is extended from a
+// covered pixel of the quad along its derivatives (exact along the quad's row and column,
+// which fine derivatives read) and whose V is that pixel's. dFdx, dFdy and implicit-LOD
+// texture() then see the draw's neighbours as in an engine.
+struct GlslInputs {
+    std::vector<Vec2f> uv0;
+    std::vector<Vec3f> view;
+    std::vector<Vec2f> uvDx, uvDy;  // uv0's derivatives (pgt_uv_dx, pgt_uv_dy); empty = 0
+    std::vector<int32_t> pixel;     // screen layout only
+    int frameWidth = 0, frameHeight = 0;
 };
 
 // Compiles the spec's shader (cached per source, function and sampler) and runs it over the
-// fragments. The maps are uploaded through `uploads` (kept by the caller with its maps), or,
-// without one, for this call only. Compile and link errors throw InputError naming the user's file
-// and line. `timingRepeats` > 0 also times the draw with GL timer queries. `normal` and `parallax`
-// are 003's derived maps (needed when the spec names their samplers). `scale`, `bias`: the (s, b)
-// of the case, for uniforms bound to them. `pyramid`, `cone`: the height map's (needed when
-// the spec names a pyramid or cone sampler).
+// fragments. Compile and link errors throw InputError naming the user's file and line.
+// `timingRepeats` > 0 also times the draw with GL timer queries (each repeat one draw of
+// every fragment).
+GlslRun runGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
+                int timingRepeats = 0);
+// The same, packed, at level 0 without derivatives (tests and benchmarks).
 GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
                 const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
                 const std::vector<Vec3f>& view, int timingRepeats = 0,
                 GlMapUploads* uploads = nullptr, const MinMaxPyramid* pyramid = nullptr,
                 const ConeMap* cone = nullptr, const ConeMap* relaxedCone = nullptr);
+
+// A fixed timing workload: `in`'s fragments (packed) repeated until at least `minFragments`,
+// one warm-up draw, then draws until at least `minGpuMs` of GL time and at least
+// `minRepeats` draws. The median and spread are per fragment of the workload.
+struct GlslTimingPlan {
+    int64_t minFragments = 1 << 20;
+    double minGpuMs = 20;
+    int minRepeats = 5, maxRepeats = 1000;
+};
+GlslRun timeGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
+                 const GlslTimingPlan& plan);
 
 }  // namespace pgt

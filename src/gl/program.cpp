@@ -18,6 +18,13 @@ namespace {
 // fragment per output pixel.
 constexpr const char* kPrelude = R"(#version 450 core
 int pgt_fetches = 0;
+uniform int pgt_lod_grad;  // the method's "lod": 1 = "grad", 0 = "zero"
+vec2 pgt_uv_dx = vec2(0.0), pgt_uv_dy = vec2(0.0);  // uv0's derivatives (the rasteriser's)
+// How pgt's built-in shaders sample a map: level 0, or textureGrad with uv0's derivatives.
+vec4 pgt_sample(sampler2D s, vec2 p) {
+    pgt_fetches++;
+    return pgt_lod_grad != 0 ? textureGrad(s, p, pgt_uv_dx, pgt_uv_dy) : textureLod(s, p, 0.0);
+}
 vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
 vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s, p, b); }
 vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
@@ -31,17 +38,20 @@ vec4 pgt_texelFetch(sampler2D s, ivec2 p, int l) { pgt_fetches++; return texelFe
 )";
 
 constexpr const char* kMain = R"(
-uniform sampler2D pgt_uv0;   // RG32F: uv0 of fragment k at texel (k % w, k / w)
-uniform sampler2D pgt_view;  // RGBA32F: tangent-space V
-uniform int pgt_count;
-uniform int pgt_width;
+uniform sampler2D pgt_uv0;   // RG32F: uv0 per texel (packed, or the frame's pixels)
+uniform sampler2D pgt_view;  // RGBA32F: tangent-space V; w: 2 a fragment, 1 a helper, 0 none
+uniform sampler2D pgt_grad;  // RGBA32F: uv0's derivatives (dx.xy, dy.xy)
 layout(location = 0) out vec2 pgt_out_uv;
 layout(location = 1) out float pgt_out_fetches;
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    if (p.y * pgt_width + p.x >= pgt_count) discard;
+    vec4 v4 = texelFetch(pgt_view, p, 0);
+    if (v4.w == 0.0) discard;  // only whole quads are empty: helpers keep theirs alive
     vec2 uv0 = texelFetch(pgt_uv0, p, 0).xy;
-    vec3 v = texelFetch(pgt_view, p, 0).xyz;
+    vec3 v = v4.xyz;
+    vec4 g = texelFetch(pgt_grad, p, 0);
+    pgt_uv_dx = g.xy;
+    pgt_uv_dy = g.zw;
     pgt_fetches = 0;
     pgt_out_uv = PGT_FUNCTION(uv0, v);
     pgt_out_fetches = float(pgt_fetches);

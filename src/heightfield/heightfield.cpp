@@ -368,6 +368,7 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     if (quantize != 0 && quantize != 8 && quantize != 16)
         f.fail("quantize", "expected 8 or 16 (bits), or 0 for float");
     f.has("channel");  // allowed and meaningless for procedural maps
+    f.has("mipmaps");  // read by the scene (scene/scene.cpp)
 
     GeneratorArgs args{w, h, seed};
     HeightFn fn;

@@ -4,7 +4,9 @@
 // float (as a GPU does) and the truth in double, with the same arithmetic.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,9 @@ struct Texture {
     int channels = 1;
     Address address = Address::Repeat;
     std::vector<float> texels;  // (j * width + i) * channels + c, j from the bottom
+    // Levels 1..q of a box-filtered mipmap chain (heightfield/mipmaps.h), shared by copies;
+    // null without mipmaps. Level 0 is this texture.
+    std::shared_ptr<const std::vector<Texture>> mips;
 
     float texel(int i, int j, int c = 0) const {
         return texels[(size_t(j) * width + i) * channels + c];
@@ -104,6 +109,37 @@ template <class Real>
 inline Vec3<Real> sampleBilinear3(const Texture& t, Vec2<Real> uv, bool gpu8 = false) {
     return {sampleBilinear<Real>(t, uv, 0, gpu8), sampleBilinear<Real>(t, uv, 1, gpu8),
             sampleBilinear<Real>(t, uv, 2, gpu8)};
+}
+
+// The level of detail lambda of the GL specification (4.6 §8.14.1, eq. 8.6-8.7, no bias or
+// clamps) for a map of W x H texels and the UV derivatives along screen x and y:
+// rho = max(|d(u W, v H)/dx|, |d(u W, v H)/dy|), lambda = log2(rho). Non-finite derivatives
+// (a helper pixel beyond a pinhole's horizon) give +infinity: the coarsest level.
+template <class Real>
+inline Real lodFromGradients(Vec2<Real> dx, Vec2<Real> dy, int width, int height) {
+    const Real w = Real(width), h = Real(height);
+    const Real rx = std::hypot(dx.x * w, dx.y * h), ry = std::hypot(dy.x * w, dy.y * h);
+    const Real rho = std::max(rx, ry);
+    if (!std::isfinite(rho)) return Real(INFINITY);
+    return std::log2(rho);  // rho = 0 (a constant uv): -infinity, level 0
+}
+
+// Trilinear filtering (GL_LINEAR_MIPMAP_LINEAR, GL 4.6 §8.14.2-3) of channel c at level of
+// detail `lod`: level 0 bilinear when lod <= 0 (magnification) or the map has no mipmaps;
+// levels floor(lod) and floor(lod) + 1 mixed by fract(lod); the last level beyond it.
+template <class Real>
+inline Real sampleTrilinear(const Texture& t, Vec2<Real> uv, Real lod, int c = 0,
+                            bool gpu8 = false) {
+    if (!(lod > Real(0)) || !t.mips || t.mips->empty()) return sampleBilinear<Real>(t, uv, c, gpu8);
+    const auto& levels = *t.mips;
+    const Real q = Real(levels.size());
+    if (lod >= q) return sampleBilinear<Real>(levels.back(), uv, c, gpu8);
+    const int d1 = int(std::floor(lod));
+    const Real f = lod - Real(d1);
+    const Texture& t1 = d1 == 0 ? t : levels[size_t(d1 - 1)];
+    const Real a = sampleBilinear<Real>(t1, uv, c, gpu8);
+    const Real b = sampleBilinear<Real>(levels[size_t(d1)], uv, c, gpu8);
+    return (Real(1) - f) * a + f * b;
 }
 
 }  // namespace pgt

@@ -79,6 +79,9 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
+    // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
+    // pgt_sample (README "GLSL methods").
+    cfg.lodGrad = f.choice("lod", {"zero", "grad"}, "zero") == "grad";
     cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.label = f.string("label", "");
@@ -114,6 +117,7 @@ std::string parameterSuffix(const MethodConfig& c) {
     };
     if (c.doublePrecision) add("f64");
     if (c.gpu8Filter) add("gpu8");
+    if (c.lodGrad) add("grad");
     if (c.discardOutside) add("discard");
     // Numbers as an ostream's default %g shows them.
     if (std::isfinite(c.scale)) add("s", formatNumber(c.scale, 6));
@@ -137,6 +141,7 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
                                    cfg.doublePrecision ? "double" : "float") == "double";
     cfg.gpu8Filter =
         f.choice("filter", {"exact", "gpu8"}, cfg.gpu8Filter ? "gpu8" : "exact") == "gpu8";
+    cfg.lodGrad = f.choice("lod", {"zero", "grad"}, cfg.lodGrad ? "grad" : "zero") == "grad";
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -238,7 +243,9 @@ Json toJson(const MethodConfig& c) {
     if (std::isfinite(c.scale)) j["scale"] = c.scale;
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
     j["precision"] = c.doublePrecision ? "double" : "float";
-    if (c.gpu8Filter) j["filter"] = "gpu8";  // absent when exact: older studies keep their identity
+    // Absent at their defaults: older studies keep their identity.
+    if (c.gpu8Filter) j["filter"] = "gpu8";
+    if (c.lodGrad) j["lod"] = "grad";
     return j;
 }
 

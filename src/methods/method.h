@@ -50,6 +50,9 @@ struct MethodConfig {
     bool discardOutside = false;   // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     bool gpu8Filter = false;       // "filter": "gpu8": bilinear weights of 8 fractional bits
+    // "lod": "grad": fetches filter trilinearly at uv0's level of detail (textureGrad with the
+    // original uv's derivatives; needs "mipmaps"); "zero" (false): level 0, bilinear.
+    bool lodGrad = false;
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (MODEL.md §3).
     double scale = NAN, bias = NAN;
@@ -80,19 +83,28 @@ struct MethodContext {
     int fetches = 0;
     uint32_t flags = 0;
     bool gpu8 = false;  // the GPU's 8-bit filter weights (runMethod sets it from the config)
+    // The fragment's level of detail for "lod": "grad" (lodFromGradients of uv0's
+    // derivatives); 0 = level 0. The caller sets it, and only where the maps have mipmaps.
+    Real lod = 0;
 
     Real h(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear<Real>(*height, uv, 0, gpu8);
+        return sample(*height, uv, 0);
     }
     Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (002)
     Real parallaxMap(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear<Real>(*parallax, uv, 0, gpu8);
+        return sample(*parallax, uv, 0);
     }
     Vec3<Real> normalMap(Vec2<Real> uv) {
         ++fetches;
-        return sampleBilinear3<Real>(*normal, uv, gpu8);
+        return {sample(*normal, uv, 0), sample(*normal, uv, 1), sample(*normal, uv, 2)};
+    }
+
+  private:
+    Real sample(const Texture& t, Vec2<Real> uv, int c) const {
+        return lod > Real(0) ? sampleTrilinear<Real>(t, uv, lod, c, gpu8)
+                             : sampleBilinear<Real>(t, uv, c, gpu8);
     }
 };
 

@@ -17,8 +17,19 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             list.uv0.push_back(f.uv0);
             list.view.push_back(f.viewTangent);
             list.viewExact.push_back(f.viewTangentExact);
+            list.uvDx.push_back(f.uvDx);
+            list.uvDy.push_back(f.uvDy);
         }
     return list;
+}
+
+void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
+    for (int32_t p : from.pixel) pixel.push_back(p + pixelOffset);
+    uv0.insert(uv0.end(), from.uv0.begin(), from.uv0.end());
+    view.insert(view.end(), from.view.begin(), from.view.end());
+    viewExact.insert(viewExact.end(), from.viewExact.begin(), from.viewExact.end());
+    uvDx.insert(uvDx.end(), from.uvDx.begin(), from.uvDx.end());
+    uvDy.insert(uvDy.end(), from.uvDy.begin(), from.uvDy.end());
 }
 
 namespace {
@@ -27,12 +38,16 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.uv0.push_back(from.uv0[k]);
     to.view.push_back(from.view[k]);
     to.viewExact.push_back(from.viewExact[k]);
+    to.uvDx.push_back(from.uvDx[k]);
+    to.uvDy.push_back(from.uvDy[k]);
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
     to.uv0[slot] = from.uv0[k];
     to.view[slot] = from.view[k];
     to.viewExact[slot] = from.viewExact[k];
+    to.uvDx[slot] = from.uvDx[k];
+    to.uvDy[slot] = from.uvDy[k];
 }
 }  // namespace
 

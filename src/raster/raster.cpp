@@ -184,13 +184,36 @@ struct ScreenTriangle {
             e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
             if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) return false;
         }
-        // Screen weights divided by w.
-        double b0 = e[0] / area * invW[0], b1 = e[1] / area * invW[1], b2 = e[2] / area * invW[2];
-        double sum = b0 + b1 + b2;
-        bary = {b0 / sum, b1 / sum, b2 / sum};
+        bary = weights(e);
         return true;
     }
+
+    // The interpolated uv at any screen point, inside the triangle or not (a helper
+    // invocation's value).
+    Vec2d uvAt(Vec2d p) const {
+        std::array<double, 3> e;
+        for (int i = 0; i < 3; ++i) e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
+        const auto b = weights(e);
+        return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
+    }
+
+  private:
+    // Screen weights divided by w, normalised.
+    std::array<double, 3> weights(const std::array<double, 3>& e) const {
+        double b0 = e[0] / area * invW[0], b1 = e[1] / area * invW[1], b2 = e[2] / area * invW[2];
+        double sum = b0 + b1 + b2;
+        return {b0 / sum, b1 / sum, b2 / sum};
+    }
 };
+
+// uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the pixel centres of
+// the quad's pair along x and along y.
+void quadDerivatives(Fragment& f, const ScreenTriangle& tri, int px, int py) {
+    auto at = [&](int x, int y) { return tri.uvAt({x + 0.5, y + 0.5}); };
+    const int x0 = px & ~1, y0 = py & ~1;
+    f.uvDx = at(x0 + 1, py) - at(x0, py);
+    f.uvDy = at(px, y0 + 1) - at(px, y0);
+}
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
 // (003 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
@@ -235,7 +258,9 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             double& nearest = depth.at(px - rect.x0, py - rect.y0);
             if (!(z < nearest)) continue;
             nearest = z;
-            shade(frags.at(px - rect.x0, py - rect.y0), tri, b, d, camera);
+            Fragment& f = frags.at(px - rect.x0, py - rect.y0);
+            shade(f, tri, b, d, camera);
+            quadDerivatives(f, tri, px, py);
         }
 }
 

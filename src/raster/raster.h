@@ -29,6 +29,12 @@ struct Fragment {
     // triangle, N the interpolated normal the truth displaces along, orthonormalised
     // (MODEL.md §2). Equal to viewTangent on a plane.
     Vec3d viewTangentExact{0};
+    // uv0's screen derivatives as a GPU's fine dFdx/dFdy give them: differences of this
+    // triangle's perspective-correct uv (extended beyond its edges, as for a helper
+    // invocation) between the two pixel centres of the 2x2 quad's row (x) and column (y).
+    // Quads start at even x and y; y grows downward (image rows). Non-finite where the
+    // neighbour's centre is beyond a pinhole's horizon.
+    Vec2d uvDx{0}, uvDy{0};
 };
 
 struct RasterOptions {

@@ -10,6 +10,7 @@
 #include "core/json_read.h"
 #include "core/memory.h"
 #include "heightfield/heightfield.h"
+#include "heightfield/mipmaps.h"
 #include "methods/config.h"
 
 namespace pgt {
@@ -39,6 +40,7 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
     if (f.has("file") == f.has("procedural"))
         throw InputError(s.file, "heightmap", shortDump(hm),
                          "give exactly one of \"file\" or \"procedural\"");
+    s.mipmaps = f.boolean("mipmaps", false);
     if (f.has("file")) {
         std::string rel = f.string("file");
         bool channelGiven = f.has("channel");
@@ -259,6 +261,11 @@ Scene parseScene(const Json& json, const std::string& file) {
     }
     parseCamera(s, root);
     s.methods = parseMethods(root.raw("methods"), file, "methods");
+    for (size_t i = 0; i < s.methods.size(); ++i)
+        if (s.methods[i].lodGrad && !s.mipmaps)
+            throw InputError(file, "methods[" + std::to_string(i) + "].lod", "grad",
+                             "the height map has no mipmaps: add \"mipmaps\": true to "
+                             "\"heightmap\"");
     parseTruth(s, root);
     if (root.has("sweep")) s.sweep = root.raw("sweep");
     if (root.has("fit")) s.fit = root.raw("fit");
@@ -269,6 +276,7 @@ Scene parseScene(const Json& json, const std::string& file) {
             loadHeightImage(pending.path, pending.channel, file, "heightmap", pending.channelGiven);
         s.height.address = address;
     }
+    if (s.mipmaps) addMipmaps(s.height);  // after the address mode: every level keeps it
     return s;
 }
 

@@ -132,6 +132,7 @@ struct Scene {
     std::string file;          // the scene file's path (for messages and relative paths)
     nlohmann::json json;       // as written by the user
     Texture height;            // address mode set from the scene
+    bool mipmaps = false;      // "heightmap": {"mipmaps": true}: height.mips is built
     std::string heightSource;  // file path or procedural name, for the summary
     std::string heightSha1;    // SHA-1 of the height image file ("" for procedural maps)
     PlaneBase plane;

@@ -57,19 +57,19 @@ vec2 ConeStep(vec2 uv0, vec3 V) {
     float e = pgt_cone_top;
     vec2 uv = coneAt(ray, e);
     for (int i = 0; i < steps; ++i) {
-        float gap = e - sgn * texture(heightMap, uv).r;
+        float gap = e - sgn * pgt_sample(heightMap, uv).r;
         if (!(gap > 0.0)) break;
         float ratio = coneRatio(uv);
         e -= ratio * gap / (ratio + r);
         uv = coneAt(ray, e);
     }
     if (refine_steps == 0) return uv;
-    float gap = e - sgn * texture(heightMap, uv).r;
+    float gap = e - sgn * pgt_sample(heightMap, uv).r;
     if (!(gap > 0.0)) return uv;
     float above = e, below = e - gap;
     for (int i = 0; i < refine_steps; ++i) {
         float mid = (above + below) * 0.5;
-        if (mid - sgn * texture(heightMap, coneAt(ray, mid)).r > 0.0)
+        if (mid - sgn * pgt_sample(heightMap, coneAt(ray, mid)).r > 0.0)
             above = mid;
         else
             below = mid;
@@ -94,7 +94,7 @@ vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     float e = top;
     for (int i = 0; i < cone_steps; ++i) {
         vec2 uv = coneAt(ray, e);
-        float gap = max(e - sgn * texture(heightMap, uv).r, 0.0);
+        float gap = max(e - sgn * pgt_sample(heightMap, uv).r, 0.0);
         ivec2 c = ivec2(coneIndex(uv.x * float(pgt_map_size.x), pgt_map_size.x),
                         coneIndex(uv.y * float(pgt_map_size.y), pgt_map_size.y));
         float ratio = texelFetch(relaxedConeMap, c, 0).r;
@@ -104,7 +104,7 @@ vec2 RelaxedConeStep(vec2 uv0, vec3 V) {
     float mid = top - half_;
     for (int i = 0; i < binary_steps; ++i) {
         half_ *= 0.5;
-        if (mid - sgn * texture(heightMap, coneAt(ray, mid)).r > 0.0)
+        if (mid - sgn * pgt_sample(heightMap, coneAt(ray, mid)).r > 0.0)
             mid -= half_;
         else
             mid += half_;

@@ -11,7 +11,7 @@ uniform float min_layers;
 uniform float max_layers;
 uniform int max_steps;
 
-float pgtDepth(vec2 uv) { return 1.0 - texture(heightMap, uv).r; }
+float pgtDepth(vec2 uv) { return 1.0 - pgt_sample(heightMap, uv).r; }
 
 // The steep march; returns the last layer's texcoords, its depth value and layer depth.
 vec2 pgtSteep(vec2 uv0, vec3 V, out vec2 delta, out float depthValue, out float layer,

@@ -10,15 +10,15 @@ vec2 IterativeParallax(vec2 uv0, vec3 V) {
     vec2 pdir = V.xy / float(iterations);
     vec2 uv = uv0;
     for (int i = 0; i < iterations; ++i) {
-        float parallax = texture(parallaxMap, uv).r;
+        float parallax = pgt_sample(parallaxMap, uv).r;
         uv += pdir * parallax;
     }
     return uv;
 }
 
 vec2 TangentPlaneParallax(vec2 uv0, vec3 V) {
-    vec3 n = normalize(texture(normalMap, uv0).xyz);
-    float parallax = texture(parallaxMap, uv0).r;
+    vec3 n = normalize(pgt_sample(normalMap, uv0).xyz);
+    float parallax = pgt_sample(parallaxMap, uv0).r;
     float ndotv = dot(n, V);
     return uv0 + V.xy * parallax / ndotv;
 }

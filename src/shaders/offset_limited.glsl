@@ -4,6 +4,6 @@ uniform float height_scale;
 uniform float height_bias;
 
 vec2 OffsetLimited(vec2 uv, vec3 V) {
-    float height = texture(heightMap, uv).r * height_scale + height_bias;
+    float height = pgt_sample(heightMap, uv).r * height_scale + height_bias;
     return height * V.xy + uv;
 }

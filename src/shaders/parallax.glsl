@@ -7,7 +7,7 @@ uniform float height_scale;
 uniform float height_bias;
 
 vec2 ParallaxMapping(vec2 uv, vec3 V) {
-    float height = texture(heightMap, uv).r * height_scale + height_bias;
+    float height = pgt_sample(heightMap, uv).r * height_scale + height_bias;
     float rcpZ = 1.0 / V.z;
     height = height * rcpZ;
     return height * V.xy + uv;

@@ -11,7 +11,7 @@ uniform int linear_steps;
 uniform int secant_steps;
 uniform int layers;
 
-float pgtDepthAt(vec2 uv) { return 1.0 - texture(heightMap, uv).r; }
+float pgtDepthAt(vec2 uv) { return 1.0 - pgt_sample(heightMap, uv).r; }
 
 vec2 SecantRelief(vec2 uv0, vec3 V) {
     vec2 dp = uv0 + V.xy / V.z * (height_scale + height_bias);

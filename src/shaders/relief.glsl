@@ -15,14 +15,14 @@ vec2 ReliefMapping(vec2 uv0, vec3 V) {
     float best = 1.0;
     for (int i = 0; i < linear_steps - 1; ++i) {
         depth += size;
-        float t = 1.0 - texture(heightMap, dp + ds * depth).r;
+        float t = 1.0 - pgt_sample(heightMap, dp + ds * depth).r;
         if (best > 0.996)
             if (depth >= t) best = depth;
     }
     depth = best;
     for (int i = 0; i < binary_steps; ++i) {
         size *= 0.5;
-        float t = 1.0 - texture(heightMap, dp + ds * depth).r;
+        float t = 1.0 - pgt_sample(heightMap, dp + ds * depth).r;
         if (depth >= t) {
             best = depth;
             depth -= 2.0 * size;

@@ -91,10 +91,21 @@ const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,
 
 namespace {
 
+// The level of detail of a fragment for a "lod": "grad" method, 0 otherwise (and where the
+// maps have no mipmaps).
 template <class Real>
-MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0,
-                   Vec3<Real> v) {
+Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
+                 size_t k) {
+    if (!cfg.lodGrad || !tex.height->mips || frags.uvDx.empty()) return Real(0);
+    return lodFromGradients(Vec2<Real>(frags.uvDx[k]), Vec2<Real>(frags.uvDy[k]), tex.height->width,
+                            tex.height->height);
+}
+
+template <class Real>
+MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0, Vec3<Real> v,
+                   Real lod) {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
+    c.lod = lod;
     Vec2<Real> uv = runMethod<Real>(cfg, c, uv0, v);
     MethodPixel p;
     p.covered = true;
@@ -117,40 +128,49 @@ std::string timingBackend(const MethodConfig& cfg) {
 
 namespace {
 
-// A GLSL method's frame: its shader in OpenGL over the same float inputs.
-// The GL's time per pixel: timer queries on a GPU; on a software GL the wall clock around
-// the draw, because llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation
-// (measured: 0.2-16 ns/px against 12-80 ns/px between two glFinish).
-double glNsPerPixel(const GlslRun& run) {
-    return glContext().software ? run.wallNsPerPixel : run.gpuNsPerPixel;
-}
-
 // A list rounded to float, as a GPU's varyings are.
 template <class To, class From>
 std::vector<To> toFloat(const std::vector<From>& values) {
     return std::vector<To>(values.begin(), values.end());
 }
 
-// A GLSL method over the fragments (V in the exact frame or not), with the maps and (s, b)
-// of `tex`.
-GlslRun runGlslWith(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
-                    bool exactFrame, int repeats) {
-    return runGlsl(*cfg.glsl, *tex.height, tex.derived ? &tex.derived->normal : nullptr,
-                   tex.derived ? &tex.derived->parallax : nullptr, tex.scale, tex.bias,
-                   toFloat<Vec2f>(frags.uv0),
-                   toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view), repeats,
-                   tex.glMaps.get(), tex.pyramid.get(), tex.cone.get(), tex.relaxedCone.get());
+GlslMaps glslMaps(const MethodConfig& cfg, const MethodTextures& tex) {
+    return {*tex.height,
+            tex.derived ? &tex.derived->normal : nullptr,
+            tex.derived ? &tex.derived->parallax : nullptr,
+            tex.scale,
+            tex.bias,
+            tex.glMaps.get(),
+            tex.pyramid.get(),
+            tex.cone.get(),
+            tex.relaxedCone.get(),
+            cfg.lodGrad};
+}
+
+// The fragments as a GL draw takes them (V in the exact frame or not); in screen layout
+// when `width` > 0.
+GlslInputs glslInputs(const FragmentList& frags, bool exactFrame, int width = 0, int height = 0) {
+    GlslInputs in;
+    in.uv0 = toFloat<Vec2f>(frags.uv0);
+    in.view = toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view);
+    in.uvDx = toFloat<Vec2f>(frags.uvDx);
+    in.uvDy = toFloat<Vec2f>(frags.uvDy);
+    if (width > 0) {
+        in.pixel = frags.pixel;
+        in.frameWidth = width;
+        in.frameHeight = height;
+    }
+    return in;
 }
 
 }  // namespace
 
-// `nsPerPixel` (optional): also time the draw, median of `repeats`.
 Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
-                                  const MethodTextures& tex, int width, int height, bool exactFrame,
-                                  double* nsPerPixel, int repeats) {
+                                  const MethodTextures& tex, int width, int height,
+                                  bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run = runGlslWith(cfg, tex, frags, exactFrame, nsPerPixel ? repeats : 0);
-    if (nsPerPixel) *nsPerPixel = glNsPerPixel(run);
+    GlslRun run =
+        runGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, exactFrame, width, height));
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
         p.covered = true;
@@ -174,47 +194,81 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k])
-                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]));
+                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
+                                                     fragmentLod<double>(cfg, tex, frags, k))
+                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
+                                                    fragmentLod<float>(cfg, tex, frags, k));
         }
     });
     return out;
 }
 
-double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
-                            const MethodTextures& tex, int repeats) {
-    const size_t n = frags.pixel.size();
-    if (n == 0 || repeats < 1) return 0.0;
-    // A GLSL method: the GL time of its draw (glNsPerPixel), median of the repeats.
-    if (cfg.kind == MethodKind::Glsl)
-        return glNsPerPixel(runGlslWith(cfg, tex, frags, false, repeats));
-    // The float inputs rounded before the clock starts: the time is the method's alone.
-    const std::vector<Vec2f> uv0 = toFloat<Vec2f>(frags.uv0);
-    const std::vector<Vec3f> view = toFloat<Vec3f>(frags.view);
+namespace {
+
+// One single-threaded pass of a C++ method over the fragments (inputs rounded before).
+template <class Real>
+double cppPass(const MethodConfig& cfg, const MethodTextures& tex,
+               const std::vector<Vec2<Real>>& uv0, const std::vector<Vec3<Real>>& view,
+               const std::vector<Real>& lod) {
+    double acc = 0;
+    for (size_t k = 0; k < uv0.size(); ++k) {
+        MethodContext<Real> c = makeMethodContext<Real>(tex);
+        c.lod = lod[k];
+        Vec2<Real> uv = runMethod<Real>(cfg, c, uv0[k], view[k]);
+        acc += double(uv.x + uv.y);
+    }
+    return acc;
+}
+
+template <class Real>
+std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags,
+                              const MethodTextures& tex, int repeats) {
+    // The inputs rounded before the clock starts: the time is the method's alone.
+    const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
+    const auto view = toFloat<Vec3<Real>>(frags.view);
+    std::vector<Real> lod(frags.size());
+    for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(cfg, tex, frags, k);
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
-        double acc = 0;
         auto t0 = Clock::now();
-        if (cfg.doublePrecision) {
-            for (size_t k = 0; k < n; ++k) {
-                MethodContext<double> c = makeMethodContext<double>(tex);
-                Vec2d uv = runMethod<double>(cfg, c, frags.uv0[k], frags.view[k]);
-                acc += uv.x + uv.y;
-            }
-        } else {
-            for (size_t k = 0; k < n; ++k) {
-                MethodContext<float> c = makeMethodContext<float>(tex);
-                Vec2f uv = runMethod<float>(cfg, c, uv0[k], view[k]);
-                acc += double(uv.x + uv.y);
-            }
-        }
+        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod);
         samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /
-                          double(n));
-        sink = sink + acc;
+                          double(frags.size()));
     }
-    std::sort(samples.begin(), samples.end());
-    return samples[samples.size() / 2];
+    return samples;
+}
+
+}  // namespace
+
+MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
+                        const MethodTextures& tex, const TimingSpec& spec) {
+    MethodTiming t;
+    if (frags.size() == 0 || spec.repeats < 1) return t;
+    if (cfg.kind == MethodKind::Glsl) {
+        GlslTimingPlan plan;
+        plan.minFragments = spec.glFragments;
+        plan.minGpuMs = spec.glMinMs;
+        plan.minRepeats = spec.repeats;
+        GlslRun run = timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan);
+        // On a software GL the wall clock (timeGlsl's quartiles are of the same clock).
+        t.median = glContext().software ? run.wallNsPerPixel : run.gpuNsPerPixel;
+        t.p25 = run.gpuNsP25;
+        t.p75 = run.gpuNsP75;
+        t.repeats = run.repeats;
+        t.fragments = run.timedFragments;
+        return t;
+    }
+    std::vector<double> s = cfg.doublePrecision ? cppPasses<double>(cfg, frags, tex, spec.repeats)
+                                                : cppPasses<float>(cfg, frags, tex, spec.repeats);
+    std::sort(s.begin(), s.end());
+    auto at = [&](double q) { return s[size_t(q * double(s.size() - 1) + 0.5)]; };
+    t.median = s[s.size() / 2];
+    t.p25 = at(0.25);
+    t.p75 = at(0.75);
+    t.repeats = int(s.size());
+    t.fragments = int64_t(frags.size());
+    return t;
 }
 
 }  // namespace pgt

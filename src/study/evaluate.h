@@ -89,23 +89,32 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame = false);
 
-// A GLSL method over the fragments in OpenGL. With `nsPerPixel`, the same call also times
-// the draw (median of `repeats`): GL timer queries on a GPU, the wall clock around the draw
-// on a software GL (llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation).
+// A GLSL method over the fragments in OpenGL, in screen layout (gl/glsl_method.h
+// GlslInputs): `frags`' pixels are y * width + x of a width x height frame.
 Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
-                                  const MethodTextures& tex, int width, int height, bool exactFrame,
-                                  double* nsPerPixel = nullptr, int repeats = 0);
-
-// Measured cost of the method alone: single-threaded, median of `repeats` passes over the
-// fragment list, in nanoseconds per fragment.
-double timeMethodNsPerPixel(const MethodConfig& cfg, const FragmentList& frags,
-                            const MethodTextures& tex, int repeats);
+                                  const MethodTextures& tex, int width, int height,
+                                  bool exactFrame);
 
 struct TimingSpec {
-    int repeats = 3;       // median of this many single-threaded passes
+    int repeats = 3;       // C++: median of this many single-threaded passes; GL: at least
     int maxFragments = 0;  // time a seeded subset of this many fragments (0 = all)
     uint32_t seed = 1;
+    // GL: the subset repeated to at least this many fragments per draw, and draws until at
+    // least glMinMs of GL time (gl/glsl_method.h GlslTimingPlan).
+    int64_t glFragments = 1 << 20;
+    double glMinMs = 20;
 };
+
+// Measured cost of the method alone in ns per fragment: the median and quartiles of its
+// passes over `frags` (C++: `repeats` single-threaded passes; GL: the timing workload of
+// `spec`), how many passes and how many fragments each pass evaluated.
+struct MethodTiming {
+    double median = 0, p25 = 0, p75 = 0;
+    int repeats = 0;
+    int64_t fragments = 0;
+};
+MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
+                        const MethodTextures& tex, const TimingSpec& spec);
 
 // Where a method's ns/px comes from: "cpu" (single thread) or "gl: <GL_RENDERER>".
 std::string timingBackend(const MethodConfig& cfg);

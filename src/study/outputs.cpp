@@ -148,6 +148,10 @@ Json methodJson(const MethodFrame& m) {
     }
     j["config"] = toJson(m.config);
     j["ns_per_px"] = m.nsPerPixel;
+    j["ns_per_px_p25"] = m.timing.p25;
+    j["ns_per_px_p75"] = m.timing.p75;
+    j["timing_repeats"] = m.timing.repeats;
+    j["timing_fragments"] = m.timing.fragments;
     j["precompute_ms"] = m.precomputeMs;
     j["timing_backend"] = m.timingBackend;
     return j;

@@ -36,8 +36,6 @@ struct MethodRun {
     const MethodConfig* config = nullptr;
     const MethodTextures* textures = nullptr;
     ErrorTally tally, tallyExact;
-    double glNs = 0;          // GLSL: the timed draws over the bands (ns in all)
-    int64_t glFragments = 0;  // and the fragments they drew
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
 };
@@ -49,6 +47,8 @@ void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
 }
 
 // The frame in bands: each stage of a band over all cores, then the next band.
+static_assert(kBandRows % 2 == 0, "bands keep the GL's 2x2 quads whole (evaluateGlsl)");
+
 class BandPipeline {
   public:
     BandPipeline(const Scene& scene, const TruthInput& truth,
@@ -109,14 +109,7 @@ class BandPipeline {
     }
 
     // The band's fragments appended to the frame's list (pixel indices in the frame).
-    void keepForGlsl(int y0) {
-        FragmentList& all = r_.glslFragments;
-        const int32_t offset = y0 * fragments_.width;
-        for (int32_t p : frags_.pixel) all.pixel.push_back(p + offset);
-        all.uv0.insert(all.uv0.end(), frags_.uv0.begin(), frags_.uv0.end());
-        all.view.insert(all.view.end(), frags_.view.begin(), frags_.view.end());
-        all.viewExact.insert(all.viewExact.end(), frags_.viewExact.begin(), frags_.viewExact.end());
-    }
+    void keepForGlsl(int y0) { r_.glslFragments.append(frags_, y0 * fragments_.width); }
 
     void rasterBand(const Rasterizer& raster, PixelRect band) {
         auto t0 = Clock::now();
@@ -164,13 +157,6 @@ class BandPipeline {
             auto t0 = Clock::now();
             if (frags_.pixel.empty()) {
                 m.pixels = Image2D<MethodPixel>(W, H);  // nothing to draw in this band
-            } else if (cfg.kind == MethodKind::Glsl) {
-                double ns = 0;
-                const bool timed = timing_.repeats > 0;
-                m.pixels = evaluateGlsl(cfg, frags_, *m.textures, W, H, false,
-                                        timed ? &ns : nullptr, timing_.repeats);
-                m.glNs += ns * double(frags_.size());
-                m.glFragments += timed ? int64_t(frags_.size()) : 0;
             } else {
                 m.pixels = evaluateMethod(cfg, frags_, *m.textures, W, H);
             }
@@ -224,11 +210,10 @@ class BandPipeline {
                 mf.statsExactFrame = m.tallyExact.finish();
                 mf.haveExactFrame = true;
             }
-            if (m.config->kind == MethodKind::Glsl)
-                mf.nsPerPixel = m.glFragments ? m.glNs / double(m.glFragments) : 0.0;
-            else if (timing_.repeats > 0 && !options_.deferTiming)
-                mf.nsPerPixel =
-                    timeMethodNsPerPixel(*m.config, timed, *m.textures, timing_.repeats);
+            if (timing_.repeats > 0 && !options_.deferTiming) {
+                mf.timing = timeMethod(*m.config, timed, *m.textures, timing_);
+                mf.nsPerPixel = mf.timing.median;
+            }
         }
         if (options_.deferTiming) r_.timed = std::move(timed);
         r_.timingsMs["method_timing"] = msSince(t0);
@@ -283,8 +268,7 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
                       frame);
 }
 
-void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures,
-                     const TimingSpec& timing) {
+void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures) {
     if (!r.glslPending) return;
     auto t0 = Clock::now();
     const Texture& map = scene.height;
@@ -294,11 +278,8 @@ void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCac
         if (cfg.kind != MethodKind::Glsl) continue;
         const MethodTextures& tex = textures.at(cfg, r.view.displacement);
         const FragmentList& frags = r.glslFragments;
-        const bool timed = timing.repeats > 0 && frags.size() > 0;
         Image2D<MethodPixel> pixels(W, H);
-        if (frags.size() > 0)
-            pixels = evaluateGlsl(cfg, frags, tex, W, H, false, timed ? &mf.nsPerPixel : nullptr,
-                                  timing.repeats);
+        if (frags.size() > 0) pixels = evaluateGlsl(cfg, frags, tex, W, H, false);
         ErrorTally tally;
         tally.add(r.truth, pixels, map.width, map.height, map.address);
         mf.stats = tally.finish();
@@ -320,9 +301,9 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
     auto t0 = Clock::now();
     for (MethodFrame& mf : r.methods) {
         const MethodConfig& cfg = mf.config;
-        if (cfg.kind == MethodKind::Glsl || timing.repeats <= 0) continue;
-        mf.nsPerPixel = timeMethodNsPerPixel(cfg, r.timed, textures.at(cfg, r.view.displacement),
-                                             timing.repeats);
+        if (timing.repeats <= 0) continue;
+        mf.timing = timeMethod(cfg, r.timed, textures.at(cfg, r.view.displacement), timing);
+        mf.nsPerPixel = mf.timing.median;
     }
     r.timed = {};
     r.timingsMs["method_timing"] += msSince(t0);
@@ -368,7 +349,8 @@ void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
     MethodTextureCache textures(scene.height, scene.uvExtent);
-    const TimingSpec timing{options.timingRepeats, options.timingFragments, 1};
+    const TimingSpec timing{options.timingRepeats, options.timingFragments, 1,
+                            options.glTimingFragments};
     auto t0 = Clock::now();
     const double budget = double(scene.truth.memoryMb) * 1024 * 1024 / kTruthBytesPerGridVertex;
     if (!scene.isMesh) {

@@ -34,7 +34,8 @@ struct MethodFrame {
     // of the error caused by the per-vertex tangent frame.
     FrameStats statsExactFrame;
     bool haveExactFrame = false;
-    double nsPerPixel = 0;
+    double nsPerPixel = 0;  // timing.median
+    MethodTiming timing;    // its spread, repeats and workload
     // The build time of its precomputed data (maxmip's pyramid): once per map, shared by every
     // view and (s, b) of a run; 0 for methods without any.
     double precomputeMs = 0;
@@ -84,7 +85,7 @@ struct FrameOptions {
     bool keepImages = true;         // assemble the whole frame's images in the result
     std::vector<FrameSink*> sinks;  // get every band
     bool keepCodedErrors = false;   // MethodFrame::coded (4 bytes a pixel per method)
-    // Leave the C++ methods' timing to timeMethods (RenderResult::timed keeps the subset):
+    // Leave the methods' timing to timeMethods (RenderResult::timed keeps the subset):
     // a study times them in a phase of its own, where no rendering competes for the cores.
     bool deferTiming = false;
     // Leave the GLSL methods to drawGlslMethods (the frame's truth and fragments are kept for
@@ -105,15 +106,16 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
 // `textures` must hold every method's maps already (the render got them).
 void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing);
 
-// The GLSL methods of a deferGlsl result (none: nothing to do): drawn (and timed, median of
-// timing.repeats) over the whole frame's fragments, compared with its truth; drops the kept frame.
-void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures,
-                     const TimingSpec& timing);
+// The GLSL methods of a deferGlsl result (none: nothing to do): drawn over the whole frame's
+// fragments, compared with its truth; drops the kept frame. (Timed with the C++ methods, on
+// the timing subset.)
+void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures);
 
 struct RenderOptions {
     RenderOptions(int repeats = 3) : timingRepeats(repeats) {}  // NOLINT: {repeats} reads well
     int timingRepeats = 3;
-    int timingFragments = 65536;  // a seeded subset of this many (0: every fragment)
+    int timingFragments = 65536;          // a seeded subset of this many (0: every fragment)
+    int64_t glTimingFragments = 1 << 20;  // GL: the subset repeated to this many per draw
     FrameOptions frame;
 };
 

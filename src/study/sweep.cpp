@@ -110,6 +110,10 @@ const CsvTable<ResultRow>& resultTable() {
         Col{"mean_exact_frame", exact(&Summary::mean)},
         Col{"p90_exact_frame", exact(&Summary::p90)},
         Col{"timing_backend", [](const ResultRow& x) { return x.m.timingBackend; }},
+        Col{"ns_per_px_p25", [](const ResultRow& x) { return num(x.m.timing.p25); }},
+        Col{"ns_per_px_p75", [](const ResultRow& x) { return num(x.m.timing.p75); }},
+        Col{"timing_repeats", [](const ResultRow& x) { return integer(x.m.timing.repeats); }},
+        Col{"timing_fragments", [](const ResultRow& x) { return integer(x.m.timing.fragments); }},
     });
     return table;
 }
@@ -407,7 +411,7 @@ void runSurface(const Scene& scene, const Study& study, const SweepOptions& opt,
     });
     sum.stageMs["cases_wall"] += msSince(tr);
     auto tg = Clock::now();  // the GL alone: its threads get every core
-    for (size_t i = 0; i < n; ++i) drawGlslMethods(results[i], scene, textures, study.timing);
+    for (size_t i = 0; i < n; ++i) drawGlslMethods(results[i], scene, textures);
     sum.stageMs["glsl_wall"] += msSince(tg);
     auto tt = Clock::now();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1), [&](const auto& r) {

@@ -10,7 +10,8 @@ SCENE = {"heightmap": {"procedural": "bricks", "size": [16, 16], "jitter": 0.3, 
          "truth": {"rate": 1, "uncertainty": False},
          "sweep": {"theta": [0, 20, 40, 60, 80], "scale": [0.02, 0.05], "bias_ratio": [0, -0.5],
                    "pom.max_layers": [8, 16], "timing": {"repeats": 1, "fragments": 16}}}
-MEASURED = {"ns_per_px", "precompute_ms", "timing_backend"}
+MEASURED = {"ns_per_px", "precompute_ms", "timing_backend", "ns_per_px_p25", "ns_per_px_p75",
+            "timing_repeats"}
 
 
 def rows(directory):

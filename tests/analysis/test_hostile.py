@@ -85,8 +85,9 @@ def rows_of(path):
 def key_rows(path):
     out = []
     for r in rows_of(path):
-        r.pop("ns_per_px")
-        r.pop("precompute_ms")
+        for timed in (
+            "ns_per_px", "precompute_ms", "ns_per_px_p25", "ns_per_px_p75", "timing_repeats"):
+            r.pop(timed)
         out.append(tuple(sorted(r.items())))
     return sorted(out)
 

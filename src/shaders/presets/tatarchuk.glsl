@@ -12,14 +12,17 @@
 //   step, previous height, 1 before the first sample); the amount is (pt1.x * D2 - pt2.x *
 //   D1) / (D2 - D1) with D = x - height (0 where the denominator is 0), uv' = uv - offset *
 //   (1 - amount). No sample above the bound leaves pt1 = pt2 = 0: amount 0.
-// Not reproduced: the mip-level LOD switch to bump mapping (pgt samples level 0, below the
-// sample's threshold of 3), the soft shadows.
+// - Samples: tex2Dgrad with the original texcoord's ddx/ddy (textureGrad with dFdx/dFdy of
+//   uv0: level 0 unless the scene's map has mipmaps; in screen layout, as in the sample).
+// Not reproduced: the mip-level LOD switch to bump mapping (the sample's threshold of 3),
+// the soft shadows.
 uniform sampler2D heightMap;
 uniform float height_map_scale;  // 0.02
 uniform float min_samples;       // 8
 uniform float max_samples;       // 50
 
 vec2 TatarchukPom(vec2 uv, vec3 V) {
+    vec2 dx = dFdx(uv), dy = dFdy(uv);
     vec2 parallaxOffset = V.xy / V.z * height_map_scale;
     int numSteps = int(mix(max_samples, min_samples, V.z));
     float stepSize = 1.0 / float(numSteps);
@@ -29,7 +32,7 @@ vec2 TatarchukPom(vec2 uv, vec3 V) {
     vec2 pt1 = vec2(0.0), pt2 = vec2(0.0);
     for (int i = 0; i < numSteps; ++i) {
         current -= perStep;
-        float height = texture(heightMap, current).r;
+        float height = textureGrad(heightMap, current, dx, dy).r;
         bound -= stepSize;
         if (height > bound) {
             pt1 = vec2(bound, height);
