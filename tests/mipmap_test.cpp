@@ -171,6 +171,18 @@ TEST(Mipmaps, GradMethodReadsTheCoarserLevel) {
     EXPECT_GT(differ, 50);
 }
 
+// 003's derived maps of a mipmapped map get their own chains (each level the box mean of
+// the derived map, not derived from the coarser height level), so their readers filter too.
+TEST(Mipmaps, DerivedMapsHaveChains) {
+    Texture t = randomTexture(16, 8, 7);
+    addMipmaps(t);
+    DerivedMaps d = makeDerivedMaps(t, 0.05, -0.02);
+    ASSERT_TRUE(d.normal.mips && d.parallax.mips);
+    EXPECT_EQ(d.normal.mips->size(), t.mips->size());
+    EXPECT_NEAR(mean(d.parallax.mips->back()), mean(d.parallax), 1e-6);
+    EXPECT_FALSE(makeDerivedMaps(randomTexture(16, 8, 7), 0.05, -0.02).normal.mips);
+}
+
 // "lod": "grad" needs the map's mipmaps; "mipmaps" builds them; a bad value is named.
 TEST(Mipmaps, SceneFields) {
     auto scene = [](const std::string& heightmap, const std::string& method) {

@@ -16,6 +16,7 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
+#include "heightfield/mipmaps.h"
 
 namespace pgt {
 
@@ -419,6 +420,10 @@ DerivedMaps makeDerivedMaps(const Texture& height, double scaleUv, double biasUv
             maps.normal.texel(i, j, 2) = float(mz);
             maps.parallax.texel(i, j) = float(mz * (scaleUv * height.texel(i, j) + biasUv));
         }
+    }
+    if (height.mips) {  // a mipmapped height map's derived maps get chains of their own
+        addMipmaps(maps.normal);
+        addMipmaps(maps.parallax);
     }
     return maps;
 }
