@@ -58,17 +58,22 @@ class GlMapUploads {
     std::map<const void*, unsigned> precomputed_;  // pyramids and cone maps
 };
 
+// The GL's time for a draw, per fragment: `nsPerPixel` and its quartiles are of the GL's
+// clock (GL_TIME_ELAPSED on a hardware GL; the wall clock between two glFinish on a
+// software one, whose timer queries do not cover its deferred rasterisation); both clocks'
+// medians beside; the draws timed and the fragments each drew.
+struct GlslTiming {
+    double nsPerPixel = 0, p25 = 0, p75 = 0;
+    double gpuNsPerPixel = 0, wallNsPerPixel = 0;
+    int repeats = 0;
+    int64_t fragments = 0;
+};
+
 // One run of a GLSL method over a list of fragments.
 struct GlslRun {
     std::vector<Vec2f> uv;          // uv' per fragment
     std::vector<uint32_t> fetches;  // texture() calls per fragment
-    double gpuNsPerPixel = 0;       // GL_TIME_ELAPSED of the draw, median of the repeats
-    double wallNsPerPixel = 0;      // the same draw between two glFinish, wall clock
-    // The spread of the repeats: the GL time's 25th and 75th percentiles, the repeats and
-    // the fragments each draw evaluated.
-    double gpuNsP25 = 0, gpuNsP75 = 0;
-    int repeats = 0;
-    int64_t timedFragments = 0;
+    GlslTiming timing;              // when timed
 };
 
 // What a draw samples: the maps (uploaded through `uploads` when given, else for the call

@@ -250,13 +250,13 @@ MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
         plan.minFragments = spec.glFragments;
         plan.minGpuMs = spec.glMinMs;
         plan.minRepeats = spec.repeats;
-        GlslRun run = timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan);
-        // On a software GL the wall clock (timeGlsl's quartiles are of the same clock).
-        t.median = glContext().software ? run.wallNsPerPixel : run.gpuNsPerPixel;
-        t.p25 = run.gpuNsP25;
-        t.p75 = run.gpuNsP75;
-        t.repeats = run.repeats;
-        t.fragments = run.timedFragments;
+        const GlslTiming g =
+            timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;
+        t.median = g.nsPerPixel;
+        t.p25 = g.p25;
+        t.p75 = g.p75;
+        t.repeats = g.repeats;
+        t.fragments = g.fragments;
         return t;
     }
     std::vector<double> s = cfg.doublePrecision ? cppPasses<double>(cfg, frags, tex, spec.repeats)
