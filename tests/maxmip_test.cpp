@@ -190,12 +190,13 @@ TEST(MaxMip, BoundsAndStiffCases) {
 }
 
 // The outside reference: the exact first crossing of the independent float64
-// implementation (../shared/vectors). maxmip in double agrees to 5e-8 UV (the map is held in
+// implementation (tests/data/README.md). maxmip in double agrees to 5e-8 UV (the map is held in
 // float32 here, in float64 there: 2^-24 of a height times s |V.xy / V.z| moves the crossing
 // by up to ~1e-8 UV at 65 degrees), in float to 4e-6.
 TEST(MaxMip, MatchesTheReferenceVectorsExactCrossing) {
-    std::ifstream in(test::sharedDir() + "/vectors/reference_vectors.json");
-    if (!in) GTEST_SKIP() << "shared/vectors/reference_vectors.json not found beside the repo";
+    const std::string path = test::testDataDir() + "/reference_vectors.json";
+    std::ifstream in(path);
+    ASSERT_TRUE(in) << path << " not found";
     const nlohmann::json vec = nlohmann::json::parse(in);
     const auto& hm = vec["heightmap"];
     int compared = 0;

@@ -80,7 +80,7 @@ TEST(Raster, PerspectiveCorrectUvMatchesRayPlaneIntersection) {
     EXPECT_GT(covered, 1000);
 }
 
-// An orthographic view from (theta, phi) gives V = MODEL.md §4's direction at every pixel.
+// An orthographic view from (theta, phi) gives V = docs/model.md §4's direction at every pixel.
 TEST(Raster, OrthographicViewVectorIsTheViewAngle) {
     Scene s = test::planeScene(test::smoothTexture(8, 8), 0.05, -0.025, 63, 217, 64, {});
     Camera cam = makeCamera(s);
@@ -151,9 +151,9 @@ void expectSameFragments(const Image2D<Fragment>& a, const Image2D<Fragment>& b,
 // exercised by stones_pinhole and the stress eye_a_hair_above).
 TEST(Raster, BinnedEqualsTheWholeFrameRasteriserOnEveryBundledScene) {
     int scenes = 0;
-    for (const char* dir : {"scenes", "scenes/stress"})
+    for (const char* dir : {"", "stress"})
         for (const auto& entry :
-             std::filesystem::directory_iterator(std::filesystem::path(PGT_SOURCE_DIR) / dir)) {
+             std::filesystem::directory_iterator(std::filesystem::path(test::sceneDir()) / dir)) {
             if (entry.path().extension() != ".json") continue;
             Scene scene = loadScene(entry.path().string());
             ++scenes;
@@ -186,7 +186,7 @@ TEST(Raster, BinnedEqualsTheWholeFrameRasteriserOnEveryBundledScene) {
 
 // Any rectangle on its own equals the same pixels of the whole frame.
 TEST(Raster, AnyRectangleEqualsTheWholeFrame) {
-    Scene scene = loadScene(std::string(PGT_SOURCE_DIR) + "/scenes/torus.json");
+    Scene scene = loadScene(test::sceneDir() + "/torus.json");
     ViewSpec v = scene.view();
     v.camera.width = 150, v.camera.height = 70;
     const Camera cam = makeCamera(scene, v);

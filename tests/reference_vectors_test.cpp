@@ -1,6 +1,7 @@
-// The outside reference: ../shared/vectors/reference_vectors.json, computed by an independent
-// float64 implementation of MODEL.md (methods and the exact first crossing with the bilinear
-// height field). Our methods run in float32 on the same inputs; our truth is tessellated.
+// The outside reference: tests/data/reference_vectors.json (tests/data/README.md), computed by an
+// independent float64 implementation of docs/model.md (methods and the exact first crossing with
+// the bilinear height field). Our methods run in float32 on the same inputs; our truth is
+// tessellated.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -17,7 +18,7 @@ namespace pgt {
 namespace {
 
 nlohmann::json loadVectors() {
-    std::string path = test::sharedDir() + "/vectors/reference_vectors.json";
+    std::string path = test::testDataDir() + "/reference_vectors.json";
     std::ifstream in(path);
     if (!in) return nullptr;
     return nlohmann::json::parse(in);
@@ -33,8 +34,8 @@ class ReferenceVectors : public ::testing::Test {
   protected:
     void SetUp() override {
         vectors = loadVectors();
-        if (vectors.is_null())
-            GTEST_SKIP() << "shared/vectors/reference_vectors.json not found beside the repo";
+        ASSERT_FALSE(vectors.is_null())
+            << test::testDataDir() << "/reference_vectors.json not found";
     }
     nlohmann::json vectors;
 };

@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/data_dir.h"
 #include "core/error.h"
+#include "methods/glsl_spec.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -33,6 +35,39 @@ TEST(Scene, BundledScenesParse) {
         ++n;
     }
     EXPECT_GE(n, 3);
+}
+
+// "pgt:F" names a shipped shader wherever the scene file is (an installed scene, a user's);
+// the shaders are found beside the binary (core/data_dir.h), not in the source tree.
+TEST(Scene, ShippedShaderPrefixReadsFromTheDataFolder) {
+    const std::string method =
+        R"({"name": "mine", "glsl": "pgt:parallax.glsl", "function": "ParallaxMapping",
+            "sampler": "heightMap"})";
+    std::string json = kValid;
+    json.replace(json.find(R"("parallax")"), 10, method);
+    Scene s = parseScene(nlohmann::json::parse(json), "/nowhere/scene.json");
+    ASSERT_TRUE(s.methods[0].glsl);
+    EXPECT_EQ(s.methods[0].glsl->path,
+              (std::filesystem::path(dataDir()) / "shaders/parallax.glsl").lexically_normal());
+    EXPECT_NE(s.methods[0].glsl->source.find("ParallaxMapping"), std::string::npos);
+    json.replace(json.find("pgt:parallax"), 12, "pgt:no_such_");
+    const std::string e = errorOf(json);
+    EXPECT_NE(e.find("methods[0].glsl"), std::string::npos) << e;
+    EXPECT_NE(e.find("shaders/no_such_.glsl"), std::string::npos) << e;
+}
+
+// The data folder of a build tree is build/share/pgt, whose entries link to the sources.
+TEST(Scene, DataFolderIsFoundBesideTheBinary) {
+    unsetenv("PGT_DATA_DIR");
+    const std::filesystem::path dir = dataDir();
+    EXPECT_EQ(dir.filename(), "pgt");
+    EXPECT_EQ(dir.parent_path().filename(), "share");
+    EXPECT_TRUE(std::filesystem::exists(dir / "shaders/presets/godot.glsl"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "analysis/report.py"));
+    EXPECT_TRUE(std::filesystem::exists(dir / "scenes/default.json"));
+    setenv("PGT_DATA_DIR", "/elsewhere", 1);
+    EXPECT_EQ(dataDir(), "/elsewhere");
+    unsetenv("PGT_DATA_DIR");
 }
 
 TEST(Scene, ValidMinimalScene) {

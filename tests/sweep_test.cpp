@@ -27,7 +27,7 @@ const char* kStudyScene = R"({
 })";
 
 Scene studyScene(const char* json = kStudyScene) {
-    return parseScene(nlohmann::json::parse(json), test::sourceDir() + "/tests/study.json");
+    return parseScene(nlohmann::json::parse(json), test::testSourceDir() + "/study.json");
 }
 
 std::vector<std::string> readLines(const std::filesystem::path& p) {
@@ -67,7 +67,7 @@ std::multiset<std::string> rowsWithoutTiming(const std::filesystem::path& p) {
     return out;
 }
 
-// The documented columns (README "Studies"), in order.
+// The documented columns (docs/studies.md), in order.
 TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
     const std::vector<std::string> documented = {"case",
                                                  "theta",

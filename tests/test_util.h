@@ -9,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "core/data_dir.h"
 #include "heightfield/heightfield.h"
 #include "heightfield/texture.h"
 #include "methods/config.h"
@@ -97,7 +98,7 @@ inline std::filesystem::path tempDir(const std::string& name) {
     return p;
 }
 
-// The first crossing of the eye ray with s*h + b (MODEL.md §3), in double, sharing no code
+// The first crossing of the eye ray with s*h + b (docs/model.md §3), in double, sharing no code
 // with any method: 40,000 steps down from the top of the relief to its bottom (the map's
 // highest and lowest texels), then bisection. uv(z) = uv0 + V.xy / V.z * z at height z.
 inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) {
@@ -123,13 +124,16 @@ inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) 
     return uv0 + dir * bottom;
 }
 
-inline std::string sharedDir() { return PGT_SHARED_DIR; }
-inline std::string sourceDir() { return PGT_SOURCE_DIR; }
-// The bundled scenes, found at run time: PGT_SCENE_DIR in the environment (a build carried to
-// another machine, ../shared/tools/gpu/), else the source tree's scenes/.
-inline std::string sceneDir() {
-    const char* env = std::getenv("PGT_SCENE_DIR");
-    return env ? env : sourceDir() + "/scenes";
+// The tests' own files: tests/ of the source tree (PGT_TEST_SOURCE_DIR, compiled in: tests run
+// in a build tree), and its data/ (the reference vectors, data/README.md);
+// PGT_TEST_DATA_DIR in the environment wins (a build carried to another machine).
+inline std::string testSourceDir() { return PGT_TEST_SOURCE_DIR; }
+inline std::string testDataDir() {
+    const char* env = std::getenv("PGT_TEST_DATA_DIR");
+    return env ? env : testSourceDir() + "/data";
 }
+// The bundled scenes where pgt finds its shipped files (core/data_dir.h: the build tree's
+// share/pgt/scenes); PGT_SCENE_DIR in the environment wins.
+inline std::string sceneDir() { return dataSubdir("scenes", "PGT_SCENE_DIR"); }
 
 }  // namespace pgt::test

@@ -17,7 +17,7 @@ namespace pgt {
 
 namespace {
 
-// A method's own (s, b) in UV units: MODEL.md §3's displacement is at most a few UV units;
+// A method's own (s, b) in UV units: docs/model.md §3's displacement is at most a few UV units;
 // 1e3 bounds a typo without limiting any real setting.
 constexpr double kMaxOwnDisplacement = 1e3;
 
@@ -51,7 +51,8 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
 }
 
 // {"name": "mine", "glsl": FILE, "function": F, "sampler": S, "texture": "height"|"depth",
-//  "uniforms": {...}}: the file is read now, relative to the scene file's folder.
+//  "uniforms": {...}}: the file is read now, relative to the scene file's folder; "pgt:F"
+// names F among the shipped shaders (share/pgt/shaders, methods/presets.h shaderDir).
 MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     MethodConfig cfg;
     cfg.kind = MethodKind::Glsl;
@@ -60,7 +61,11 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     auto spec = std::make_shared<GlslSpec>();
     std::string rel = f.string("glsl", "");
     std::filesystem::path p(rel);
-    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+    if (rel.rfind(kShippedShaderPrefix, 0) == 0)  // "pgt:NAME.glsl": a shipped shader
+        p = std::filesystem::path(shaderDir()) /
+            rel.substr(std::string(kShippedShaderPrefix).size());
+    else if (p.is_relative())
+        p = std::filesystem::path(file).parent_path() / p;
     spec->path = p.lexically_normal().string();
     if (rel.empty()) f.fail("glsl", "cannot read the shader file " + spec->path);
     // A shader is a few KB; 16 MiB bounds a stray file.
@@ -71,7 +76,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     // normal (RGB) and m_z * (s*h + b), built for the truth's (s, b).
     spec->normalSampler = f.string("normal_sampler", "");
     spec->parallaxSampler = f.string("parallax_sampler", "");
-    // The height map's minimum-maximum pyramid (maxmip's twin; README "GLSL methods").
+    // The height map's minimum-maximum pyramid (maxmip's twin; docs/methods.md "GLSL methods").
     spec->pyramidSampler = f.string("pyramid_sampler", "");
     // The conservative cone map (cone's twin): one R32F ratio per cell, nearest.
     spec->coneSampler = f.string("cone_sampler", "");
@@ -80,7 +85,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
     // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
-    // pgt_sample (README "GLSL methods").
+    // pgt_sample (docs/methods.md "GLSL methods").
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, "zero") == "grad";
     cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);

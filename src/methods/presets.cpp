@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/data_dir.h"
 #include "core/json_read.h"
 #include "methods/registry.h"
 
@@ -52,7 +53,7 @@ MethodPreset glslPreset(const char* name, const char* source, const char* file,
 }  // namespace
 
 const std::vector<MethodPreset>& methodPresets() {
-    // LearnOpenGL's height_scale 0.1 on a depth map d = 1 - h is s = 0.1, b = -0.1 (MODEL.md
+    // LearnOpenGL's height_scale 0.1 on a depth map d = 1 - h is s = 0.1, b = -0.1 (docs/model.md
     // §3); 004's height scale 0.15 likewise.
     using K = MethodKind;
     static const std::vector<MethodPreset> presets = {
@@ -121,9 +122,6 @@ MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
     return cfg;
 }
 
-std::string shaderDir() {
-    const char* env = std::getenv("PGT_SHADER_DIR");
-    return env ? env : PGT_SHADER_DIR;
-}
+std::string shaderDir() { return dataSubdir("shaders", "PGT_SHADER_DIR"); }
 
 }  // namespace pgt

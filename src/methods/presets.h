@@ -1,5 +1,5 @@
 // Named configurations: engine defaults and the source documents' own settings, used as
-// {"preset": NAME} in a method list (README "Engine presets" gives each one's source).
+// {"preset": NAME} in a method list (docs/methods.md "Engine presets" gives each one's source).
 // Built-in presets are MethodConfig values; GLSL presets are our re-implementations of the
 // engines' shader code paths, in src/shaders/presets/, read when a scene names them.
 #pragma once
@@ -25,7 +25,11 @@ const std::vector<MethodPreset>& methodPresets();
 MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
                           const std::string& file, const std::string& field);
 
-// Where the shipped GLSL files are (src/shaders; PGT_SHADER_DIR in the environment wins).
+// Where the shipped GLSL files are: share/pgt/shaders (core/data_dir.h; PGT_SHADER_DIR in
+// the environment wins).
 std::string shaderDir();
+// A scene's "glsl" value naming a shipped shader: "pgt:parallax.glsl" is
+// shaderDir()/parallax.glsl, wherever pgt is installed.
+inline constexpr const char* kShippedShaderPrefix = "pgt:";
 
 }  // namespace pgt

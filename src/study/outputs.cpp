@@ -175,10 +175,10 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
             {"methods", methods},
             {"timings_ms", r.timingsMs},
             {"units",
-             {{"error", "texels of the height map (MODEL.md section 7)"},
+             {{"error", "texels of the height map (docs/model.md §7)"},
               {"ns_per_px", "single-threaded method time per rasterised pixel, median"},
               {"precompute_ms", "build time of the method's precomputed maps, once per map"},
-              {"scale_bias", "UV units (MODEL.md section 3)"}}}};
+              {"scale_bias", "UV units (docs/model.md §3)"}}}};
 }
 
 double errorScaleTexels(double p99Texels) {
@@ -283,17 +283,51 @@ void writeErrorPng(StagedStream& out, const std::string& name, const MethodFrame
 
 }  // namespace
 
+std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs) {
+    std::vector<std::string> names = {"truth.u", "truth.v", "truth.hit",
+                                      "base.u",  "base.v",  "base.hit"};
+    for (const MethodConfig& cfg : configs)
+        for (const char* c : {".u", ".v", ".err"}) names.push_back(cfg.label + c);
+    return names;
+}
+
+void interleaveFrameBand(const FrameBand& b, float* rows) {
+    const size_t methods = b.pixels.size(), nc = 6 + 3 * methods;
+    const size_t n = b.truth->data.size();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            float* p = &rows[k * nc];
+            const TruthSample& t = b.truth->data[k];
+            const Fragment& f = b.fragments->data[k];
+            p[0] = t.hit ? float(t.uv.x) : NAN, p[1] = t.hit ? float(t.uv.y) : NAN;
+            p[2] = t.hit ? 1.0f : 0.0f;
+            p[3] = f.covered ? float(f.uv0.x) : NAN, p[4] = f.covered ? float(f.uv0.y) : NAN;
+            p[5] = f.covered ? 1.0f : 0.0f;
+            for (size_t i = 0; i < methods; ++i) {
+                const MethodPixel& m = b.pixels[i]->data[k];
+                p[6 + 3 * i] = m.covered ? float(m.uv.x) : NAN;
+                p[7 + 3 * i] = m.covered ? float(m.uv.y) : NAN;
+                p[8 + 3 * i] = b.errTexels[i]->data[k];
+            }
+        }
+    });
+}
+
+FrameBand wholeFrameBand(const RenderResult& r) {
+    FrameBand whole{0, r.camera.height(), &r.truth, &r.fragments, {}, {}};
+    for (const MethodFrame& m : r.methods) {
+        whole.pixels.push_back(&m.pixels);
+        whole.errTexels.push_back(&m.errTexels);
+    }
+    return whole;
+}
+
 RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
                            const std::vector<MethodConfig>& configs)
     : scene_(scene), width_(width), height_(height) {
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
-    // frame.exr: truth, base (rasterised uv0) and each method's uv' and error.
-    std::vector<std::string> names = {"truth.u", "truth.v", "truth.hit",
-                                      "base.u",  "base.v",  "base.hit"};
-    for (const MethodConfig& cfg : configs) {
-        for (const char* c : {".u", ".v", ".err"}) names.push_back(cfg.label + c);
-    }
+    const std::vector<std::string> names = frameChannelNames(configs);
     channels_ = names.size();
     methods_ = configs.size();
     OIIO::ImageSpec spec(width, height, int(channels_), OIIO::TypeDesc::FLOAT);
@@ -309,29 +343,12 @@ RenderWriter::~RenderWriter() = default;
 
 void RenderWriter::band(const RenderResult&, const FrameBand& b) {
     PGT_CHECK_EQ(b.pixels.size(), methods_);
-    const size_t nc = channels_, n = size_t(width_) * size_t(b.y1 - b.y0);
+    const size_t n = size_t(width_) * size_t(b.y1 - b.y0);
     // Two row buffers: this band is interleaved while the previous one is still encoded.
     std::vector<float>& rows = rows_[nextRows_];
     nextRows_ ^= 1;
-    rows.resize(n * nc);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
-        for (size_t k = r.begin(); k < r.end(); ++k) {
-            float* p = &rows[k * nc];
-            const TruthSample& t = b.truth->data[k];
-            const Fragment& f = b.fragments->data[k];
-            p[0] = t.hit ? float(t.uv.x) : NAN, p[1] = t.hit ? float(t.uv.y) : NAN;
-            p[2] = t.hit ? 1.0f : 0.0f;
-            p[3] = f.covered ? float(f.uv0.x) : NAN, p[4] = f.covered ? float(f.uv0.y) : NAN;
-            p[5] = f.covered ? 1.0f : 0.0f;
-            for (size_t i = 0; i < methods_; ++i) {
-                const MethodPixel& m = b.pixels[i]->data[k];
-                const float err = b.errTexels[i]->data[k];
-                p[6 + 3 * i] = m.covered ? float(m.uv.x) : NAN;
-                p[7 + 3 * i] = m.covered ? float(m.uv.y) : NAN;
-                p[8 + 3 * i] = err;
-            }
-        }
-    });
+    rows.resize(n * channels_);
+    interleaveFrameBand(b, rows.data());
     // The encoder compresses on one thread: it runs beside the next band's work.
     waitForRows();
     encoding_ = std::async(std::launch::async, [this, &rows, y0 = b.y0, y1 = b.y1] {
@@ -370,14 +387,9 @@ void RenderWriter::finish(const RenderResult& r) {
 
 void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::string& dir) {
     std::vector<MethodConfig> configs;
-    FrameBand whole{0, r.camera.height(), &r.truth, &r.fragments, {}, {}};
-    for (const MethodFrame& m : r.methods) {
-        configs.push_back(m.config);
-        whole.pixels.push_back(&m.pixels);
-        whole.errTexels.push_back(&m.errTexels);
-    }
+    for (const MethodFrame& m : r.methods) configs.push_back(m.config);
     RenderWriter writer(scene, dir, r.camera.width(), r.camera.height(), configs);
-    writer.band(r, whole);
+    writer.band(r, wholeFrameBand(r));
     writer.finish(r);
 }
 

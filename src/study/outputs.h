@@ -51,6 +51,15 @@ class RenderWriter : public FrameSink {
 // images (one band: the whole frame through RenderWriter); creates DIR.
 void writeRenderOutputs(const Scene& scene, const RenderResult& result, const std::string& dir);
 
+// frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
+// LABEL.u, LABEL.v, LABEL.err per method (docs/outputs.md).
+std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
+// A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
+// channel has no value), into `rows` (width x rows x channels floats).
+void interleaveFrameBand(const FrameBand& band, float* rows);
+// The whole frame of a result that kept its images, as one band.
+FrameBand wholeFrameBand(const RenderResult& result);
+
 nlohmann::json summaryJson(const Scene& scene, const RenderResult& result);
 nlohmann::json toJson(const FrameStats& stats);
 

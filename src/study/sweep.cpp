@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "core/clock.h"
+#include "core/data_dir.h"
 #include "core/format.h"
 #include "core/json_read.h"
 #include "core/process.h"
@@ -27,10 +28,6 @@
 #include "study/csv_table.h"
 #include "study/outputs.h"
 #include "study/staged_files.h"
-
-#ifndef PGT_ANALYSIS_DIR
-#define PGT_ANALYSIS_DIR "analysis"
-#endif
 
 namespace pgt {
 
@@ -61,7 +58,7 @@ struct ResultRow {
 
 std::string integer(int64_t x) { return std::to_string(x); }
 
-// results.csv (README "Studies"): the columns in order, each with how a row writes it.
+// results.csv (docs/studies.md): the columns in order, each with how a row writes it.
 const CsvTable<ResultRow>& resultTable() {
     using Col = CsvColumn<ResultRow>;
     auto stat = [](double Summary::*field) {
@@ -495,9 +492,13 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
 }
 
 std::string writeStudyReport(const std::string& outDir, std::string* why) {
-    const char* env = std::getenv("PGT_ANALYSIS_DIR");
-    std::string analysis = env ? env : PGT_ANALYSIS_DIR;
-    std::string script = (fs::path(analysis) / "report.py").string();
+    std::string script;
+    try {
+        script = (fs::path(dataSubdir("analysis", "PGT_ANALYSIS_DIR")) / "report.py").string();
+    } catch (const InputError& e) {
+        *why = e.what();
+        return "";
+    }
     if (!fs::exists(script)) {
         *why = "report script " + script + " not found (set PGT_ANALYSIS_DIR)";
         return "";

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """ctest: hostile, broken and concurrent input through the real CLI, one class per ctest
-(README "What pgt promises"). Each class holds the cases an outside tester found: pgt must
+(docs/testing.md "What pgt promises"). Each class holds the cases an outside tester found: pgt must
 exit with the documented status (2 bad input, 3 output not writable), print one error line
 naming the file and field, never crash or hang, and never mix, duplicate or half-write
 results. Arguments: PGT_BINARY SOURCE_DIR CLASS."""
@@ -169,7 +169,7 @@ def shell_injection(d):
 def gl_texture_limit(d):
     """A map the GL cannot hold is named before any upload (not blamed on a uniform)."""
     for method in [{"preset": "godot"},
-                   {"name": "mine", "glsl": os.path.join(SRC, "src/shaders/parallax.glsl"),
+                   {"name": "mine", "glsl": "pgt:parallax.glsl",
                     "function": "ParallaxMapping", "sampler": "heightMap",
                     "uniforms": {"height_scale": "scale", "height_bias": "bias"}}]:
         scene = copy(GOOD)

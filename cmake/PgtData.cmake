@@ -1,0 +1,39 @@
+# pgt's shipped files, found beside the binary at run time (src/core/data_dir.h):
+#   build tree: build/share/pgt/{shaders,analysis,scenes,docs} link to the sources, so a
+#               build runs as it is;
+#   install:    PREFIX/bin/pgt, PREFIX/share/pgt/..., PREFIX/lib/python3/dist-packages/pgt;
+#   package:    `cpack -G DEB` in the build folder makes pgt_VERSION_amd64.deb (prefix /usr).
+set(PGT_DATA_ENTRIES "shaders=src/shaders" "analysis=analysis" "scenes=scenes" "docs=docs"
+                     "README.md=README.md")
+file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/share/pgt)
+foreach(entry ${PGT_DATA_ENTRIES})
+  string(REPLACE "=" ";" pair ${entry})
+  list(GET pair 0 name)
+  list(GET pair 1 source)
+  file(CREATE_LINK ${PROJECT_SOURCE_DIR}/${source} ${PROJECT_BINARY_DIR}/share/pgt/${name}
+       SYMBOLIC)
+endforeach()
+
+set(PGT_SHARE ${CMAKE_INSTALL_DATADIR}/pgt)
+install(DIRECTORY src/shaders/ DESTINATION ${PGT_SHARE}/shaders)
+install(DIRECTORY analysis/ DESTINATION ${PGT_SHARE}/analysis
+        PATTERN "__pycache__" EXCLUDE)
+install(DIRECTORY scenes/ DESTINATION ${PGT_SHARE}/scenes)
+install(DIRECTORY docs/ DESTINATION ${PGT_SHARE}/docs)
+install(FILES README.md DESTINATION ${PGT_SHARE})
+
+# The .deb: Debian's runtime libraries found by dpkg-shlibdeps (package dpkg-dev), plus what
+# pgt runs beside itself: Debian's python3 with the report's packages, Mesa's EGL and GL.
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME pgt)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
+    "Parallax Ground Truth: how wrong parallax mapping is, against the traced displaced surface")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "pgt developers <pgt@localhost>")
+set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS
+    "python3, python3-numpy, python3-pandas, python3-matplotlib, libegl-mesa0, libgl1-mesa-dri, fonts-dejavu-core")
+include(CPack)

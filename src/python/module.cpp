@@ -1,0 +1,135 @@
+// The extension behind the Python module pgt (pgt/__init__.py wraps it; docs/python.md).
+// Each call does what the CLI's command does, with the GIL released while pgt works; pgt's
+// errors become pgt.InputError (bad input: the CLI's exit 2) and pgt.OutputError (exit 3)
+// carrying the CLI's message.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+#include "core/json_read.h"
+#include "core/memory.h"
+#include "scene/scene.h"
+#include "study/outputs.h"
+#include "study/render.h"
+#include "study/staged_files.h"
+#include "study/sweep.h"
+
+namespace py = pybind11;
+
+namespace {
+
+// A scene from its file (`text` empty) or from JSON text, with `file` naming it in messages
+// and anchoring its relative paths.
+pgt::Scene readScene(const std::string& file, const std::string& text) {
+    if (text.empty()) return pgt::loadScene(file);
+    return pgt::parseScene(pgt::parseJsonText(text, file), file);
+}
+
+struct Rendered {
+    std::vector<std::string> names;
+    std::vector<float> pixels;  // height x width x channels
+    int width = 0, height = 0;
+    std::string summary;  // summary.json's text
+};
+
+// `pgt render`, kept in memory: the frame's channels as frame.exr holds them; with `out`, the
+// CLI's files too.
+Rendered render(const std::string& file, const std::string& text, const std::string& out,
+                int repeats, int fragments, int64_t glFragments) {
+    Rendered r;
+    py::gil_scoped_release free;
+    const pgt::Scene scene = readScene(file, text);
+    r.width = scene.camera.width, r.height = scene.camera.height;
+    pgt::checkViewMemory(scene, r.width, r.height, {scene.methods.size(), !out.empty(), true, true},
+                         "camera.resolution");
+    if (!out.empty()) pgt::prepareOutputDir(out);
+    pgt::RenderOptions options(repeats);
+    options.timingFragments = fragments;
+    options.glTimingFragments = glFragments;
+    options.frame.keepImages = true;
+    options.frame.keepCodedErrors = !out.empty();  // the error maps are drawn from them
+    const pgt::RenderResult result = pgt::renderFrame(scene, options);
+    r.names = pgt::frameChannelNames(scene.methods);
+    r.pixels.resize(size_t(r.width) * size_t(r.height) * r.names.size());
+    pgt::interleaveFrameBand(pgt::wholeFrameBand(result), r.pixels.data());
+    if (!out.empty()) {
+        pgt::writeRenderOutputs(scene, result, out);
+        r.summary = pgt::readJsonFile(out + "/summary.json").dump();
+    } else {
+        r.summary = pgt::summaryJson(scene, result).dump();
+    }
+    return r;
+}
+
+py::tuple renderToPython(const std::string& file, const std::string& text, const std::string& out,
+                         int repeats, int fragments, int64_t glFragments) {
+    auto r = std::make_unique<Rendered>(render(file, text, out, repeats, fragments, glFragments));
+    const auto channels = py::ssize_t(r->names.size());
+    const std::vector<py::ssize_t> shape = {r->height, r->width, channels};
+    const std::vector<py::ssize_t> strides = {py::ssize_t(sizeof(float)) * r->width * channels,
+                                              py::ssize_t(sizeof(float)) * channels,
+                                              py::ssize_t(sizeof(float))};
+    float* data = r->pixels.data();
+    py::list names = py::cast(r->names);
+    py::str summary(r->summary);
+    // The array owns the result: no copy of the pixels.
+    py::capsule owner(r.get(), [](void* p) { delete static_cast<Rendered*>(p); });
+    r.release();
+    return py::make_tuple(names, py::array_t<float>(shape, strides, data, owner), summary);
+}
+
+// `pgt sweep`: the study, resumed unless `fresh`; the summary as a dict.
+py::dict sweep(const std::string& file, const std::string& text, const std::string& out, bool fresh,
+               bool report, bool images, bool progress) {
+    pgt::SweepSummary sum;
+    {
+        py::gil_scoped_release free;
+        const pgt::Scene scene = readScene(file, text);
+        const pgt::Study study = pgt::parseStudy(scene);
+        pgt::SweepOptions options;
+        options.outDir = out;
+        options.fresh = fresh;
+        options.report = report;
+        options.images = images;
+        options.progress = progress;
+        sum = pgt::runSweep(scene, study, options);
+    }
+    py::dict d;
+    d["cases"] = sum.total;
+    d["run"] = sum.done;
+    d["resumed"] = sum.resumed;
+    d["finished"] = sum.finished;
+    d["wall_seconds"] = sum.wallSeconds;
+    d["stage_ms"] = sum.stageMs;
+    d["report"] = sum.reportPath;
+    d["report_not_written"] = sum.reportWhy;
+    return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_pgt, m) {
+    m.doc() = "pgt's C++ core; use the package pgt (docs/python.md)";
+    static py::exception<pgt::InputError> inputError(m, "InputError", PyExc_ValueError);
+    static py::exception<pgt::OutputError> outputError(m, "OutputError", PyExc_OSError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const pgt::InputError& e) {
+            inputError(e.what());
+        } catch (const pgt::OutputError& e) {
+            outputError(e.what());
+        }
+    });
+    m.def("render", &renderToPython, py::arg("file"), py::arg("text"), py::arg("out"),
+          py::arg("timing_repeats"), py::arg("timing_fragments"), py::arg("gl_timing_fragments"));
+    m.def("sweep", &sweep, py::arg("file"), py::arg("text"), py::arg("out"), py::arg("fresh"),
+          py::arg("report"), py::arg("images"), py::arg("progress"));
+    m.def("set_memory_limit_mb", &pgt::setMemoryLimitMb, py::arg("mb"));
+}

@@ -1,0 +1,97 @@
+"""pgt: Parallax Ground Truth from Python (docs/python.md).
+
+    import pgt
+    frame = pgt.render("scenes/default.json")          # a path, or the scene as a dict
+    err = frame["pom.err"]                              # float32 H x W, texels (NaN: none)
+    frame.summary["methods"][0]["error"]["mean"]        # summary.json as a dict
+    results = pgt.sweep("scenes/default.json", "out/study")   # results.csv as a DataFrame
+
+Each call does what the CLI's command does (same scene format, same numbers, same files
+when it writes any) with the GIL released while pgt works. Bad input raises pgt.InputError
+(a ValueError) and an output that cannot be written pgt.OutputError (an OSError), each with
+the CLI's message.
+"""
+
+import json
+import os
+
+from ._pgt import InputError, OutputError  # noqa: F401
+from . import _pgt
+
+__all__ = ["Frame", "render", "sweep", "InputError", "OutputError", "set_memory_limit_mb"]
+
+
+class Frame:
+    """One rendered view: frame.exr's channels and summary.json.
+
+    channels: dict name -> float32 array (height x width), the names of frame.exr
+      (truth.u, truth.v, truth.hit, base.u, base.v, base.hit, LABEL.u, LABEL.v, LABEL.err);
+      row 0 is the top of the image, as in frame.exr. Views of one array: `pixels`.
+    pixels: float32 array height x width x channels, in the channels' order.
+    summary: summary.json as a dict.
+    """
+
+    def __init__(self, names, pixels, summary):
+        self.pixels = pixels
+        self.channels = {name: pixels[:, :, i] for i, name in enumerate(names)}
+        self.summary = summary
+
+    def __getitem__(self, name):
+        return self.channels[name]
+
+    def __contains__(self, name):
+        return name in self.channels
+
+    @property
+    def methods(self):
+        """The methods' labels, in the scene's order."""
+        return [m["label"] for m in self.summary["methods"]]
+
+    def __repr__(self):
+        h, w, c = self.pixels.shape
+        return f"<pgt.Frame {w}x{h}, {c} channels, methods {', '.join(self.methods)}>"
+
+
+def _scene_arguments(scene, base_dir):
+    """(file, text) for the extension: a path is read by pgt itself; a dict is sent as JSON
+    text named '<scene dict>' in base_dir (default: the working directory), which anchors its
+    relative paths (heightmap.file, base.file)."""
+    if isinstance(scene, dict):
+        base = os.fspath(base_dir) if base_dir is not None else os.getcwd()
+        return os.path.join(base, "<scene dict>"), json.dumps(scene)
+    if isinstance(scene, (str, os.PathLike)):
+        return os.fspath(scene), ""
+    raise TypeError(f"scene must be a path or a dict, not {type(scene).__name__}")
+
+
+def render(scene, out=None, *, base_dir=None, timing_repeats=3, timing_fragments=65536,
+           gl_timing_fragments=1 << 20):
+    """Render one scene (`pgt render`): the truth, every method, their errors.
+
+    scene: a scene file's path, or the scene as a dict (docs/scenes.md).
+    out: also write the CLI's files there (frame.exr, summary.json, error maps).
+    Returns a Frame."""
+    file, text = _scene_arguments(scene, base_dir)
+    names, pixels, summary = _pgt.render(file, text, os.fspath(out) if out is not None else "",
+                                         timing_repeats, timing_fragments, gl_timing_fragments)
+    return Frame(names, pixels, json.loads(summary))
+
+
+def sweep(scene, out, *, base_dir=None, fresh=False, report=True, images=False,
+          progress=False):
+    """Run a study (`pgt sweep`), resuming one in `out` unless fresh=True.
+
+    Returns results.csv as a pandas DataFrame; the run's summary (cases run and resumed,
+    wall seconds, the report's path) is in its .attrs["pgt"]."""
+    import pandas  # only the studies need it
+
+    file, text = _scene_arguments(scene, base_dir)
+    summary = _pgt.sweep(file, text, os.fspath(out), fresh, report, images, progress)
+    results = pandas.read_csv(os.path.join(os.fspath(out), "results.csv"))
+    results.attrs["pgt"] = summary
+    return results
+
+
+def set_memory_limit_mb(mb):
+    """Refuse inputs estimated to need more memory than this (the CLI's --memory-limit-mb)."""
+    _pgt.set_memory_limit_mb(mb)

@@ -1,0 +1,195 @@
+"""The Python module pgt against the CLI (run by ctest: python.module; docs/python.md).
+
+Run as: /usr/bin/python3 -m pytest tests/python/test_module.py --pgt PGT --scenes SCENES
+with the module on PYTHONPATH (the build tree's build/python, or an install's
+lib/python3/dist-packages)."""
+
+import json
+import os
+import subprocess
+import threading
+import time
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+import pgt
+
+
+def small_scene(scenes):
+    """The default scene at 48x40 with a few methods (one GLSL preset), anchored in scenes/."""
+    with open(os.path.join(scenes, "default.json")) as f:
+        scene = json.load(f)
+    scene["camera"]["resolution"] = [48, 40]
+    scene["methods"] = ["parallax", {"name": "pom", "min_layers": 8, "max_layers": 32},
+                        "maxmip", {"preset": "godot"}]
+    scene["sweep"] = {"theta": [0, 60], "phi": [0], "scale": [0.05], "bias_ratio": [0, -0.5],
+                      "resolution": [24, 24], "timing": {"repeats": 1, "fragments": 64,
+                                                         "gl_fragments": 1024}}
+    scene.pop("fit", None)
+    return scene
+
+
+def read_exr(path):
+    img = oiio.ImageInput.open(path)
+    assert img, oiio.geterror()
+    spec = img.spec()
+    pixels = img.read_image(oiio.FLOAT)
+    img.close()
+    return list(spec.channelnames), pixels
+
+
+def without_timing(value):
+    """summary.json without what differs between two runs of one scene: times and where
+    the scene came from."""
+    if isinstance(value, dict):
+        return {k: without_timing(v) for k, v in value.items()
+                if not (k.endswith("_ms") or "ns_per" in k or "timing" in k
+                        or k == "scene_file")}
+    if isinstance(value, list):
+        return [without_timing(v) for v in value]
+    return value
+
+
+@pytest.fixture(scope="module")
+def cli_and_module(pgt_cli, scenes, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("frame")
+    scene = small_scene(scenes)  # procedural: no file paths to anchor
+    scene_file = tmp / "scene.json"
+    scene_file.write_text(json.dumps(scene))
+    cli_out = tmp / "cli"
+    run = subprocess.run([pgt_cli, "render", str(scene_file), "--out", str(cli_out)],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    frame = pgt.render(scene)
+    return cli_out, frame, scene
+
+
+def test_channels_equal_the_clis_frame_exr(cli_and_module):
+    cli_out, frame, _ = cli_and_module
+    names, pixels = read_exr(str(cli_out / "frame.exr"))  # OpenEXR sorts them by name
+    assert sorted(frame.channels) == sorted(names)
+    assert frame.pixels.dtype == np.float32 and frame.pixels.shape == pixels.shape
+    for i, name in enumerate(names):
+        a, b = frame[name], pixels[:, :, i]
+        assert a.shape == (40, 48)
+        assert np.array_equal(np.isnan(a), np.isnan(b)), name
+        assert np.array_equal(a[~np.isnan(a)], b[~np.isnan(b)]), name
+    # Not vacuous: the methods moved the UV, and err holds real errors.
+    assert np.nanmax(frame["pom.err"]) > 0
+    assert not np.array_equal(frame["parallax.u"], frame["base.u"], equal_nan=True)
+    assert "pom.err" in frame and frame.methods == ["parallax", "pom", "maxmip", "godot"]
+
+
+def test_summary_is_summary_json(cli_and_module):
+    cli_out, frame, _ = cli_and_module
+    with open(cli_out / "summary.json") as f:
+        cli = json.load(f)
+    for m in cli["methods"]:
+        m.pop("error_map")  # the module wrote no files
+    assert without_timing(frame.summary) == without_timing(cli)
+    assert frame.summary["methods"][1]["label"] == "pom"
+
+
+def test_out_writes_the_clis_files(scenes, tmp_path):
+    scene = dict(small_scene(scenes), methods=["parallax"])
+    again = pgt.render(scene, tmp_path / "out")
+    for name in ("frame.exr", "summary.json", "parallax_error.png"):
+        assert (tmp_path / "out" / name).is_file(), name
+    names, pixels = read_exr(str(tmp_path / "out" / "frame.exr"))
+    assert sorted(names) == sorted(again.channels)
+    for i, name in enumerate(names):
+        assert np.array_equal(pixels[:, :, i], again[name], equal_nan=True), name
+    assert again.summary["methods"][0]["error_map"]["file"] == "parallax_error.png"
+
+
+def test_bad_input_raises_with_the_clis_message(pgt_cli, scenes, tmp_path):
+    scene = small_scene(scenes)
+    scene["camera"]["theta"] = 95
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(scene))
+    run = subprocess.run([pgt_cli, "render", str(bad), "--out", str(tmp_path / "o")],
+                         capture_output=True, text=True)
+    assert run.returncode == 2
+    message = run.stderr.strip().removeprefix("pgt: error: ")
+    with pytest.raises(pgt.InputError) as caught:
+        pgt.render(str(bad))
+    assert str(caught.value) == message
+    assert "camera.theta" in message
+    assert isinstance(caught.value, ValueError)
+    with pytest.raises(pgt.InputError, match="heightmap"):
+        pgt.render({**scene, "heightmap": {"file": "no_such_map.png"}}, base_dir=tmp_path)
+    with pytest.raises(TypeError):
+        pgt.render(42)
+
+
+def test_unwritable_out_raises_output_error(scenes, tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    with pytest.raises(pgt.OutputError):
+        pgt.render(small_scene(scenes), blocker / "out")
+
+
+def test_the_gil_is_released_while_pgt_works(scenes):
+    """A Python thread keeps running while render works: with the GIL held it could not."""
+    scene = small_scene(scenes)
+    scene["camera"]["resolution"] = [160, 160]
+    scene["methods"] = [{"name": "pom", "min_layers": 64, "max_layers": 64}]
+    done = threading.Event()
+    ticks = []
+
+    def work():
+        pgt.render(scene)
+        done.set()
+
+    start = time.perf_counter()
+    t = threading.Thread(target=work)
+    t.start()
+    while not done.is_set():
+        ticks.append(time.perf_counter())
+        time.sleep(0.002)
+    t.join()
+    elapsed = time.perf_counter() - start
+    assert elapsed > 0.1, "render too short to tell"
+    # Held GIL: no ticks until the end. Released: a tick every few ms all along.
+    gaps = np.diff([start] + ticks)
+    assert len(ticks) > 10 and gaps.max() < elapsed / 2, (len(ticks), gaps.max(), elapsed)
+
+
+def test_sweep_returns_results_csv(scenes, tmp_path):
+    import pandas
+    out = tmp_path / "study"
+    results = pgt.sweep(small_scene(scenes), out, report=False)
+    on_disk = pandas.read_csv(out / "results.csv")
+    assert isinstance(results, pandas.DataFrame)
+    pandas.testing.assert_frame_equal(results, on_disk)
+    assert len(results) == 4 * 4  # 2 theta x 2 bias, 4 methods
+    assert set(results["method"]) == {"parallax", "pom", "maxmip", "godot"}
+    assert results.attrs["pgt"]["finished"] and results.attrs["pgt"]["run"] == 4
+    again = pgt.sweep(small_scene(scenes), out, report=False)
+    assert again.attrs["pgt"]["resumed"] == 4 and again.attrs["pgt"]["run"] == 0
+
+
+def test_a_dicts_relative_paths_start_at_base_dir(scenes, tmp_path):
+    with open(os.path.join(scenes, "stones_pinhole.json")) as f:
+        scene = json.load(f)
+    scene["camera"]["resolution"] = [16, 16]
+    scene["methods"] = ["parallax"]
+    frame = pgt.render(scene, base_dir=scenes)  # maps/stones.png beside the bundled scenes
+    assert frame["parallax.u"].shape == (16, 16)
+    with pytest.raises(pgt.InputError, match="stones.png"):
+        pgt.render(scene, base_dir=tmp_path)
+
+
+def test_the_angle_plot_example_runs(scenes, tmp_path):
+    """analysis/angle_plot.py (beside scenes/ in the source tree and in share/pgt)."""
+    import matplotlib  # noqa: F401  (Debian's python3-matplotlib; the example needs it)
+    script = os.path.join(scenes, os.pardir, "analysis", "angle_plot.py")
+    scene = tmp_path / "scene.json"
+    scene.write_text(json.dumps(small_scene(scenes)))
+    run = subprocess.run(["/usr/bin/python3", script, str(scene), "--out", str(tmp_path / "a.png"),
+                          "--theta", "0", "70", "--resolution", "24", "--methods", "pom"],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert (tmp_path / "a.png").stat().st_size > 1000
