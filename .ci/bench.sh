@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# README "Performance" measurements in one command: the Google Benchmark targets (build, refit vs rebuild,
+# docs/performance.md measurements in one command: the Google Benchmark targets (build, refit vs rebuild,
 # truth frame vs the bare Embree loop, coherent vs single rays, each method's ns/px), then the
 # end-to-end figures that Google Benchmark cannot hold: the default study's wall time, peak
 # memory of the 1024^2 and 4096^2 map renders, and the scaling with pixels and with cases.

@@ -7,6 +7,6 @@ bash .ci/deps.sh
 bash .ci/build.sh
 ./build/src/pgt render scenes/default.json --out out/default
 /usr/bin/python3 analysis/plot_summary.py out/default/summary.json --out out/default/summary.png
-./build/src/pgt sweep scenes/default.json --out out/study --fresh  # recomputed: ~17 s
+./build/src/pgt sweep scenes/default.json --out out/study --fresh  # recomputed: 1-2 min
 echo "frame: out/default/ (frame.exr, summary.json, *_error.png, summary.png)"
 echo "report: out/study/report.md"

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Size limits of src/ (README "Layout"): at most 5 functions over 60 lines, no source file
+"""Size limits of src/ (docs/layout.md): at most 5 functions over 60 lines, no source file
 over 600 lines. Functions are found as clang-format lays them out: a line at indentation 0
 or 4 that opens a signature with "(" and ends, possibly lines later, in "{"; the body runs
 to the matching "}". Prints the longest functions; exits 1 when a limit is exceeded.

@@ -16,7 +16,7 @@ except ImportError as e:  # pragma: no cover - depends on the machine
     sys.exit(f"{os.path.basename(sys.argv[0])}: {e.name} is missing; install python3-matplotlib "
              "python3-pandas python3-numpy and run with /usr/bin/python3")
 
-# Where the documents put the bias, as a ratio b/s (MODEL.md section 3): Welsh's ARB code
+# Where the documents put the bias, as a ratio b/s (docs/model.md §3): Welsh's ARB code
 # b = -s/2; LearnOpenGL's depth map b = -s; Lengyel's signed height 2h - 1 is b = -s/2.
 DOCUMENT_BIAS_RATIO = {
     "parallax": (-0.5, "Welsh 2004: b = -s/2"),

@@ -223,7 +223,7 @@ def main():
         f"{nice(df['truth_uncertainty_p99'].max())} texels. Errors below it are below the "
         "truth's own tessellation error.",
         "",
-        "Errors are UV distances in texels (MODEL.md section 7); run time is the method alone, "
+        "Errors are UV distances in texels (docs/model.md §7); run time is the method alone, "
         "single-threaded, on this machine's CPU; GLSL methods (marked GL) are timed by the GL "
         "named in results.csv's timing_backend, not comparable with one CPU thread.",
         "",

@@ -1,6 +1,6 @@
 // Each method against its source document's own code, transcribed line by line below (float,
 // the documents' order of operations), at the document's native settings. These are the
-// oracles the methods must reproduce; MODEL.md §3 gives the (s, b) each document implies.
+// oracles the methods must reproduce; docs/model.md §3 gives the (s, b) each document implies.
 #include <gtest/gtest.h>
 
 #include "methods/registry.h"
@@ -74,8 +74,9 @@ vec2 deferredBlogSteep(const Doc& d, vec2 texCoords, vec3 viewDir, bool runTail)
 }
 
 // 002's steep parallax and parallax occlusion listings (LearnOpenGL, min 8 / max 32 layers
-// mixed by |V.z|; the stored copy of 002 stops before them, 004 repeats the structure; MODEL.md
-// §6b pins the same loop). P = viewDir.xy / viewDir.z * height_scale; delta = P / numLayers.
+// mixed by |V.z|; the stored copy of 002 stops before them, 004 repeats the structure;
+// docs/model.md §6b pins the same loop). P = viewDir.xy / viewDir.z * height_scale; delta = P /
+// numLayers.
 vec2 learnOpenGLSteep(const Doc& d, vec2 texCoords, vec3 viewDir, float height_scale, bool pom) {
     const float minLayers = 8.0f, maxLayers = 32.0f;
     float a = std::fabs(viewDir.z);
@@ -166,7 +167,7 @@ class Documents : public ::testing::Test {
     Doc doc{&height};
 };
 
-// Welsh's constants 0.04, -0.02 are s = 0.04, b = -0.02 (MODEL.md §3).
+// Welsh's constants 0.04, -0.02 are s = 0.04, b = -0.02 (docs/model.md §3).
 TEST_F(Documents, WelshParallaxAndOffsetLimiting) {
     MethodTextures tex = makeMethodTextures(height, 0.04, -0.02, 1.0, false);
     for (const Case& c : randomCases(500, 80, 1)) {

@@ -1,6 +1,6 @@
-// "filter": "gpu8" (README "GPU filter precision"): bilinear weights rounded to 8 fractional
-// bits. Oracles: where the fraction is already a multiple of 1/256 nothing changes; on a ramp
-// the change is at most the slope times 1/512 texel; a constant map is unchanged; parsing.
+// "filter": "gpu8" (docs/methods.md "GPU filter precision"): bilinear weights rounded to 8
+// fractional bits. Oracles: where the fraction is already a multiple of 1/256 nothing changes; on a
+// ramp the change is at most the slope times 1/512 texel; a constant map is unchanged; parsing.
 #include <gtest/gtest.h>
 
 #include <random>

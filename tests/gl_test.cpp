@@ -173,7 +173,7 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
     }
 }
 
-// Head-on (V = +z) every shader returns uv0 (MODEL.md symmetry), through the GL path.
+// Head-on (V = +z) every shader returns uv0 (docs/model.md symmetry), through the GL path.
 TEST(Gl, HeadOnShadersReturnUv0) {
     Texture t = test::smoothTexture(32, 32);
     Inputs in = randomInputs(500, 9);
@@ -277,8 +277,9 @@ TEST(Gl, MissingSamplerOrUniformIsNamed) {
         EXPECT_EQ(e.field(), "uniforms.height_scal");
     }
     // A depth-map shader: the sampler then holds d = 1 - h; offset by d * s: counted once.
-    // Tolerance: a GPU's 8-bit filter weights (README "GPU filter precision") move a sample by
-    // up to the map's range / 512, the offset by 0.1 |V.xy| times that; plus float rounding.
+    // Tolerance: a GPU's 8-bit filter weights (docs/methods.md "GPU filter precision") move a
+    // sample by up to the map's range / 512, the offset by 0.1 |V.xy| times that; plus float
+    // rounding.
     GlslRun r = run(R"(,"texture":"depth","uniforms":{"height_scale":0.1})");
     const auto [lo, hi] = std::minmax_element(t.texels.begin(), t.texels.end());
     for (size_t k = 0; k < in.uv0.size(); ++k) {

@@ -1,4 +1,4 @@
-// Height fields: MODEL.md §1 conventions (texel centres, v up), loading, derived maps.
+// Height fields: docs/model.md §1 conventions (texel centres, v up), loading, derived maps.
 #include "heightfield/heightfield.h"
 
 #include <OpenImageIO/imageio.h>
@@ -53,7 +53,7 @@ std::string writeSpikePng(const std::filesystem::path& dir, int w, int h, int co
     return path;
 }
 
-// MODEL.md §1: v = 0 is the bottom row of the picture (the LAST row in the file); texel
+// docs/model.md §1: v = 0 is the bottom row of the picture (the LAST row in the file); texel
 // (i, j) from the bottom has its centre at ((i + 0.5)/W, (j + 0.5)/H).
 TEST(Conventions, BrightTexelIsFoundAtTheModelUv) {
     auto dir = test::tempDir("spike");

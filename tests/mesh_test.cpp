@@ -204,7 +204,7 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
         const auto& ea = a.methods[k].stats.error;
         const auto& eb = b.methods[k].stats.error;
         // 5e-3 texel: the two tessellations differ by the truth's own uncertainty (p99 about
-        // 3e-3 texel at rate 4 on smooth maps, README "How to read").
+        // 3e-3 texel at rate 4 on smooth maps, docs/outputs.md "How to read).
         EXPECT_NEAR(ea.mean, eb.mean, 5e-3 + 0.01 * ea.mean) << a.methods[k].config.label;
         EXPECT_NEAR(ea.p90, eb.p90, 5e-3 + 0.01 * ea.p90) << a.methods[k].config.label;
         // On a flat mesh the Listing 7.4 frame is exact.
@@ -301,7 +301,7 @@ TEST(LimitTruth, TorusSharesEveryPointOffTheSeams) {
         ASSERT_NEAR(glm::length(Vec3d(tess->sheet.normal[k])), 1.0, 1e-6) << k;
 }
 
-// MODEL.md §5 on a curved surface: the limit cube's truth converges as the rate doubles.
+// docs/model.md §5 on a curved surface: the limit cube's truth converges as the rate doubles.
 TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
     std::string json = R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
         "base": {"type": "mesh", "cage": "cube", "scheme": "catmark", "refine": 3,

@@ -31,7 +31,7 @@ MethodRun runFloat(const MethodConfig& cfg, const MethodTextures& tex, Vec2f uv0
     return r;
 }
 
-// Head-on (V = +z): every method returns uv0 (MODEL.md §6b: every offset is V.xy * x).
+// Head-on (V = +z): every method returns uv0 (docs/model.md §6b: every offset is V.xy * x).
 // Exactly, except pom, whose prev * w + uv * (1 - w) with prev == uv rounds once or twice:
 // at most 2 ulps of a UV in [0, 1] (2 * 2^-24 < 1.2e-7).
 TEST(Methods, HeadOnViewReturnsBaseUv) {
@@ -54,7 +54,7 @@ TEST(Methods, HeadOnViewReturnsBaseUv) {
     }
 }
 
-// Constant height c: the true offset is V.xy / V.z * (s*c + b) (MODEL.md §3). parallax and
+// Constant height c: the true offset is V.xy / V.z * (s*c + b) (docs/model.md §3). parallax and
 // pom are exact there (pom interpolates a straight line); offset limiting is off by the
 // closed form |s*c + b| * |V.xy| * (1/V.z - 1).
 TEST(Methods, ExactOnConstantHeight) {
@@ -188,7 +188,7 @@ TEST(Registry, StepCountSetsTheFitsParameter) {
     EXPECT_FALSE(setStepCount(parallax, 7));
 }
 
-// The built-in presets are the documents' settings (README "Engine presets"), written out.
+// The built-in presets are the documents' settings (docs/methods.md "Engine presets"), written out.
 TEST(Presets, BuiltInPresetsAreTheDocumentsSettings) {
     auto same = [](const char* preset, const char* entry) {
         MethodConfig p = parseMethod(nlohmann::json::parse(preset), "s", "m");

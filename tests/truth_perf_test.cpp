@@ -103,7 +103,7 @@ TEST(TruthPerf, UpdateMatchesFreshBuild) {
     EXPECT_EQ(autoTri.lastUpdate(), TruthUpdate::Refit);  // measured faster for triangles
 }
 
-// The implicit grid is the plane of MODEL.md §2: vertex (i, j) at centre + ((i/nu - 1/2) L,
+// The implicit grid is the plane of docs/model.md §2: vertex (i, j) at centre + ((i/nu - 1/2) L,
 // (j/nv - 1/2) L, 0) with UV (i/nu, j/nv) x tiling, normal +z, height sampled there.
 TEST(TruthPerf, ImplicitGridIsThePlane) {
     Texture t = wavyMap(16);

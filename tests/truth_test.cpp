@@ -19,7 +19,7 @@ Ray rayThrough(Vec2d uv0, Vec3d v, Vec3d center = Vec3d(0), double size = 1.0) {
 class TruthGeometries : public ::testing::TestWithParam<TruthGeometry> {};
 
 // Constant height c: the sheet is the plane z = l*(s*c + b), so the hit's UV is
-// uv0 + V.xy / V.z * (s*c + b) exactly (MODEL.md §3). 1e-4 texel: float32 positions of a
+// uv0 + V.xy / V.z * (s*c + b) exactly (docs/model.md §3). 1e-4 texel: float32 positions of a
 // unit-size sheet resolve ~1e-7 UV = 6e-6 texel at W = 64.
 TEST_P(TruthGeometries, ExactOnConstantHeight) {
     const double c = 0.4, s = 0.08, b = -0.05;
@@ -84,7 +84,7 @@ Image2D<TruthSample> truthFrame(const Scene& s) {
     return surface.traceFrame(makeCamera(s));
 }
 
-// MODEL.md §5: the tessellation error is measured, and it must shrink as the rate doubles.
+// docs/model.md §5: the tessellation error is measured, and it must shrink as the rate doubles.
 TEST(Truth, UncertaintyShrinksWhenRateDoubles) {
     std::vector<double> p99;
     for (int rate : {1, 2, 4}) {

@@ -203,7 +203,7 @@ void defineCommands(CLI::App& app, CommandLine& c) {
 }
 
 // Runs the chosen command; the exit status: 2 bad input, 3 an output that cannot be
-// written, 1 anything else (README "Exit status").
+// written, 1 anything else (README "Commands").
 int runCommand(const CommandLine& c) {
     try {
         pgt::setMemoryLimitMb(c.memoryLimitMb);

@@ -1,4 +1,4 @@
-// Error images and frame statistics (MODEL.md §7).
+// Error images and frame statistics (docs/model.md §7).
 #include "compare/compare.h"
 
 #include <tbb/blocked_range.h>

@@ -1,4 +1,4 @@
-// Per-pixel comparison of a method's uv' with the truth UV (MODEL.md §7): error in texels,
+// Per-pixel comparison of a method's uv' with the truth UV (docs/model.md §7): error in texels,
 // coverage classes, statistics and the non-finite count. Sees neither side's internals.
 #pragma once
 

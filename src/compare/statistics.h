@@ -1,4 +1,4 @@
-// UV error in texels (MODEL.md §7) and order statistics, in double.
+// UV error in texels (docs/model.md §7) and order statistics, in double.
 #pragma once
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// The truth's own uncertainty (MODEL.md §5): the same view traced at the truth's rate and at
+// The truth's own uncertainty (docs/model.md §5): the same view traced at the truth's rate and at
 // twice that rate, compared pixel by pixel like a method against the truth.
 #pragma once
 
@@ -12,7 +12,7 @@
 
 namespace pgt {
 
-// The truth's own uncertainty (MODEL.md §5): the same frame at two rates.
+// The truth's own uncertainty (docs/model.md §5): the same frame at two rates.
 struct TruthUncertainty {
     int rate = 0, rateFine = 0;
     int64_t pixelsCompared = 0;  // hit in both frames

@@ -10,7 +10,7 @@ namespace pgt {
 
 struct TruthSample {
     bool hit = false;
-    Vec2d uv{0};  // UV of the base point that was displaced to the first hit (MODEL.md §5)
+    Vec2d uv{0};  // UV of the base point that was displaced to the first hit (docs/model.md §5)
 };
 
 struct MethodPixel {

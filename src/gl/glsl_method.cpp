@@ -35,7 +35,7 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
 }
 
 // A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
-// bilinear, the map's address mode (MODEL.md §1: texel centres at (i + 0.5) / W, as GL
+// bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
 // samples).
 // The map's texels as the GL takes them: 1 or 3 channels, d = 1 - h when `depth`.
 std::vector<float> mapTexels(const Texture& t, bool depth) {

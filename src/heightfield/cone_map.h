@@ -1,5 +1,5 @@
 // Cone maps for cone step mapping (Dummer, "Cone Step Mapping: An Iterative Ray-Heightfield
-// Intersection Algorithm", 2006), built for the bilinear surface pgt samples (MODEL.md §1) so
+// Intersection Algorithm", 2006), built for the bilinear surface pgt samples (docs/model.md §1) so
 // that a cone step never passes the first intersection. Classic cone maps bound the surface
 // from texel centres only and are not conservative under bilinear filtering (Bán, Valasek et
 // al., EGSR 2024); here one ratio serves every point of a cell (the square between four

@@ -126,7 +126,7 @@ HeightImageHeader probeHeightImage(const std::string& path, int channel,
 
 namespace {
 
-// Every channel of every pixel, normalised as MODEL.md §1 says: 8-bit / 255, 16-bit / 65535,
+// Every channel of every pixel, normalised as docs/model.md §1 says: 8-bit / 255, 16-bit / 65535,
 // float as is. Reading the native integer type and dividing here keeps the exact quotient
 // (no table lookup).
 std::vector<double> decodeNormalised(OIIO::ImageInput& in, const std::string& path,

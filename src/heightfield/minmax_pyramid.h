@@ -2,7 +2,7 @@
 // Fast, Accurate, and Scalable Dynamic Height Field Rendering", I3D 2008): node (i, j) of
 // level k bounds the texels [i 2^k, i 2^k + 2^k] x [j 2^k, j 2^k + 2^k] (clamped to the map),
 // one texel more than its 2^k x 2^k cells, so that it bounds the bilinear surface over them
-// (MODEL.md §1: a bilinear patch lies between its corners' minimum and maximum). Built once
+// (docs/model.md §1: a bilinear patch lies between its corners' minimum and maximum). Built once
 // per map; it does not depend on (s, b).
 #pragma once
 
@@ -29,7 +29,7 @@ struct MinMaxPyramid {
 MinMaxPyramid buildMinMaxPyramid(const Texture& t);
 
 // Bounds of the height over lattice cells [x0, x0 + n) x [y0, y0 + n) (cell (x, y) spans
-// texel coordinates [x, x + 1] x [y, y + 1] with centres at integers, MODEL.md §1; any
+// texel coordinates [x, x + 1] x [y, y + 1] with centres at integers, docs/model.md §1; any
 // integers, the address mode maps them): lo <= h <= hi there. Conservative (a node may
 // cover a little more) and exact for a cell or an aligned node of a power-of-two map.
 // `reads` counts the pyramid nodes read.

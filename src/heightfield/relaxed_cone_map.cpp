@@ -16,7 +16,7 @@ struct Surface {
     double sign;
 
     // The patch of the cell holding lattice point (x, y), along the line (x, y) + (dx, dy) s:
-    // e = h0 + h1 s + h2 s^2 (MODEL.md §1).
+    // e = h0 + h1 s + h2 s^2 (docs/model.md §1).
     void along(double x, double y, double dx, double dy, double& h0, double& h1, double& h2) const {
         int i0, i1, j0, j1;
         double fx, fy;

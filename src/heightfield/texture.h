@@ -1,4 +1,4 @@
-// Textures and the one bilinear sampler (MODEL.md §1) used by the truth and by every method.
+// Textures and the one bilinear sampler (docs/model.md §1) used by the truth and by every method.
 // Texel (i, j) is column i, row j counted from the BOTTOM; its centre is at
 // ((i + 0.5) / W, (j + 0.5) / H). Sampling is templated on the scalar so that methods run in
 // float (as a GPU does) and the truth in double, with the same arithmetic.
@@ -78,7 +78,7 @@ inline Real gpu8Fraction(Real f) {
     return std::floor(f * Real(256) + Real(0.5)) / Real(256);
 }
 
-// Bilinear interpolation of texel centres (MODEL.md §1) of channel c; NaN in, NaN out.
+// Bilinear interpolation of texel centres (docs/model.md §1) of channel c; NaN in, NaN out.
 // gpu8: the weights' fractions rounded to 8 bits as a GPU's filter does (gpu8Fraction); a
 // flag, not a second copy of the sampler, so that the methods' loops stay as small as they
 // were (BM_Method: two inlined copies cost pom and relief 10-25 %).

@@ -1,5 +1,5 @@
 // The mesh the rasteriser draws: vertices with UVs and a per-vertex tangent frame, and
-// triangles over them; the plane of MODEL.md §2 as such a mesh. Built by mesh/refine.h for
+// triangles over them; the plane of docs/model.md §2 as such a mesh. Built by mesh/refine.h for
 // curved bases, drawn by raster/raster.h.
 #pragma once
 
@@ -22,7 +22,7 @@ struct BaseMesh {
     std::vector<uint32_t> indices;  // triangles, counter-clockwise seen from the front (+N)
 };
 
-// The plane of MODEL.md §2 as two triangles; `tilesAround` > 0 extends it by that many
+// The plane of docs/model.md §2 as two triangles; `tilesAround` > 0 extends it by that many
 // whole tiles on every side (an infinite plane's visible part), UVs continuing outward.
 BaseMesh makePlaneMesh(Vec3d center, double size, double tiling, int tilesAround = 0);
 

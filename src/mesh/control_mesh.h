@@ -1,4 +1,4 @@
-// Control meshes for curved bases (MODEL.md §2): polygons with face-varying UVs, from the
+// Control meshes for curved bases (docs/model.md §2): polygons with face-varying UVs, from the
 // built-in cages (cube, cylinder, torus) or an OBJ file, and the world length per UV unit.
 #pragma once
 
@@ -35,7 +35,7 @@ ControlMesh makeTorusCage(double majorRadius, double minorRadius, int segU, int 
 ControlMesh loadObjMesh(const std::string& path, const std::string& sceneFile,
                         const std::string& field);
 
-// sqrt(world area / UV area) over the mesh's faces (fan-triangulated): MODEL.md §2's
+// sqrt(world area / UV area) over the mesh's faces (fan-triangulated): docs/model.md §2's
 // default l. Throws std::invalid_argument when the UV area is zero.
 double worldPerUvFromAreas(const ControlMesh& mesh);
 

@@ -1,4 +1,4 @@
-// What a scene's GLSL method entry says (`{"name": ..., "glsl": FILE, ...}`, README "GLSL
+// What a scene's GLSL method entry says (`{"name": ..., "glsl": FILE, ...}`, docs/methods.md "GLSL
 // methods"): the shader's text, its entry function, samplers and uniforms. Data only: it is
 // parsed in methods/config.cpp and run in OpenGL by gl/glsl_method.cpp.
 #pragma once

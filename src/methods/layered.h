@@ -1,7 +1,7 @@
 // The layered ray marches: steep parallax (002 LearnOpenGL "Steep Parallax Mapping", 004's
 // ParallaxMapping), parallax occlusion mapping (steep + the interpolation tail of 002/004,
 // 001's POM), and relief mapping's linear + binary search (Policarpo, Oliveira, Comba 2005),
-// generalised to any (s, b) as MODEL.md §6b pins them down.
+// generalised to any (s, b) as docs/model.md §6b pins them down.
 #pragma once
 
 #include <cmath>

@@ -3,7 +3,7 @@
 // Quadtree Displacement Mapping, GPU Pro 2010, walks the same tree on depth): the eye ray
 // descends into a node where it reaches the node's box [cells] x [lowest, highest height]
 // and passes over it otherwise; in a single cell it meets the cell's bilinear patch exactly
-// (MODEL.md §1: along the ray the patch is a quadratic in the ray parameter), so uv' lies on
+// (docs/model.md §1: along the ray the patch is a quadratic in the ray parameter), so uv' lies on
 // the very surface the truth traces, up to the arithmetic's rounding.
 #pragma once
 

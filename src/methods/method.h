@@ -1,7 +1,7 @@
-// The common signature of every parallax method (MODEL.md §6b) and the configuration a scene
+// The common signature of every parallax method (docs/model.md §6b) and the configuration a scene
 // gives it. Methods are pure functions templated on the scalar: float by default (as a GPU
 // computes), double with `precision: double`. They read textures only through
-// MethodContext, which counts fetches (MODEL.md §8) and never throw: stiff cases are flagged.
+// MethodContext, which counts fetches (docs/model.md §8) and never throw: stiff cases are flagged.
 #pragma once
 
 #include <cmath>
@@ -54,7 +54,7 @@ struct MethodConfig {
     // original uv's derivatives; needs "mipmaps"); "zero" (false): level 0, bilinear.
     bool lodGrad = false;
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
-    // NaN = use the scene's displacement (MODEL.md §3).
+    // NaN = use the scene's displacement (docs/model.md §3).
     double scale = NAN, bias = NAN;
     // Glsl: the shader file, function, sampler and uniforms (its name is the user's).
     std::shared_ptr<const GlslSpec> glsl;
@@ -70,7 +70,7 @@ enum MethodFlag : uint32_t {
 // A march longer than this is a runaway (non-finite or absurd depth values): stop and flag.
 inline constexpr int kSafetyStepCap = 1 << 16;
 
-// Texture access for the methods: every sample is one fetch (MODEL.md §8).
+// Texture access for the methods: every sample is one fetch (docs/model.md §8).
 template <class Real>
 struct MethodContext {
     const Texture* height = nullptr;         // h
@@ -79,7 +79,7 @@ struct MethodContext {
     const MinMaxPyramid* pyramid = nullptr;  // maxmip
     const ConeMap* cone = nullptr;           // cone: the map for the sign of s
     const ConeMap* relaxedCone = nullptr;    // relaxed_cone: the same, relaxed
-    Real scale = 0, bias = 0;                // s, b in UV units (MODEL.md §3)
+    Real scale = 0, bias = 0;                // s, b in UV units (docs/model.md §3)
     int fetches = 0;
     uint32_t flags = 0;
     bool gpu8 = false;  // the GPU's 8-bit filter weights (runMethod sets it from the config)

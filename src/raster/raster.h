@@ -1,4 +1,4 @@
-// CPU rasteriser of the base mesh (MODEL.md §6): what the GPU's parallax-mapped draw sees.
+// CPU rasteriser of the base mesh (docs/model.md §6): what the GPU's parallax-mapped draw sees.
 // Pixel centres, the top-left fill rule, a depth test, near-plane clipping, and
 // perspective-correct interpolation of UV, position and the tangent frame. Per covered
 // pixel it gives uv0 and the tangent-space view vector V.
@@ -27,7 +27,7 @@ struct Fragment {
     Vec3d viewTangent{0};  // unit V in tangent space (V.T, V.B, V.N); methods round to float
     // V in the exact frame of the drawn surface: T along dS/du, B along dS/dv of the drawn
     // triangle, N the interpolated normal the truth displaces along, orthonormalised
-    // (MODEL.md §2). Equal to viewTangent on a plane.
+    // (docs/model.md §2). Equal to viewTangent on a plane.
     Vec3d viewTangentExact{0};
     // uv0's screen derivatives as a GPU's fine dFdx/dFdy give them: differences of this
     // triangle's perspective-correct uv (extended beyond its edges, as for a helper

@@ -1,4 +1,4 @@
-// Camera bases and pixel rays (MODEL.md §4).
+// Camera bases and pixel rays (docs/model.md §4).
 #include "scene/camera.h"
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Cameras (MODEL.md §4): pinhole and orthographic, one ray per pixel centre. Pixel (x, y)
+// Cameras (docs/model.md §4): pinhole and orthographic, one ray per pixel centre. Pixel (x, y)
 // has x to the right and y DOWN from the top-left; its ray passes through (x + 0.5, y + 0.5).
 // The rasteriser uses project() and the truth uses ray(): both come from the same basis.
 #pragma once
@@ -32,7 +32,7 @@ class Camera {
     // The primary ray through pixel centre (px + 0.5, py + 0.5) given as continuous
     // coordinates sx = px + 0.5, sy = py + 0.5.
     Ray ray(double sx, double sy) const;
-    // The ray of pixel (px, py): through its centre (MODEL.md §4), or through its jittered
+    // The ray of pixel (px, py): through its centre (docs/model.md §4), or through its jittered
     // sample position when jitter is on.
     Ray pixelRay(int px, int py) const {
         Vec2d s = samplePosition(px, py);
@@ -51,7 +51,7 @@ class Camera {
     // point must be in front (forward > 0).
     Vec2d toScreen(Vec3d cam) const;
 
-    // Unit vector from a world point toward the eye (MODEL.md §4's V before the TBN).
+    // Unit vector from a world point toward the eye (docs/model.md §4's V before the TBN).
     Vec3d viewVector(Vec3d world) const;
 
     Vec3d eye() const { return eye_; }          // pinhole
@@ -74,7 +74,7 @@ class Camera {
     uint32_t jitterSeed_ = 0;
 };
 
-// MODEL.md §4 view direction in tangent space from view angle theta and azimuth phi
+// docs/model.md §4 view direction in tangent space from view angle theta and azimuth phi
 // (degrees): V = (sin t cos p, sin t sin p, cos t).
 Vec3d viewFromAngles(double thetaDegrees, double phiDegrees);
 

@@ -295,7 +295,7 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view) {
     const CameraSpec& c = view.camera;
     if (c.type == Projection::Pinhole)
         return Camera::pinhole(c.eye, c.target, c.up, c.fov, c.width, c.height);
-    // MODEL.md §4: the camera looks along -V; image up is world +z made perpendicular to the
+    // docs/model.md §4: the camera looks along -V; image up is world +z made perpendicular to the
     // view direction, (-cos t cos p, -cos t sin p, sin t), which stays defined at theta = 0.
     Vec3d v = viewFromAngles(c.theta, c.phi);
     double t = radians(c.theta), p = radians(c.phi);

@@ -1,5 +1,5 @@
-// A validated scene (the JSON scene file of README "Scene file"): height field, base plane,
-// displacement (MODEL.md §3), camera (§4), methods (§6b) and truth settings (§5).
+// A validated scene (the JSON scene file of docs/scenes.md "Scene file): height field, base plane,
+// displacement (docs/model.md §3), camera (§4), methods (§6b) and truth settings (§5).
 #pragma once
 
 #include <algorithm>
@@ -35,10 +35,10 @@ struct PlaneBase {
     double tiling = 1.0;    // UV range [0, tiling]^2
     Vec3d center{0, 0, 0};  // plane centre; the plane lies in z = center.z
     bool infinite = false;  // the tile repeats forever in x and y (repeat, integer tiling)
-    double worldPerUv() const { return size / tiling; }  // l (MODEL.md §2)
+    double worldPerUv() const { return size / tiling; }  // l (docs/model.md §2)
 };
 
-// The truth's vertex lattice over a plane at `rate` samples per texel per axis (MODEL.md §5):
+// The truth's vertex lattice over a plane at `rate` samples per texel per axis (docs/model.md §5):
 // ceil(rate x map size x tiling) segments per axis across the tile. The scene's size limit,
 // the memory estimate, the block planner and the tessellation all count with this one
 // formula. Counts are doubles: a lattice too large for an int is refused, not wrapped.

@@ -1,7 +1,7 @@
 // pgt built-ins "secant" and "contact" as GLSL (src/methods/refined.h): the secant method
 // after a linear search (Risser, Shah, Pattanaik, JGT 2007) and contact-refinement parallax
 // occlusion mapping (Riccardi 2018), on relief mapping's ray uv(t) = dp + ds * t with the
-// depth d = 1 - h, generalised to any (s, b) as MODEL.md §6b.
+// depth d = 1 - h, generalised to any (s, b) as docs/model.md §6b.
 // Uniforms: height_scale, height_bias (floats); linear_steps, secant_steps (secant) and
 // layers (contact) as ints.
 uniform sampler2D heightMap;

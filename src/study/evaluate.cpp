@@ -27,7 +27,7 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
 }
 
 namespace {
-// The (s, b) a method runs with in a view: its own where it has one (MODEL.md §3, UV units).
+// The (s, b) a method runs with in a view: its own where it has one (docs/model.md §3, UV units).
 std::pair<double, double> methodScaleBias(const MethodConfig& cfg, const Displacement& view) {
     return {std::isfinite(cfg.scale) ? cfg.scale : view.scale,
             std::isfinite(cfg.bias) ? cfg.bias : view.bias};

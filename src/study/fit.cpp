@@ -67,7 +67,7 @@ nlohmann::json FitReport::toJson() const {
 
 namespace {
 
-// What the "fit" block asks for (README "Fitting").
+// What the "fit" block asks for (docs/studies.md "Fitting").
 struct FitPlan {
     std::vector<double> factors, ratios, steps;
     int refine = 4;

@@ -29,7 +29,8 @@ struct FitReport {
     nlohmann::json toJson() const;
 };
 
-// Reads the scene's optional "fit" block (README "Fitting"); throws InputError on bad input.
+// Reads the scene's optional "fit" block (docs/studies.md "Fitting"); throws InputError on bad
+// input.
 FitReport runFit(const Scene& scene, bool progress);
 
 }  // namespace pgt

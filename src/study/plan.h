@@ -26,12 +26,12 @@ struct Study {
     std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
     std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
     int width = 0, height = 0;
-    bool jitter = false;  // pixel sample positions (README "Studies")
+    bool jitter = false;  // pixel sample positions (docs/studies.md)
     TimingSpec timing;
     nlohmann::json resolved;  // what identifies the study (scene + sweep)
 };
 
-// Reads the scene's "sweep" block (README "Studies"); throws InputError on bad input.
+// Reads the scene's "sweep" block (docs/studies.md); throws InputError on bad input.
 Study parseStudy(const Scene& scene);
 
 // Bounds that keep a study's plan small (its lists are allocated whole).

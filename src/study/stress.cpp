@@ -32,7 +32,7 @@ struct StressRow {
     const PrecisionCheck& pc;
 };
 
-// stress.csv (README "Stiff cases"): the columns in order, each with how a row writes it.
+// stress.csv (docs/studies.md "Stiff cases"): the columns in order, each with how a row writes it.
 const CsvTable<StressRow>& stressTable() {
     using Col = CsvColumn<StressRow>;
     auto count = [](int64_t FrameStats::*field) {

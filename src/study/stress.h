@@ -19,7 +19,7 @@ struct StressOptions {
 // scenes run. Bad scenes throw InputError (naming the file) before anything is written.
 int runStress(const std::vector<std::string>& paths, const StressOptions& options);
 
-// stress.csv columns, in order (README "Stiff cases").
+// stress.csv columns, in order (docs/studies.md "Stiff cases").
 const std::vector<std::string>& stressColumns();
 
 }  // namespace pgt

@@ -49,7 +49,7 @@ struct SweepSummary {
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);
 
-// results.csv columns, in order (README "Studies").
+// results.csv columns, in order (docs/studies.md).
 const std::vector<std::string>& resultColumns();
 
 // The study directory is locked for the run (flock on DIR/.pgt-lock): a second run into the

@@ -276,7 +276,7 @@ struct TruthSurface::Impl {
         shift = base->grid->planeNormal * (base->worldPerUv * disp.bias);
     }
 
-    // Writes P = S + N * l * (s*h + b) (MODEL.md §3, in double, rounded once to float) into
+    // Writes P = S + N * l * (s*h + b) (docs/model.md §3, in double, rounded once to float) into
     // Embree's vertex buffer, and the bounds of the result.
     void displace(const Displacement& disp) {
         const BaseTessellation& b = *base;

@@ -1,4 +1,4 @@
-// The truth's base tessellations (MODEL.md §5): a plane's implicit lattice, a mesh's drawn
+// The truth's base tessellations (docs/model.md §5): a plane's implicit lattice, a mesh's drawn
 // triangles split at the truth's rate, or its OpenSubdiv limit surface (Bfr), with the
 // window of a plane a view can see. Independent of the displacement (s, b).
 #pragma once
@@ -75,7 +75,7 @@ struct BaseTessellation {
     std::optional<PlaneGrid> grid;  // planes
     TriangleSheet sheet;            // meshes (empty for planes)
     Vec3d origin{0};                // positions are relative to this point (float precision)
-    double worldPerUv = 1;          // l (MODEL.md §2)
+    double worldPerUv = 1;          // l (docs/model.md §2)
     double periodWorld = 1;         // plane side L: the tile period of an infinite plane
     double periodUv = 1;            // tiling T: the UV period of the tile
     double tessellateMs = 0;

@@ -130,7 +130,7 @@ TruthUpdate TruthSurface::lastUpdate() const { return impl_->lastUpdate; }
 void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update) {
     Impl& m = *impl_;
     auto t0 = Clock::now();
-    // Measured (README "Performance", BM_TruthUpdate): a triangle BVH refits in an eighth of
+    // Measured (docs/performance.md, BM_TruthUpdate): a triangle BVH refits in an eighth of
     // its rebuild; a grid's refit is no faster than its rebuild, and a rebuilt BVH stays tight.
     const bool translatable = m.base->isGrid() && disp.scale == m.built.scale;
     if (update == TruthUpdate::Auto)

@@ -1,4 +1,4 @@
-// The ground truth (MODEL.md §5): the displaced surface P = S + N*l*(s*h + b), tessellated
+// The ground truth (docs/model.md §5): the displaced surface P = S + N*l*(s*h + b), tessellated
 // with OpenSubdiv (Bfr) at `rate` samples per texel per axis and traced with Embree, one
 // primary ray per pixel. The only module that includes Embree or OpenSubdiv headers.
 #pragma once
@@ -54,7 +54,7 @@ struct BareLoopTiming {
 
 class TruthSurface {
   public:
-    // Displaces `base` by (s, b) (MODEL.md §3) and builds the Embree scene. `periodic`
+    // Displaces `base` by (s, b) (docs/model.md §3) and builds the Embree scene. `periodic`
     // repeats the tile forever in x and y (an infinite plane; needs an integer tiling).
     TruthSurface(std::shared_ptr<const BaseTessellation> base, const Displacement& disp,
                  TruthGeometry geometry, bool periodic);
@@ -67,7 +67,7 @@ class TruthSurface {
 
     // Re-displaces the same tessellation by a new (s, b): the vertices are rewritten in
     // Embree's buffer and the BVH rebuilt or refitted (Auto: a translation when only b of a
-    // plane changed, else the one measured faster for the geometry, README "Performance").
+    // plane changed, else the one measured faster for the geometry, docs/performance.md).
     // Nothing is reallocated.
     void setDisplacement(const Displacement& disp, TruthUpdate update = TruthUpdate::Auto);
 

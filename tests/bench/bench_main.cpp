@@ -68,7 +68,7 @@ Scene frameScene(int mapSide, int pixels) {
 // One truth frame of range(0)^2 primary rays at theta 60 over a 1024^2 grid sheet (all
 // cores), Embree fed one ray at a time (range(1) = 0) or tile streams (1). The counters
 // compare it with the bare loop over the same rays and the same Embree call:
-// ratio = frame / bare (target: <= 1.3, README "Performance").
+// ratio = frame / bare (target: <= 1.3, docs/performance.md).
 void BM_TruthFrame(benchmark::State& state) {
     Scene s = frameScene(1024, int(state.range(0)));
     TruthGeometry g = state.range(2) ? TruthGeometry::Triangles : TruthGeometry::Grid;

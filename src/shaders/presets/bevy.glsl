@@ -1,5 +1,5 @@
 // Engine preset: Bevy's StandardMaterial parallax mapping, re-implemented from its documented
-// behaviour (README "Engine presets"): a depth map (sampler holds d; "texture": "depth"),
+// behaviour (docs/methods.md "Engine presets"): a depth map (sampler holds d; "texture": "depth"),
 // parallax_depth_scale (default 0.1), max_parallax_layer_count (default 16), layers mixed
 // from max down to 1 by |V.z| (not clamped: V.z = 0 gives no finite uv'), a march of at
 // most layer_count + 1 steps from the base UV, then either the occlusion interpolation (the default method) or

@@ -1,5 +1,5 @@
 // Engine preset: Godot 4's BaseMaterial3D height mapping, re-implemented from its documented
-// behaviour (README "Engine presets"): the height map is read as depth d = 1 - h (unless
+// behaviour (docs/methods.md "Engine presets"): the height map is read as depth d = 1 - h (unless
 // inverted), the scale is heightmap_scale * 0.01 (default heightmap_scale = 5.0), and
 // view_dir is the unit tangent-space direction to the eye. pgt's V is exactly that (u along
 // the tangent, v along the bitangent, +z the normal), so no flip is needed here.

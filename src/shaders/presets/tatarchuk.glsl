@@ -1,6 +1,6 @@
 // Preset: parallax occlusion mapping as in N. Tatarchuk, "Dynamic Parallax Occlusion Mapping
 // with Approximate Soft Shadows", I3D 2006, and its DirectX SDK sample
-// (ParallaxOcclusionMapping.fx, RenderScenePS), written anew. README "Engine presets" lists
+// (ParallaxOcclusionMapping.fx, RenderScenePS), written anew. docs/methods.md "Engine presets" lists
 // what is reproduced and what is not.
 // - Heights: 1 is the top (the polygon); the parallax offset vector is V.xy / V.z times
 //   g_fHeightMapScale (the sample's default texture, "stones", sets 0.02): pgt s = 0.02,

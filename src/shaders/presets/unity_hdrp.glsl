@@ -1,7 +1,7 @@
 // Engine preset: Unity HDRP Lit, pixel displacement (parallax occlusion mapping), written
 // anew from Unity-Technologies/Graphics: LitDataDisplacement.hlsl (ApplyPerPixelDisplacement,
 // UV0 mapping) and the core library's PerPixelDisplacement.hlsl (ParallaxOcclusionMapping).
-// README "Engine presets" lists what is reproduced and what is not.
+// docs/methods.md "Engine presets" lists what is reproduced and what is not.
 // - Heights: 1 is the top (the polygon), 0 the bottom; the relief is always pushed inwards
 //   by `height_amplitude` UV units (pgt: s = A, b = -A). Defaults: _HeightPoMAmplitude 2 cm
 //   is _HeightAmplitude 0.02, on a primitive of 1 m (_PPDPrimitiveLength/Width 1, so
