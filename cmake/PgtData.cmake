@@ -5,22 +5,21 @@
 #   package:    `cpack -G DEB` in the build folder makes pgt_VERSION_amd64.deb (prefix /usr).
 set(PGT_DATA_ENTRIES "shaders=src/shaders" "analysis=analysis" "scenes=scenes" "docs=docs"
                      "README.md=README.md")
+# Each entry once: linked into the build tree, installed as NAME under share/pgt.
+set(PGT_SHARE ${CMAKE_INSTALL_DATADIR}/pgt)
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/share/pgt)
 foreach(entry ${PGT_DATA_ENTRIES})
   string(REPLACE "=" ";" pair ${entry})
   list(GET pair 0 name)
   list(GET pair 1 source)
-  file(CREATE_LINK ${PROJECT_SOURCE_DIR}/${source} ${PROJECT_BINARY_DIR}/share/pgt/${name}
-       SYMBOLIC)
+  set(from ${PROJECT_SOURCE_DIR}/${source})
+  file(CREATE_LINK ${from} ${PROJECT_BINARY_DIR}/share/pgt/${name} SYMBOLIC)
+  if(IS_DIRECTORY ${from})
+    install(DIRECTORY ${from}/ DESTINATION ${PGT_SHARE}/${name} PATTERN "__pycache__" EXCLUDE)
+  else()
+    install(FILES ${from} DESTINATION ${PGT_SHARE})
+  endif()
 endforeach()
-
-set(PGT_SHARE ${CMAKE_INSTALL_DATADIR}/pgt)
-install(DIRECTORY src/shaders/ DESTINATION ${PGT_SHARE}/shaders)
-install(DIRECTORY analysis/ DESTINATION ${PGT_SHARE}/analysis
-        PATTERN "__pycache__" EXCLUDE)
-install(DIRECTORY scenes/ DESTINATION ${PGT_SHARE}/scenes)
-install(DIRECTORY docs/ DESTINATION ${PGT_SHARE}/docs)
-install(FILES README.md DESTINATION ${PGT_SHARE})
 
 # The .deb: Debian's runtime libraries found by dpkg-shlibdeps (package dpkg-dev), plus what
 # pgt runs beside itself: Debian's python3 with the report's packages, Mesa's EGL and GL.
