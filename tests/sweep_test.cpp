@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "study/csv_table.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -42,7 +43,7 @@ std::multiset<std::string> rowsWithoutTiming(const std::filesystem::path& p) {
     auto lines = readLines(p);
     const auto& cols = resultColumns();
     std::vector<size_t> timed;  // measured, not computed: differ between runs
-    for (const char* c : {"ns_per_px", "ns_per_px_p25", "ns_per_px_p75", "timing_repeats"})
+    for (const std::string& c : measuredResultColumns())
         timed.push_back(size_t(std::find(cols.begin(), cols.end(), c) - cols.begin()));
     std::multiset<std::string> out;
     for (size_t i = 1; i < lines.size(); ++i) {
@@ -103,7 +104,8 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
                                                  "ns_per_px_p25",
                                                  "ns_per_px_p75",
                                                  "timing_repeats",
-                                                 "timing_fragments"};
+                                                 "timing_fragments",
+                                                 "timing_case"};
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);
@@ -251,6 +253,88 @@ TEST(Sweep, UserGlslMethodAppearsInTheResults) {
         ASSERT_EQ(m.size(), 2u);
         EXPECT_NEAR(m.at("mine"), m.at("parallax"), 1e-3 + 1e-4 * m.at("parallax")) << "case " << c;
     }
+}
+
+// results.csv's records as column -> value maps.
+std::vector<std::map<std::string, std::string>> readRecords(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::map<std::string, std::string>> out;
+    bool torn = false;
+    for (const auto& f : splitCsvRecords(text, resultHeader().size(), &torn)) {
+        std::map<std::string, std::string> r;
+        for (size_t i = 0; i < f.size() && i < resultColumns().size(); ++i)
+            r[resultColumns()[i]] = f[i];
+        out.push_back(r);
+    }
+    EXPECT_FALSE(torn);
+    return out;
+}
+
+// A GLSL method is timed once per (configuration, view direction), on the first case of the
+// view, and that timing is shared by the view's other (s, b); C++ methods are timed in every
+// case. gl_timing "per_case" times every case again.
+TEST(Sweep, GlslTimingIsSharedAcrossTheScalesOfAView) {
+    auto dir = test::tempDir("gl_timing_per_view");
+    nlohmann::json j = nlohmann::json::parse(kStudyScene);
+    j["methods"] = nlohmann::json::parse(
+        R"(["parallax", {"name": "g", "glsl": "pgt:parallax.glsl", "function": "ParallaxMapping",
+                         "sampler": "heightMap",
+                         "uniforms": {"height_scale": "scale", "height_bias": "bias"}}])");
+    j["sweep"].erase("pom.max_layers");
+    j["sweep"]["bias_ratio"] = {-0.5};
+    for (const char* mode : {"per_view", "per_case"}) {
+        j["sweep"]["timing"]["gl_timing"] = mode;
+        Scene scene = parseScene(j, (dir / "scene.json").string());
+        Study study = parseStudy(scene);
+        ASSERT_EQ(study.cases.size(), 4u);  // (s 0.03: theta 20, 60), (s 0.06: theta 20, 60)
+        SweepOptions opt;
+        opt.outDir = (dir / mode).string();
+        opt.progress = false;
+        ASSERT_TRUE(runSweep(scene, study, opt).finished);
+        std::map<std::pair<std::string, std::string>, std::map<std::string, std::string>> row;
+        for (const auto& r : readRecords(dir / mode / "results.csv"))
+            row[{r.at("case"), r.at("label")}] = r;
+        ASSERT_EQ(row.size(), 8u);
+        for (const char* c : {"0", "1", "2", "3"}) {
+            const auto key = std::pair<std::string, std::string>(c, "parallax");
+            EXPECT_EQ(row[key].at("timing_case"), c);
+            EXPECT_GT(std::stod(row[std::pair<std::string, std::string>(c, "g")].at("ns_per_px")), 0)
+                << c;
+        }
+        const bool perView = std::string(mode) == "per_view";
+        for (const auto& [later, first] : {std::pair{"2", "0"}, std::pair{"3", "1"}}) {
+            const auto &a = row[std::pair<std::string, std::string>(later, "g")],
+                       &b = row[std::pair<std::string, std::string>(first, "g")];
+            EXPECT_EQ(b.at("timing_case"), first);
+            EXPECT_EQ(a.at("timing_case"), perView ? first : later) << mode;
+            if (!perView) continue;
+            for (const char* col : {"ns_per_px", "ns_per_px_p25", "ns_per_px_p75"})
+                EXPECT_EQ(a.at(col), b.at(col)) << col;
+        }
+    }
+}
+
+// One list of measured columns: the C++ one is the Python tests' and scripts' one
+// (analysis/columns.py), and each of them is a results.csv column.
+TEST(Sweep, MeasuredColumnsAreOneListInBothLanguages) {
+    std::ifstream in(test::testSourceDir() + "/../analysis/columns.py");
+    ASSERT_TRUE(in) << "analysis/columns.py";
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto start = text.find("MEASURED_COLUMNS = (");
+    ASSERT_NE(start, std::string::npos);
+    const std::string tuple = text.substr(start, text.find(')', start) - start);
+    std::vector<std::string> python;
+    for (size_t q = tuple.find('"'); q != std::string::npos; q = tuple.find('"', q + 1)) {
+        const size_t end = tuple.find('"', q + 1);
+        python.push_back(tuple.substr(q + 1, end - q - 1));
+        q = end;
+    }
+    EXPECT_EQ(python, measuredResultColumns());
+    for (const std::string& c : measuredResultColumns())
+        EXPECT_NE(std::find(resultColumns().begin(), resultColumns().end(), c),
+                  resultColumns().end())
+            << c;
 }
 
 }  // namespace

@@ -248,7 +248,9 @@ MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
     if (cfg.kind == MethodKind::Glsl) {
         GlslTimingPlan plan;
         plan.minFragments = spec.glFragments;
-        plan.minGpuMs = spec.glMinMs;
+        plan.minGpuMs = std::isfinite(spec.glMinMs) ? spec.glMinMs
+                        : glContext().software     ? kGlMinMsSoftware
+                                                   : kGlMinMsHardware;
         plan.minRepeats = spec.repeats;
         const GlslTiming g =
             timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;

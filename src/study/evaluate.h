@@ -3,6 +3,7 @@
 // method alone, single-threaded.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -101,15 +102,21 @@ struct TimingSpec {
     uint32_t seed = 1;
     // GL: the subset repeated to at least this many fragments per draw, and draws until at
     // least glMinMs of GL time (gl/glsl_method.h GlslTimingPlan).
+    // NaN: kGlMinMsHardware on a hardware GL, kGlMinMsSoftware on a software one, whose
+    // wall clock is not a GPU time and need not cost a GPU's budget.
     int64_t glFragments = 1 << 20;
-    double glMinMs = 20;
+    double glMinMs = NAN;
+    // A study times a GLSL method once per (configuration, view direction) and shares it
+    // across the view's (s, b) (docs/studies.md); false: every case (as `pgt render` does).
+    bool glPerView = true;
 };
+constexpr double kGlMinMsHardware = 20, kGlMinMsSoftware = 5;
 
 // Measured cost of the method alone in ns per fragment: the median and quartiles of its
 // passes over `frags` (C++: `repeats` single-threaded passes; GL: the timing workload of
 // `spec`), how many passes and how many fragments each pass evaluated.
 struct MethodTiming {
-    double median = 0, p25 = 0, p75 = 0;
+    double median = NAN, p25 = NAN, p75 = NAN;  // NaN: not measured
     int repeats = 0;
     int64_t fragments = 0;
 };

@@ -98,7 +98,9 @@ void readFrameSettings(JsonFields& f, const Scene& scene, Study& st) {
         // GL: the subset repeated to this many fragments per draw, drawn for at least this
         // many ms (gl/glsl_method.h GlslTimingPlan).
         st.timing.glFragments = t.integer("gl_fragments", 1 << 20, 1, 1 << 23);
-        st.timing.glMinMs = t.number("gl_min_ms", 20, 0, 1e5);
+        if (t.has("gl_min_ms")) st.timing.glMinMs = t.number("gl_min_ms", 0, 1e5);
+        // GL cost once per (configuration, view direction), or in every case.
+        st.timing.glPerView = t.choice("gl_timing", {"per_view", "per_case"}, "per_view") == "per_view";
         t.finish();
     }
 }

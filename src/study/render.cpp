@@ -297,16 +297,25 @@ void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCac
     r.timingsMs["methods"] += msSince(t0);
 }
 
-void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing) {
+void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
+                 bool glsl) {
     auto t0 = Clock::now();
     for (MethodFrame& mf : r.methods) {
         const MethodConfig& cfg = mf.config;
-        if (timing.repeats <= 0) continue;
+        if (timing.repeats <= 0 || (!glsl && cfg.kind == MethodKind::Glsl)) continue;
         mf.timing = timeMethod(cfg, r.timed, textures.at(cfg, r.view.displacement), timing);
         mf.nsPerPixel = mf.timing.median;
     }
     r.timed = {};
     r.timingsMs["method_timing"] += msSince(t0);
+}
+
+FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
+                                 const TimingSpec& timing) {
+    const Camera camera = makeCamera(scene, view);
+    const Image2D<Fragment> frame =
+        rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces});
+    return sampleFragments(compactFragments(frame), timing.maxFragments, timing.seed);
 }
 
 double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m) {

@@ -4,6 +4,7 @@
 // which is why the pieces are separate.
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -34,8 +35,11 @@ struct MethodFrame {
     // of the error caused by the per-vertex tangent frame.
     FrameStats statsExactFrame;
     bool haveExactFrame = false;
-    double nsPerPixel = 0;  // timing.median
-    MethodTiming timing;    // its spread, repeats and workload
+    double nsPerPixel = NAN;  // timing.median; NaN when not measured
+    MethodTiming timing;      // its spread, repeats and workload
+    // A study's GLSL methods are timed once per view direction (docs/studies.md): the case
+    // whose fragments and (s, b) the timing ran on; -1: this frame's own.
+    int timingCase = -1;
     // The build time of its precomputed data (maxmip's pyramid): once per map, shared by every
     // view and (s, b) of a run; 0 for methods without any.
     double precomputeMs = 0;
@@ -104,7 +108,14 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
 // The C++ methods of a deferred-timing result timed on its subset (single-threaded each, the
 // median of timing.repeats); GLSL methods were timed with their draws. Drops the subset.
 // `textures` must hold every method's maps already (the render got them).
-void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing);
+// `glsl` false leaves GLSL methods untimed (a study times them once per view direction).
+void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
+                 bool glsl = true);
+
+// The seeded subset of a view's fragments that its methods are timed on: the same subset a
+// render of the view times (FragmentSampler), without tracing or evaluating anything.
+FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
+                                 const TimingSpec& timing);
 
 // The GLSL methods of a deferGlsl result (none: nothing to do): drawn over the whole frame's
 // fragments, compared with its truth; drops the kept frame. (Timed with the C++ methods, on

@@ -49,8 +49,12 @@ struct SweepSummary {
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);
 
-// results.csv columns, in order (docs/studies.md).
+// results.csv columns, in order (docs/outputs.md).
 const std::vector<std::string>& resultColumns();
+// Its measured columns: times and where they were taken, which differ between runs; every
+// other column is equal between runs of one study, whole, resumed or merged. The Python
+// side's list (analysis/columns.py) is checked against this one by the tests.
+const std::vector<std::string>& measuredResultColumns();
 
 // The study directory is locked for the run (flock on DIR/.pgt-lock): a second run into the
 // same directory is refused with OutputError while the first one runs.

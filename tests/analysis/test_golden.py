@@ -19,9 +19,9 @@ GOLDEN = os.path.join(SRC, "tests", "golden")
 # Embree's float hits may differ in the last bits between CPUs and builds (its kernels for
 # SSE, AVX2, AVX-512); errors in texels move by far less than 1e-4 of themselves.
 REL, ABS = 1e-4, 1e-6
-SKIP_KEYS = {"ns_per_px", "ns_per_px_p25", "ns_per_px_p75", "timing_repeats", "timing_fragments",
-             "precompute_ms", "timings_ms", "tessellate_ms", "build_ms", "scene_file", "glsl",
-             "timing_backend"}
+sys.path.insert(0, os.path.join(SRC, "analysis"))
+from columns import MEASURED_COLUMNS  # noqa: E402
+SKIP_KEYS = set(MEASURED_COLUMNS) | {"timings_ms", "tessellate_ms", "build_ms", "scene_file", "glsl"}
 
 
 def clean(value):

@@ -11,6 +11,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.join(sys.argv[2], "analysis"))
+from columns import without_measured  # noqa: E402
+
 pgt = sys.argv[1]
 scene = {
     "heightmap": {"procedural": "sine", "size": [64, 64]},
@@ -25,13 +28,7 @@ scene = {
 
 def rows(path):
     with open(path, newline="") as f:
-        out = []
-        for r in csv.DictReader(f):
-            for timed in ("ns_per_px", "precompute_ms", "ns_per_px_p25", "ns_per_px_p75",
-                          "timing_repeats"):
-                r.pop(timed)
-            out.append(tuple(sorted(r.items())))
-        return sorted(out)
+        return sorted(without_measured(r) for r in csv.DictReader(f))
 
 
 def sweep(path, out, **kw):
