@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 
+#include "raster/fragment_list.h"
 #include "raster_reference.h"
 #include "scene/scene.h"
 #include "study/render.h"
@@ -206,6 +208,59 @@ TEST(Raster, AnyRectangleEqualsTheWholeFrame) {
             for (int x = r.x0; x < r.x1; ++x) cut.at(x - r.x0, y - r.y0) = whole.at(x, y);
         expectSameFragments(part, cut, "rect " + std::to_string(k));
     }
+}
+
+
+FragmentList numberedFragments(int n) {
+    FragmentList all;
+    for (int k = 0; k < n; ++k) {
+        all.pixel.push_back(k);
+        all.uv0.push_back(Vec2d(k, 0));
+        all.view.push_back(Vec3d(0, 0, 1));
+        all.viewExact.push_back(Vec3d(0, 0, 1));
+        all.uvDx.push_back(Vec2d(0));
+        all.uvDy.push_back(Vec2d(0));
+    }
+    return all;
+}
+
+// The timing subset is a uniform sample: over 4000 seeds each of 1000 fragments is kept
+// about count / n = 5 % of the time (binomial: 200 +- 14 per fragment; every one within
+// 6 sigma, and the spread of the counts is the binomial one), in the order they came, and
+// the same whatever lists the fragments came in.
+TEST(Raster, TimingSubsetIsUniformAndIndependentOfTheSplit) {
+    const int n = 1000, count = 50, seeds = 4000;
+    const FragmentList all = numberedFragments(n);
+    std::vector<int> kept(n, 0);
+    for (int seed = 1; seed <= seeds; ++seed) {
+        FragmentList sub = sampleFragments(all, count, uint32_t(seed));
+        ASSERT_EQ(sub.size(), size_t(count));
+        for (size_t k = 0; k < sub.size(); ++k) {
+            ++kept[size_t(sub.pixel[k])];
+            if (k > 0) {
+                ASSERT_LT(sub.pixel[k - 1], sub.pixel[k]) << "seed " << seed;
+            }
+        }
+    }
+    const double p = double(count) / n, mean = seeds * p, sigma = std::sqrt(seeds * p * (1 - p));
+    double var = 0;
+    for (int k = 0; k < n; ++k) {
+        EXPECT_NEAR(kept[size_t(k)], mean, 6 * sigma) << "fragment " << k;
+        var += (kept[size_t(k)] - mean) * (kept[size_t(k)] - mean) / n;
+    }
+    EXPECT_NEAR(std::sqrt(var), sigma, 0.15 * sigma);
+    // Split into lists of 1, 7 and the rest: the same subset.
+    FragmentSampler split(count, 9);
+    FragmentList parts[3];
+    for (int k = 0; k < n; ++k) {
+        FragmentList one = numberedFragments(1);
+        one.pixel[0] = k;
+        parts[k < 1 ? 0 : k < 8 ? 1 : 2].append(one);
+    }
+    for (const FragmentList& part : parts) split.add(part);
+    EXPECT_EQ(split.take().pixel, sampleFragments(all, count, 9).pixel);
+    // Fewer fragments than the count: all of them.
+    EXPECT_EQ(sampleFragments(numberedFragments(30), count, 3).size(), 30u);
 }
 
 }  // namespace

@@ -1,25 +1,48 @@
 // compactFragments and sampleFragments (raster/fragment_list.h).
 #include "raster/fragment_list.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <climits>
+#include <cmath>
 #include <numeric>
 #include <random>
 
 namespace pgt {
 
 FragmentList compactFragments(const Image2D<Fragment>& frags) {
+    // Rows counted, then filled at their offsets, over all cores.
+    const int W = frags.width, H = frags.height;
+    std::vector<size_t> start(size_t(H) + 1, 0);
+    tbb::parallel_for(0, H, [&](int y) {
+        size_t n = 0;
+        for (int x = 0; x < W; ++x) n += frags.at(x, y).covered;
+        start[size_t(y) + 1] = n;
+    });
+    std::partial_sum(start.begin(), start.end(), start.begin());
     FragmentList list;
-    for (int y = 0; y < frags.height; ++y)
-        for (int x = 0; x < frags.width; ++x) {
+    const size_t total = start.back();
+    list.pixel.resize(total);
+    list.uv0.resize(total);
+    list.view.resize(total);
+    list.viewExact.resize(total);
+    list.uvDx.resize(total);
+    list.uvDy.resize(total);
+    tbb::parallel_for(0, H, [&](int y) {
+        size_t k = start[size_t(y)];
+        for (int x = 0; x < W; ++x) {
             const Fragment& f = frags.at(x, y);
             if (!f.covered) continue;
-            list.pixel.push_back(y * frags.width + x);
-            list.uv0.push_back(f.uv0);
-            list.view.push_back(f.viewTangent);
-            list.viewExact.push_back(f.viewTangentExact);
-            list.uvDx.push_back(f.uvDx);
-            list.uvDy.push_back(f.uvDy);
+            list.pixel[k] = y * W + x;
+            list.uv0[k] = f.uv0;
+            list.view[k] = f.viewTangent;
+            list.viewExact[k] = f.viewTangentExact;
+            list.uvDx[k] = f.uvDx;
+            list.uvDy[k] = f.uvDy;
+            ++k;
         }
+    });
     return list;
 }
 
@@ -51,19 +74,41 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
 }
 }  // namespace
 
+double FragmentSampler::uniform() {
+    // In (0, 1): a logarithm's argument.
+    return (double(rng_() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+void FragmentSampler::skip() {
+    // Li's Algorithm L (ACM TOMS 20(4), 1994): the gap to the next fragment that enters the
+    // reservoir is geometric with the running weight w, so only O(count log(n / count))
+    // fragments draw random numbers.
+    w_ *= std::exp(std::log(uniform()) / double(count_));
+    const double gap = std::floor(std::log(uniform()) / std::log1p(-w_));
+    next_ = gap < 9e18 - double(next_) ? next_ + int64_t(gap) + 1 : INT64_MAX;
+}
+
 void FragmentSampler::add(const FragmentList& list) {
     for (size_t k = 0; k < list.size(); ++k, ++seen_) {
         if (count_ <= 0 || seen_ < count_) {
             append(kept_, list, k);
             order_.push_back(seen_);
+            if (count_ > 0 && seen_ + 1 == count_) {
+                next_ = seen_;
+                skip();
+            }
             continue;
         }
-        // Algorithm R: fragment number seen_ replaces a kept one with probability count/(seen+1).
-        const int64_t j = std::uniform_int_distribution<int64_t>(0, seen_)(rng_);
-        if (j < count_) {
-            assign(kept_, size_t(j), list, k);
-            order_[size_t(j)] = seen_;
+        if (seen_ < next_) {  // jump to the next fragment that enters
+            const int64_t jump = std::min<int64_t>(next_ - seen_, int64_t(list.size() - k));
+            k += size_t(jump) - 1;
+            seen_ += jump - 1;
+            continue;
         }
+        const auto j = size_t(std::uniform_int_distribution<int64_t>(0, count_ - 1)(rng_));
+        assign(kept_, j, list, k);
+        order_[j] = seen_;
+        skip();
     }
 }
 

@@ -30,7 +30,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags);
 
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however
-// they were split into lists). All of them when count <= 0.
+// they were split into lists; each fragment kept with probability count / n). All of them
+// when count <= 0.
 class FragmentSampler {
   public:
     FragmentSampler(int count, uint32_t seed) : count_(count), rng_(seed) {}
@@ -39,9 +40,13 @@ class FragmentSampler {
     FragmentList take();
 
   private:
+    double uniform();
+    void skip();  // draws next_, the next fragment to enter the full reservoir
     int count_;
     std::mt19937_64 rng_;
     int64_t seen_ = 0;
+    int64_t next_ = 0;
+    double w_ = 1;
     FragmentList kept_;
     std::vector<int64_t> order_;  // position of each kept fragment among those added
 };

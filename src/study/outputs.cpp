@@ -255,29 +255,31 @@ OIIO::ImageBuf errorLegend(const MethodFrame& m, int canvasW, int legendH, doubl
     return buf;
 }
 
-// One method's error map, row by row into `out`: the frame, then the legend.
+// One method's error map into `out`: the frame (coloured over all cores), then the legend.
+// No PNG row filter (libpng's default tries five per row): measured on the default scene's
+// 2048^2 maps of none, parallax and pom, 0.59 s of encoding against 1.40 s, for 7 % more
+// bytes (6.9 against 6.4 MB).
 void writeErrorPng(StagedStream& out, const std::string& name, const MethodFrame& m,
                    const Image2D<float>& codes, double scale) {
     const int W = codes.width, H = codes.height;
     const int legendH = 70, canvasW = std::max(W, 560);
-    auto png =
-        openImage(out, name, OIIO::ImageSpec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8));
-    std::vector<uint8_t> row(size_t(canvasW) * 3, 0);
-    bool ok = true;
-    for (int y = 0; y < H && ok; ++y) {
+    OIIO::ImageSpec spec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("png:filter", 8);  // libpng's PNG_FILTER_NONE
+    auto png = openImage(out, name, spec);
+    std::vector<uint8_t> rgb(size_t(canvasW) * size_t(H + legendH) * 3, 0);
+    tbb::parallel_for(0, H, [&](int y) {
+        uint8_t* row = &rgb[size_t(y) * size_t(canvasW) * 3];
         for (int x = 0; x < W; ++x) {
             const Rgb c = errorMapColour(codes.at(x, y), scale);
             for (int k = 0; k < 3; ++k)
                 row[size_t(x) * 3 + size_t(k)] =
                     uint8_t(std::lround(std::clamp(c[k], 0.f, 1.f) * 255));
         }
-        ok = png->write_scanline(y, 0, OIIO::TypeDesc::UINT8, row.data());
-    }
+    });
     OIIO::ImageBuf legend = errorLegend(m, canvasW, legendH, scale);
-    for (int y = 0; y < legendH && ok; ++y) {
-        legend.get_pixels(OIIO::ROI(0, canvasW, y, y + 1), OIIO::TypeDesc::UINT8, row.data());
-        ok = png->write_scanline(H + y, 0, OIIO::TypeDesc::UINT8, row.data());
-    }
+    legend.get_pixels(OIIO::ROI(0, canvasW, 0, legendH), OIIO::TypeDesc::UINT8,
+                      &rgb[size_t(H) * size_t(canvasW) * 3]);
+    const bool ok = png->write_image(OIIO::TypeDesc::UINT8, rgb.data());
     closeImage(png, out, name, ok);
 }
 

@@ -198,18 +198,23 @@ class BandPipeline {
         FragmentList timed = sampler_.take();
         r_.methods.resize(runs_.size());
         auto t0 = Clock::now();
-        for (size_t i = 0; i < runs_.size(); ++i) {
+        // The statistics (each method's percentiles over the frame) one method per core.
+        tbb::parallel_for(size_t(0), runs_.size(), [&](size_t i) {
             MethodRun& m = runs_[i];
             MethodFrame& mf = r_.methods[i];
-            mf.config = *m.config;
-            mf.timingBackend = timingBackend(*m.config);
-            mf.precomputeMs = textures_.precomputeMs(*m.config, r_.view.displacement);
             mf.stats = m.tally.finish();
             mf.coded = m.tally.takeCoded();
             if (scene_.isMesh) {
                 mf.statsExactFrame = m.tallyExact.finish();
                 mf.haveExactFrame = true;
             }
+        });
+        for (size_t i = 0; i < runs_.size(); ++i) {
+            MethodRun& m = runs_[i];
+            MethodFrame& mf = r_.methods[i];
+            mf.config = *m.config;
+            mf.timingBackend = timingBackend(*m.config);
+            mf.precomputeMs = textures_.precomputeMs(*m.config, r_.view.displacement);
             if (timing_.repeats > 0 && !options_.deferTiming) {
                 mf.timing = timeMethod(*m.config, timed, *m.textures, timing_);
                 mf.nsPerPixel = mf.timing.median;
