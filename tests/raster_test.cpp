@@ -210,7 +210,6 @@ TEST(Raster, AnyRectangleEqualsTheWholeFrame) {
     }
 }
 
-
 FragmentList numberedFragments(int n) {
     FragmentList all;
     for (int k = 0; k < n; ++k) {

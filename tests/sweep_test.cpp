@@ -299,7 +299,8 @@ TEST(Sweep, GlslTimingIsSharedAcrossTheScalesOfAView) {
         for (const char* c : {"0", "1", "2", "3"}) {
             const auto key = std::pair<std::string, std::string>(c, "parallax");
             EXPECT_EQ(row[key].at("timing_case"), c);
-            EXPECT_GT(std::stod(row[std::pair<std::string, std::string>(c, "g")].at("ns_per_px")), 0)
+            EXPECT_GT(std::stod(row[std::pair<std::string, std::string>(c, "g")].at("ns_per_px")),
+                      0)
                 << c;
         }
         const bool perView = std::string(mode) == "per_view";

@@ -249,8 +249,8 @@ MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
         GlslTimingPlan plan;
         plan.minFragments = spec.glFragments;
         plan.minGpuMs = std::isfinite(spec.glMinMs) ? spec.glMinMs
-                        : glContext().software     ? kGlMinMsSoftware
-                                                   : kGlMinMsHardware;
+                        : glContext().software      ? kGlMinMsSoftware
+                                                    : kGlMinMsHardware;
         plan.minRepeats = spec.repeats;
         const GlslTiming g =
             timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;

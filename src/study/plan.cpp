@@ -100,7 +100,8 @@ void readFrameSettings(JsonFields& f, const Scene& scene, Study& st) {
         st.timing.glFragments = t.integer("gl_fragments", 1 << 20, 1, 1 << 23);
         if (t.has("gl_min_ms")) st.timing.glMinMs = t.number("gl_min_ms", 0, 1e5);
         // GL cost once per (configuration, view direction), or in every case.
-        st.timing.glPerView = t.choice("gl_timing", {"per_view", "per_case"}, "per_view") == "per_view";
+        st.timing.glPerView =
+            t.choice("gl_timing", {"per_view", "per_case"}, "per_view") == "per_view";
         t.finish();
     }
 }

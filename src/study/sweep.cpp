@@ -9,9 +9,9 @@
 #include <unistd.h>
 
 #include <cerrno>
-#include <condition_variable>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -19,9 +19,9 @@
 #include <fstream>
 #include <map>
 #include <mutex>
-#include <tuple>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "core/clock.h"
 #include "core/data_dir.h"
@@ -132,8 +132,8 @@ const std::vector<std::string>& resultColumns() {
 
 const std::vector<std::string>& measuredResultColumns() {
     static const std::vector<std::string> names = {
-        "ns_per_px",      "precompute_ms",  "timing_backend",   "ns_per_px_p25",
-        "ns_per_px_p75",  "timing_repeats", "timing_fragments", "timing_case"};
+        "ns_per_px",     "precompute_ms",  "timing_backend",   "ns_per_px_p25",
+        "ns_per_px_p75", "timing_repeats", "timing_fragments", "timing_case"};
     return names;
 }
 
@@ -468,7 +468,7 @@ class GlTimings {
     // Times, alone, each GLSL configuration of `study` for the views of `cases` not timed yet,
     // on the view's timing subset with the maps of the case's (s, b).
     void timeMissing(const Scene& scene, const Study& study, const StudyCase* const* cases,
-                      size_t n, MethodTextureCache& textures, SweepSummary& sum) {
+                     size_t n, MethodTextureCache& textures, SweepSummary& sum) {
         if (study.timing.repeats <= 0) return;
         auto t0 = Clock::now();
         for (size_t i = 0; i < n; ++i) {
@@ -539,9 +539,7 @@ void runCase(CaseRunner& run, const TruthPair& truths, CaseInFlight& f) {
         f.r = renderCase(run.scene, run.study, run.opt, *f.c, truths, run.textures, f.writer);
     });
     if (f.r.glslPending) run.gate.draw([&] { drawGlslMethods(f.r, run.scene, run.textures); });
-    run.gate.timing([&] {
-        timeMethods(f.r, run.textures, run.study.timing, false);
-    });
+    run.gate.timing([&] { timeMethods(f.r, run.textures, run.study.timing, false); });
     run.glTimings.fill(f.r, run.study, *f.c);
 }
 
@@ -556,8 +554,7 @@ void finishCase(CaseRunner& run, CaseInFlight& f) {
 // The cases of one (s, b) on the truth re-displaced for it, at most one in flight per core:
 // each case's rows land as soon as it and the cases before it are done, so a kill loses at
 // most the cases in flight.
-void runSurface(CaseRunner& run, const StudyCase* const* cases, size_t n,
-                const TruthPair& truths) {
+void runSurface(CaseRunner& run, const StudyCase* const* cases, size_t n, const TruthPair& truths) {
     for (const MethodConfig& cfg : run.study.configs)  // every map made before cases share them
         run.textures.get(cfg, {cases[0]->scale, cases[0]->bias});
     run.glTimings.timeMissing(run.scene, run.study, cases, n, run.textures, run.sum);
@@ -566,29 +563,27 @@ void runSurface(CaseRunner& run, const StudyCase* const* cases, size_t n,
     std::vector<CaseInFlight> slots(tokens);
     size_t next = 0;
     tbb::parallel_pipeline(
-        tokens,
-        tbb::make_filter<void, CaseInFlight*>(
-            tbb::filter_mode::serial_in_order,
-            [&](tbb::flow_control& fc) -> CaseInFlight* {
-                if (next == n) {
-                    fc.stop();
-                    return nullptr;
-                }
-                CaseInFlight* f = &slots[next % tokens];
-                *f = CaseInFlight{};
-                f->c = cases[next++];
-                return f;
-            }) &
-            tbb::make_filter<CaseInFlight*, CaseInFlight*>(tbb::filter_mode::parallel,
-                                                            [&](CaseInFlight* f) {
-                                                                runCase(run, truths, *f);
-                                                                return f;
-                                                            }) &
-            tbb::make_filter<CaseInFlight*, void>(
-                tbb::filter_mode::serial_in_order, [&](CaseInFlight* f) {
-                    finishCase(run, *f);
-                    f->r = RenderResult{};
-                }));
+        tokens, tbb::make_filter<void, CaseInFlight*>(tbb::filter_mode::serial_in_order,
+                                                      [&](tbb::flow_control& fc) -> CaseInFlight* {
+                                                          if (next == n) {
+                                                              fc.stop();
+                                                              return nullptr;
+                                                          }
+                                                          CaseInFlight* f = &slots[next % tokens];
+                                                          *f = CaseInFlight{};
+                                                          f->c = cases[next++];
+                                                          return f;
+                                                      }) &
+                    tbb::make_filter<CaseInFlight*, CaseInFlight*>(tbb::filter_mode::parallel,
+                                                                   [&](CaseInFlight* f) {
+                                                                       runCase(run, truths, *f);
+                                                                       return f;
+                                                                   }) &
+                    tbb::make_filter<CaseInFlight*, void>(tbb::filter_mode::serial_in_order,
+                                                          [&](CaseInFlight* f) {
+                                                              finishCase(run, *f);
+                                                              f->r = RenderResult{};
+                                                          }));
     run.sum.stageMs["cases_wall"] += msSince(t0);
 }
 
@@ -597,8 +592,9 @@ void runCases(const Scene& scene, const Study& study, const SweepOptions& opt,
               const std::vector<const StudyCase*>& todo, int fd, const std::string& csvPath,
               SweepSummary& sum, const SweepProgress& progress) {
     TruthBuilder builder(scene);
-    CaseRunner run{scene, study, opt, fd, csvPath, sum, progress,
-                   MethodTextureCache(scene.height, scene.uvExtent), {}, {}};
+    CaseRunner run{scene,   study, opt,      fd,
+                   csvPath, sum,   progress, MethodTextureCache(scene.height, scene.uvExtent),
+                   {},      {}};
     const size_t limit =
         opt.maxCases >= 0 ? std::min(todo.size(), size_t(opt.maxCases)) : todo.size();
     for (size_t first = 0, last = 0; first < limit; first = last) {
