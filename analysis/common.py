@@ -31,6 +31,33 @@ DOCUMENT_BIAS_RATIO = {
 KEYS = ["theta", "phi", "scale", "bias"]
 
 
+def _replace_whole(path, write):
+    """Writes `path` whole or not at all: `write(tmp)` makes a hidden temporary beside it,
+    which is renamed into place (a killed report leaves no zero-byte figure)."""
+    directory, name = os.path.split(os.path.abspath(path))
+    tmp = os.path.join(directory, f".{name}.pgt-tmp.{os.getpid()}")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+
+
+def save_figure(fig, path, **kwargs):
+    """fig.savefig(path) written whole or not at all (its format from the path's ending)."""
+    fmt = os.path.splitext(path)[1].lstrip(".") or "png"
+    _replace_whole(path, lambda tmp: fig.savefig(tmp, format=fmt, **kwargs))
+
+
+def write_text(path, text):
+    """A text file written whole or not at all."""
+    def write(tmp):
+        with open(tmp, "w") as f:
+            f.write(text)
+    _replace_whole(path, write)
+
+
 def read_results(path):
     df = pd.read_csv(path)
     if df.empty:

@@ -12,7 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import KEYS, nice, pd, plt  # noqa: E402
+from common import KEYS, nice, pd, plt, save_figure, write_text  # noqa: E402
 
 
 def main():
@@ -59,7 +59,7 @@ def main():
         ax.set_title(f"{label}: {'REGRESSION' if worse else 'ok'} ({growth:+.1%})")
         ax.legend()
         fig.tight_layout()
-        fig.savefig(os.path.join(args.out, f"compare_{label}.png"), dpi=100)
+        save_figure(fig, os.path.join(args.out, f"compare_{label}.png"), dpi=100)
         plt.close(fig)
     only_old = sorted(set(old["label"]) - set(new["label"]))
     only_new = sorted(set(new["label"]) - set(old["label"]))
@@ -76,8 +76,7 @@ def main():
         print("only in OLD: " + ", ".join(only_old))
     if only_new:
         lines += ["", "Only in NEW: " + ", ".join(only_new)]
-    with open(os.path.join(args.out, "compare.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    write_text(os.path.join(args.out, "compare.md"), "\n".join(lines) + "\n")
     if regressions:
         print(f"regression: {', '.join(regressions)}")
         return 1

@@ -13,7 +13,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
-from common import representative_labels  # noqa: E402
+from common import representative_labels, save_figure, write_text  # noqa: E402
 
 
 def pareto_front(points):
@@ -52,7 +52,7 @@ def fig_error_vs_theta(df, reps, figdir):
         ax.legend(fontsize=7, ncol=2)
         fig.tight_layout()
         name = f"error_vs_theta_s{scale:g}.png"
-        fig.savefig(os.path.join(figdir, name), dpi=110)
+        save_figure(fig, os.path.join(figdir, name), dpi=110)
         plt.close(fig)
         out.append((scale, ratio, name))
     return out
@@ -116,7 +116,7 @@ def fig_pareto(df, figdir):
         ax.legend(fontsize=7)
         fig.tight_layout()
         name = f"pareto_{xkey}.png"
-        fig.savefig(os.path.join(figdir, name), dpi=110)
+        save_figure(fig, os.path.join(figdir, name), dpi=110)
         plt.close(fig)
         files[xkey] = name
         fronts[xkey] = [agg["label"].iloc[i] for i in front]
@@ -172,7 +172,7 @@ def fig_heatmaps(df, reps, figdir):
         ax.set_title(f"{label}: mean error over view angles (star: minimum per scale)", fontsize=9)
         fig.tight_layout()
         fname = f"heatmap_{label}.png"
-        fig.savefig(os.path.join(figdir, fname), dpi=110)
+        save_figure(fig, os.path.join(figdir, fname), dpi=110)
         plt.close(fig)
         files.append(fname)
     return files
@@ -195,7 +195,7 @@ def main():
     theta_figs = fig_error_vs_theta(df, reps, figdir)
     agg, pareto_files, fronts = fig_pareto(df, figdir)
     table = defaults_table(df, reps)
-    table.to_csv(os.path.join(args.dir, "defaults.csv"), index=False)
+    write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
     # Grazing views (the last few degrees) dominate means over all angles; the same table
     # over theta <= 80 shows the defaults for the views most frames contain.
     typical = df[df["theta"] <= 80]
@@ -297,8 +297,7 @@ def main():
             lines.append(f"| {label} | {int(r['nonfinite'])} | {int(r['zero_divide'])} | "
                          f"{int(r['step_limit'])} |")
         lines.append("")
-    with open(os.path.join(args.dir, "report.md"), "w") as f:
-        f.write("\n".join(lines))
+    write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))
     print(f"wrote {os.path.join(args.dir, 'report.md')}")
 
 

@@ -7,6 +7,7 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/memory.h"
 #include "gl/glsl_method.h"
 #include "scene/scene.h"
@@ -46,8 +47,9 @@ void renderCommand(const std::string& scenePath, const std::string& outDir,
                    const pgt::RenderOptions& options) {
     pgt::Scene scene = pgt::loadScene(scenePath);
     pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
-                         {scene.methods.size(), true, false, true}, "camera.resolution");
-    pgt::prepareOutputDir(outDir);  // before the work, so a bad --out fails at once
+                         {.configs = &scene.methods, .writesImages = true, .truthInBlocks = true},
+                         "camera.resolution");
+    pgt::OutputDirectory out(outDir);  // before the work, so a bad --out fails at once
     // The files are written as the frame's bands are made: memory follows the band.
     pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods);
     pgt::RenderOptions opt = options;
@@ -55,6 +57,7 @@ void renderCommand(const std::string& scenePath, const std::string& outDir,
     pgt::RenderResult result = pgt::renderFrame(scene, opt);
     auto t0 = pgt::Clock::now();
     writer.finish(result);  // the error maps and summary.json
+    out.keep();
     const double finishMs = pgt::msSince(t0);
     printSummary(result);
     std::printf("stages (wall ms):");
@@ -110,12 +113,18 @@ void mergeCommand(const std::vector<std::string>& dirs, const std::string& outDi
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
 void fitCommand(const std::string& scenePath, const std::string& outDir) {
     pgt::Scene scene = pgt::loadScene(scenePath);
-    pgt::prepareOutputDir(outDir);  // before the search, so a bad --out fails at once
+    pgt::OutputDirectory out(outDir);  // before the search, so a bad --out fails at once
     pgt::FitReport rep = pgt::runFit(scene, true);
     pgt::writeTextFile(outDir + "/fit.json", rep.toJson().dump(2) + "\n");
+    out.keep();
     std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale", "bias",
                 rep.objective.c_str(), "p90", "as listed");
     for (const auto& m : rep.methods) {
+        if (!m.best.is_object()) {  // every candidate gave non-finite UVs or no pixels
+            std::printf("%-16s %5d %10s %10s %10s %10s %10.4f  no candidate with finite UVs\n",
+                        m.method.c_str(), m.steps, "-", "-", "-", "-", m.nativeObjective);
+            continue;
+        }
         double sc = m.best.value("scale", scene.displacement.scale);
         double bi = m.best.value("bias", scene.displacement.bias);
         std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(), m.steps, sc,
@@ -238,6 +247,7 @@ int runCommand(const CommandLine& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    pgt::installSignalCleanup();  // Ctrl-C and kill leave no temporaries or created --out
     CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
     CommandLine commandLine;
     defineCommands(app, commandLine);

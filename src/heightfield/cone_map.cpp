@@ -7,6 +7,8 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/interrupt.h"
+#include "core/progress.h"
 
 namespace pgt {
 
@@ -136,7 +138,9 @@ ConeMap buildConeMap(const Texture& t, bool inverted) {
     int levels = 1;
     while ((1 << (levels - 1)) < std::max(g.cx, g.cy)) ++levels;
     const std::vector<std::vector<double>> up = highPyramid(g, levels);
+    Progress progress("cone map " + std::to_string(t.width) + "x" + std::to_string(t.height), g.cy);
     tbb::parallel_for(0, g.cy, [&](int j) {
+        throwIfCancelled();
         for (int i = 0; i < g.cx; ++i) {
             const size_t k = size_t(j) * g.cx + i;
             double ca0, ca1, cb0, cb1;
@@ -163,6 +167,7 @@ ConeMap buildConeMap(const Texture& t, bool inverted) {
             }
             m.ratio[k] = coneRatioBelow(best);
         }
+        progress.add(1);
     });
     return m;
 }

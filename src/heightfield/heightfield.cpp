@@ -377,6 +377,10 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
         if (kind == name) fn = generate(f, args);
     f.finish();
 
+    // The map's floats (and its mip chain's third more), refused before they are made.
+    checkMemory(double(w) * h * sizeof(float) * 4 / 3, f.file(), f.fieldPath("size"),
+                std::to_string(w) + "x" + std::to_string(h),
+                "a " + std::to_string(w) + "x" + std::to_string(h) + " procedural height map");
     Texture t;
     t.width = w;
     t.height = h;

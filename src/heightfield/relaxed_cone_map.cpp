@@ -4,6 +4,8 @@
 #include <algorithm>
 
 #include "core/error.h"
+#include "core/interrupt.h"
+#include "core/progress.h"
 #include "heightfield/cone_map.h"
 
 namespace pgt {
@@ -102,7 +104,11 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
     std::stable_sort(around.begin(), around.end(), [&](auto a, auto b) {
         return std::hypot(a.first / W, a.second / H) < std::hypot(b.first / W, b.second / H);
     });
+    // Minutes at 2048^2 and beyond (docs/performance.md): progress, and Ctrl-C stops it.
+    Progress progress(
+        "relaxed cone map " + std::to_string(t.width) + "x" + std::to_string(t.height), t.height);
     tbb::parallel_for(0, t.height, [&](int j) {
+        throwIfCancelled();
         for (int i = 0; i < t.width; ++i) {
             const double eT = surf.sign * t.texel(i, j);
             // Apex at T: the conservative ratio of the cells around it holds too.
@@ -132,6 +138,7 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
             }
             m.ratio[size_t(j) * t.width + i] = coneRatioBelow(std::max(best, safe));
         }
+        progress.add(1);
     });
     return m;
 }

@@ -61,11 +61,20 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     auto spec = std::make_shared<GlslSpec>();
     std::string rel = f.string("glsl", "");
     std::filesystem::path p(rel);
-    if (rel.rfind(kShippedShaderPrefix, 0) == 0)  // "pgt:NAME.glsl": a shipped shader
-        p = std::filesystem::path(shaderDir()) /
-            rel.substr(std::string(kShippedShaderPrefix).size());
-    else if (p.is_relative())
+    if (rel.rfind(kShippedShaderPrefix, 0) == 0) {  // "pgt:NAME.glsl": a shipped shader
+        // Inside the shipped shaders only: a relative path with no ".." (the folder's own
+        // entries may be links, so the check is on the name, not the resolved path).
+        const std::filesystem::path name(rel.substr(std::string(kShippedShaderPrefix).size()));
+        bool inside = !name.empty() && name.is_relative();
+        for (const auto& part : name) inside = inside && part != ".." && part != ".";
+        if (!inside)
+            f.fail("glsl", "\"" + rel +
+                               "\": pgt: names a shader shipped with pgt, e.g. "
+                               "pgt:presets/godot.glsl (no \"..\", not absolute)");
+        p = std::filesystem::path(shaderDir()) / name;
+    } else if (p.is_relative()) {
         p = std::filesystem::path(file).parent_path() / p;
+    }
     spec->path = p.lexically_normal().string();
     if (rel.empty()) f.fail("glsl", "cannot read the shader file " + spec->path);
     // A shader is a few KB; 16 MiB bounds a stray file.

@@ -6,12 +6,18 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/json_read.h"
 #include "core/memory.h"
 #include "scene/scene.h"
@@ -23,6 +29,66 @@
 namespace py = pybind11;
 
 namespace {
+
+// Runs `work` on a thread of its own while the calling Python thread, without the GIL,
+// checks for signals every 50 ms: Ctrl-C then requests a cancel (core/interrupt.h), the work
+// unwinds within about a second (its staged files and created --out removed by their
+// destructors) and KeyboardInterrupt is raised here. Called with the GIL held.
+template <class F>
+auto interruptible(F work) -> decltype(work()) {
+    using Result = decltype(work());
+    std::optional<Result> result;
+    std::exception_ptr error;
+    bool interrupted = false;
+    {
+        py::gil_scoped_release free;
+        std::mutex m;
+        std::condition_variable cv;
+        bool done = false;
+        pgt::clearCancel();
+        std::thread worker([&] {
+            try {
+                result.emplace(work());
+            } catch (...) {
+                error = std::current_exception();
+            }
+            std::lock_guard<std::mutex> l(m);
+            done = true;
+            cv.notify_all();
+        });
+        for (;;) {
+            std::unique_lock<std::mutex> l(m);
+            if (cv.wait_for(l, std::chrono::milliseconds(50), [&] { return done; })) break;
+            l.unlock();
+            if (interrupted) continue;
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) {  // the KeyboardInterrupt stays set for below
+                interrupted = true;
+                pgt::requestCancel();
+            }
+        }
+        worker.join();
+        pgt::clearCancel();
+    }
+    if (interrupted) throw py::error_already_set();
+    if (error) std::rethrow_exception(error);
+    return std::move(*result);
+}
+
+// Paths from Python are refused when they hold a NUL (C++ would read them cut at the NUL:
+// another file).
+void checkPath(const std::string& path, const std::string& argument) {
+    if (path.find('\0') != std::string::npos)
+        throw pgt::InputError(path, argument, "", "the path holds a NUL character");
+}
+
+// The CLI's bounds of render's timing options (src/cli/main.cpp), as InputError.
+void checkRange(int64_t value, int64_t lo, int64_t hi, const std::string& argument) {
+    if (value < lo || value > hi)
+        throw pgt::InputError(
+            "pgt.render", argument, std::to_string(value),
+            "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
 
 // A scene from its file (`text` empty) or from JSON text, with `file` naming it in messages
 // and anchoring its relative paths.
@@ -43,12 +109,16 @@ struct Rendered {
 Rendered render(const std::string& file, const std::string& text, const std::string& out,
                 int repeats, int fragments, int64_t glFragments) {
     Rendered r;
-    py::gil_scoped_release free;
     const pgt::Scene scene = readScene(file, text);
     r.width = scene.camera.width, r.height = scene.camera.height;
-    pgt::checkViewMemory(scene, r.width, r.height, {scene.methods.size(), !out.empty(), true, true},
+    pgt::checkViewMemory(scene, r.width, r.height,
+                         {.configs = &scene.methods,
+                          .writesImages = !out.empty(),
+                          .keepsImages = true,
+                          .truthInBlocks = true},
                          "camera.resolution");
-    if (!out.empty()) pgt::prepareOutputDir(out);
+    std::unique_ptr<pgt::OutputDirectory> outDir;
+    if (!out.empty()) outDir = std::make_unique<pgt::OutputDirectory>(out);
     pgt::RenderOptions options(repeats);
     options.timingFragments = fragments;
     options.glTimingFragments = glFragments;
@@ -60,6 +130,7 @@ Rendered render(const std::string& file, const std::string& text, const std::str
     pgt::interleaveFrameBand(pgt::wholeFrameBand(result), r.pixels.data());
     if (!out.empty()) {
         pgt::writeRenderOutputs(scene, result, out);
+        outDir->keep();
         r.summary = pgt::readJsonFile(out + "/summary.json").dump();
     } else {
         r.summary = pgt::summaryJson(scene, result).dump();
@@ -68,8 +139,14 @@ Rendered render(const std::string& file, const std::string& text, const std::str
 }
 
 py::tuple renderToPython(const std::string& file, const std::string& text, const std::string& out,
-                         int repeats, int fragments, int64_t glFragments) {
-    auto r = std::make_unique<Rendered>(render(file, text, out, repeats, fragments, glFragments));
+                         int64_t repeats, int64_t fragments, int64_t glFragments) {
+    checkPath(file, "scene");
+    checkPath(out, "out");
+    checkRange(repeats, 1, 100, "timing_repeats");
+    checkRange(fragments, 0, int64_t(1) << 26, "timing_fragments");
+    checkRange(glFragments, 1, int64_t(1) << 23, "gl_timing_fragments");
+    auto r = std::make_unique<Rendered>(interruptible(
+        [&] { return render(file, text, out, int(repeats), int(fragments), glFragments); }));
     const auto channels = py::ssize_t(r->names.size());
     const std::vector<py::ssize_t> shape = {r->height, r->width, channels};
     const std::vector<py::ssize_t> strides = {py::ssize_t(sizeof(float)) * r->width * channels,
@@ -87,9 +164,9 @@ py::tuple renderToPython(const std::string& file, const std::string& text, const
 // `pgt sweep`: the study, resumed unless `fresh`; the summary as a dict.
 py::dict sweep(const std::string& file, const std::string& text, const std::string& out, bool fresh,
                bool report, bool images, bool progress) {
-    pgt::SweepSummary sum;
-    {
-        py::gil_scoped_release free;
+    checkPath(file, "scene");
+    checkPath(out, "out");
+    const pgt::SweepSummary sum = interruptible([&] {
         const pgt::Scene scene = readScene(file, text);
         const pgt::Study study = pgt::parseStudy(scene);
         pgt::SweepOptions options;
@@ -98,8 +175,8 @@ py::dict sweep(const std::string& file, const std::string& text, const std::stri
         options.report = report;
         options.images = images;
         options.progress = progress;
-        sum = pgt::runSweep(scene, study, options);
-    }
+        return pgt::runSweep(scene, study, options);
+    });
     py::dict d;
     d["cases"] = sum.total;
     d["run"] = sum.done;

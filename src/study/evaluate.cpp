@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <set>
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
 
@@ -72,6 +74,32 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
         it->second.relaxedCone = relaxed_[sign];
     }
     return it->second;
+}
+
+double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& configs) {
+    const double texels = double(height.width) * double(height.height);
+    const double chain = height.mips ? 4.0 / 3.0 : 1.0;
+    std::set<std::pair<double, double>> derived;  // the (s, b) they are made for; NaN: the view's
+    bool pyramid = false, cone = false, relaxed = false, gl = false;
+    for (const MethodConfig& cfg : configs) {
+        if (needsDerivedMaps(cfg))
+            derived.insert({std::isfinite(cfg.scale) ? cfg.scale : 1e300,
+                            std::isfinite(cfg.bias) ? cfg.bias : 1e300});
+        pyramid = pyramid || needsMinMaxPyramid(cfg);
+        cone = cone || needsConeMap(cfg) || needsRelaxedConeMap(cfg);
+        relaxed = relaxed || needsRelaxedConeMap(cfg);
+        gl = gl || cfg.kind == MethodKind::Glsl;
+    }
+    double perTexel = 16.0 * chain * double(derived.size());
+    if (pyramid) perTexel += 32.0 / 3.0;
+    if (cone) perTexel += 48;
+    if (relaxed) perTexel += 8;
+    // The GL's copies: the height map, the derived maps (3 + 1 channels), the pyramid (2) and
+    // the cone maps (1 each).
+    if (gl)
+        perTexel += 4 * (chain + (derived.empty() ? 0 : 4 * chain) + (pyramid ? 2 : 0) +
+                         (cone ? 1 : 0) + (relaxed ? 1 : 0));
+    return perTexel * texels;
 }
 
 double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacement& view) const {
@@ -231,6 +259,7 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
+        throwIfCancelled();
         auto t0 = Clock::now();
         sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod);
         samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /

@@ -84,6 +84,14 @@ class MethodTextureCache {
     double coneMs_[2] = {0, 0}, relaxedMs_[2] = {0, 0};
 };
 
+// Memory of the maps `configs` read beyond the height map itself, estimated before any is
+// built (bytes): derived maps per (s, b) they run at, the min-max pyramid, cone maps with
+// their build's peak, and, for GLSL methods, the GL's copies (a software GL keeps them in
+// this process). Per texel, measured at 2048^2 (docs/performance.md): derived maps 16 B (x 4/3
+// with mipmaps), pyramid 32/3 B, cone map 48 B at its build's peak, relaxed cone map 8 B more,
+// a GL texture 4 B per channel.
+double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& configs);
+
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.
 // `exactFrame` feeds V in the exact frame instead of the per-vertex (Listing 7.4/7.8) frame.
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,

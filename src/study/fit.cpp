@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
 #include "methods/registry.h"
@@ -111,6 +112,12 @@ class FitScorer {
                 Camera cam = makeCamera(scene, v);
                 FragmentList frags = compactFragments(
                     rasterize(sceneBaseMesh(scene, cam), cam, {scene.cullBackFaces}));
+                if (frags.size() == 0)  // every candidate would score nothing there
+                    throw InputError(scene.file, "fit.theta", formatNumber(th, 9),
+                                     "the view at theta " + formatNumber(th, 9) + ", phi " +
+                                         formatNumber(ph, 9) +
+                                         " shows no pixel of the surface (edge-on or away); fit "
+                                         "over view angles that see it");
                 views_.push_back(
                     {truths.truth->traceFrame(cam), std::move(frags), plan.width, plan.height});
             }
@@ -196,17 +203,23 @@ FitReport runFit(const Scene& scene, bool progress) {
                          "fitting sweeps the view angle: it needs an orthographic camera");
     FitReport rep;
     const FitPlan plan = readFitPlan(scene, rep);
+    // Presets are fixed configurations (fit the built-in they stand for instead), and a GLSL
+    // method's parameters are its uniforms, which pgt does not vary.
+    auto fixed = [](const MethodConfig& m) { return m.glsl || !m.preset.empty(); };
+    if (std::all_of(plan.methods.begin(), plan.methods.end(), fixed))
+        throw InputError(scene.file, scene.fit.contains("methods") ? "fit.methods" : "methods", "",
+                         "nothing to fit: presets and GLSL methods are fixed configurations; "
+                         "list the built-in methods to fit (a preset's is in docs/methods.md)");
     // Every view's truth frame and fragments are kept for the whole search: estimated as one
     // frame as tall as all of them, with one method's images at a time.
     const size_t viewCount = rep.thetas.size() * rep.phis.size();
-    checkViewMemory(scene, plan.width,
-                    int(std::min<size_t>(viewCount * size_t(plan.height), 1u << 30)),
-                    {1, false, true, false}, "fit.resolution");
+    const std::vector<MethodConfig> one(plan.methods.begin(), plan.methods.begin() + 1);
+    checkViewMemory(
+        scene, plan.width, int(std::min<size_t>(viewCount * size_t(plan.height), 1u << 30)),
+        {.configs = &one, .mapConfigs = &plan.methods, .keepsImages = true}, "fit.resolution");
     FitScorer scorer(scene, rep, plan);
     for (const MethodConfig& base : plan.methods) {
-        // Presets are fixed configurations (fit the built-in they stand for instead), and a
-        // GLSL method's parameters are its uniforms, which pgt does not vary.
-        if (base.glsl || !base.preset.empty()) {
+        if (fixed(base)) {
             if (progress)
                 std::fprintf(stderr, "fit: %s skipped (presets and GLSL methods are fixed)\n",
                              base.label.c_str());

@@ -233,7 +233,7 @@ Study parseStudy(const Scene& scene) {
     f.finish(readParameterLists(f, scene, lists));
     st.configs = expandConfigs(f, scene, lists);
     st.cases = makeCases(axes, file);
-    checkViewMemory(scene, st.width, st.height, {st.configs.size()},
+    checkViewMemory(scene, st.width, st.height, {.configs = &st.configs},
                     f.has("resolution") ? "sweep.resolution" : "camera.resolution");
     st.resolved = studyIdentity(scene, st);
     return st;

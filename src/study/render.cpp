@@ -9,8 +9,10 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/memory.h"
 #include "gl/glsl_method.h"
+#include "truth/tessellation.h"
 
 namespace pgt {
 
@@ -90,6 +92,7 @@ class BandPipeline {
             }
         }
         for (int y0 = 0; y0 < H; y0 += kBandRows) {
+            throwIfCancelled();
             const PixelRect band{0, y0, W, std::min(H, y0 + kBandRows)};
             rasterBand(raster, band);
             traceBand(band);
@@ -324,8 +327,9 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
 }
 
 double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m) {
+    PGT_CHECK(m.configs);
     const double pixels = double(width) * height;
-    const double methods = double(m.methods), mesh = scene.isMesh ? 2 : 1;
+    const double methods = double(m.configs->size()), mesh = scene.isMesh ? 2 : 1;
     // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
     // interleaved rows (6 + 3 per method floats).
@@ -349,7 +353,8 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
             perPixel += 2.0 * sizeof(TruthSample);  // the blocks fill whole frames
         }
     }
-    return band * perBandPixel + pixels * perPixel + truth;
+    return band * perBandPixel + pixels * perPixel + truth +
+           estimateMapBytes(scene.height, m.mapConfigs ? *m.mapConfigs : *m.configs);
 }
 
 void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
@@ -357,20 +362,52 @@ void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory
     checkMemory(estimateViewBytes(scene, width, height, m), scene.file, field,
                 std::to_string(width) + "x" + std::to_string(height),
                 "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with " +
-                    std::to_string(m.methods) + " method(s) and its truth");
+                    std::to_string(m.configs->size()) + " method(s), their maps and its truth");
 }
+
+namespace {
+
+// Memory of a view beside its plane truth's lattice: its frame, its methods' maps, and the
+// whole frames that truth blocks fill.
+double bytesBesideTruth(const Scene& scene, const Camera& camera, const FrameOptions& frame) {
+    const ViewMemory view{.configs = &scene.methods,
+                          .writesImages = !frame.sinks.empty(),
+                          .keepsImages = frame.keepImages};
+    TruthWindow tile;  // what estimateViewBytes counts for the lattice
+    return estimateViewBytes(scene, camera.width(), camera.height(), view) -
+           truthVertices(scene, tile) * kTruthBytesPerGridVertex +
+           2.0 * sizeof(TruthSample) * camera.width() * camera.height();
+}
+
+}  // namespace
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
     MethodTextureCache textures(scene.height, scene.uvExtent);
-    const TimingSpec timing{options.timingRepeats, options.timingFragments, 1,
-                            options.glTimingFragments};
+    const TimingSpec timing{.repeats = options.timingRepeats,
+                            .maxFragments = options.timingFragments,
+                            .seed = 1,
+                            .glFragments = options.glTimingFragments};
     auto t0 = Clock::now();
-    const double budget = double(scene.truth.memoryMb) * 1024 * 1024 / kTruthBytesPerGridVertex;
     if (!scene.isMesh) {
+        // A block's lattice: truth.memory_mb, or what the memory limit leaves beside the rest
+        // of the view when that is less.
+        constexpr double kMiB = 1024.0 * 1024.0;
+        const double beside = bytesBesideTruth(scene, camera, options.frame);
+        const double budget = std::max(0.0, std::min(double(scene.truth.memoryMb) * kMiB,
+                                                     double(memoryLimitMb()) * kMiB - beside)) /
+                              kTruthBytesPerGridVertex;
         TruthWindow whole = viewWindow(scene.plane, scene.height, scene.displacement, camera);
+        const double vertices = truthVertices(scene, whole);
         TruthFrames f;
-        if (truthVertices(scene, whole) > budget && traceTruthInBlocks(scene, camera, budget, f)) {
+        const bool blocks = vertices > budget && traceTruthInBlocks(scene, camera, budget, f);
+        if (vertices > budget && !blocks)  // no split into at most 16 x 16 blocks fits
+            checkMemory(vertices * kTruthBytesPerGridVertex + beside, scene.file, "truth.memory_mb",
+                        std::to_string(scene.truth.memoryMb),
+                        "the view's truth lattice (" + std::to_string(int64_t(vertices)) +
+                            " vertices; no split of the frame into at most 16 x 16 blocks "
+                            "brings a block under the budget) beside the rest of the frame");
+        if (blocks) {
             double truthMs = msSince(t0);
             TruthInput input;
             input.frames = &f;

@@ -71,7 +71,7 @@ StagedFiles::StagedFiles(std::string dir) : dir_(std::move(dir)) {}
 
 StagedFiles::~StagedFiles() {
     std::error_code ec;
-    for (const auto& [tmp, path] : staged_) fs::remove(tmp, ec);
+    for (const Staged& s : staged_) fs::remove(s.tmp, ec);
 }
 
 StagedStream::StagedStream(const std::string& tmp, const std::string& shown)
@@ -117,7 +117,8 @@ void StagedStream::finish() {
 StagedStream& StagedFiles::stream(const std::string& name) {
     const std::string tmp = (fs::path(dir_) / tempName(name)).string();
     const std::string path = (fs::path(dir_) / name).string();
-    staged_.push_back({tmp, path});  // removed on destruction unless committed
+    // Removed on destruction unless committed; by a signal's handler in the CLI.
+    staged_.push_back({tmp, path, std::make_unique<CleanupPath>(tmp, CleanupPath::kFile)});
     streams_.push_back(std::make_unique<StagedStream>(tmp, path));
     return *streams_.back();
 }
@@ -132,10 +133,10 @@ void StagedFiles::commit() {
     for (const auto& s : streams_) PGT_CHECK(s->finished());  // every stream finished
     for (size_t k = 0; k < staged_.size(); ++k) {
         std::error_code ec;
-        fs::rename(staged_[k].first, staged_[k].second, ec);
+        fs::rename(staged_[k].tmp, staged_[k].path, ec);
         if (ec) {
             staged_.erase(staged_.begin(), staged_.begin() + long(k));  // renamed ones stay
-            throw OutputError("cannot write " + staged_.front().second + ": " + ec.message());
+            throw OutputError("cannot write " + staged_.front().path + ": " + ec.message());
         }
     }
     staged_.clear();
@@ -154,6 +155,38 @@ void prepareOutputDir(const std::string& dir) {
     makeOutputDir(dir);
     StagedFiles probe(dir);  // a file can be created there (removed again, uncommitted)
     probe.add("probe", "");
+}
+
+OutputDirectory::OutputDirectory(const std::string& dir) {
+    // The topmost missing component: what creating `dir` makes.
+    std::error_code ec;
+    fs::path p = fs::absolute(dir, ec).lexically_normal();
+    std::vector<fs::path> missing;
+    std::error_code missingOk;  // status of a path that is not there: an error code too
+    for (; !ec && !p.empty() && !fs::exists(fs::symlink_status(p, missingOk));
+         p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    if (!missing.empty()) created_ = missing.back().string();
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it)
+        onSignal_.push_back(
+            std::make_unique<CleanupPath>(it->string(), CleanupPath::kEmptyDirectory));
+    try {
+        prepareOutputDir(dir);
+    } catch (...) {
+        std::error_code rm;  // a destructor does not run for a throwing constructor
+        if (!created_.empty()) fs::remove_all(created_, rm);
+        throw;
+    }
+}
+
+OutputDirectory::~OutputDirectory() {
+    onSignal_.clear();
+    if (keep_ || created_.empty()) return;
+    std::error_code ec;
+    fs::remove_all(created_, ec);
+    created_.clear();
 }
 
 void writeTextFile(const std::string& path, const std::string& text) {

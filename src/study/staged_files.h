@@ -13,6 +13,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/interrupt.h"
+
 namespace pgt {
 
 // A staged file being written. Writes are checked; the first error is kept and the file
@@ -54,8 +56,12 @@ class StagedFiles {
     void commit();
 
   private:
+    struct Staged {
+        std::string tmp, path;
+        std::unique_ptr<CleanupPath> onSignal;  // a signal unlinks the temporary
+    };
     std::string dir_;
-    std::vector<std::pair<std::string, std::string>> staged_;  // temporary, final path
+    std::vector<Staged> staged_;
     std::vector<std::unique_ptr<StagedStream>> streams_;
 };
 
@@ -68,5 +74,24 @@ void makeOutputDir(const std::string& dir);
 
 // makeOutputDir, and checks that a file can be created in `dir`.
 void prepareOutputDir(const std::string& dir);
+
+// The output directory of a command whose files are all or nothing (render, fit, merge):
+// prepared (prepareOutputDir) on construction; unless keep() is called, the directories it
+// created (and only those: `dir` and any missing parents) are removed with what is in them
+// on destruction, so a failed or cancelled run leaves no empty --out behind. A signal that
+// ends the CLI removes them too when they hold only temporaries (core/interrupt.h).
+class OutputDirectory {
+  public:
+    explicit OutputDirectory(const std::string& dir);
+    ~OutputDirectory();
+    OutputDirectory(const OutputDirectory&) = delete;
+    OutputDirectory& operator=(const OutputDirectory&) = delete;
+    void keep() { keep_ = true; }
+
+  private:
+    std::string created_;  // the topmost directory this made ("" if `dir` existed)
+    std::vector<std::unique_ptr<CleanupPath>> onSignal_;
+    bool keep_ = false;
+};
 
 }  // namespace pgt

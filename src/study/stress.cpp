@@ -77,15 +77,23 @@ const std::vector<std::string>& stressColumns() {
 int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
     std::vector<std::string> files;
     for (const auto& p : paths) {
-        if (fs::is_directory(p)) {
-            std::vector<std::string> inDir;
-            for (const auto& e : fs::directory_iterator(p))
-                if (e.path().extension() == ".json") inDir.push_back(e.path().string());
-            std::sort(inDir.begin(), inDir.end());
-            files.insert(files.end(), inDir.begin(), inDir.end());
-        } else {
-            files.push_back(p);
+        // A symlink loop, an unreadable folder: bad input naming it, not an internal error.
+        std::error_code ec;
+        const bool folder = fs::is_directory(p, ec);
+        auto unreadable = [&](const std::string& path) {
+            throw InputError(path, "", "", "cannot read the scene folder: " + ec.message());
+        };
+        if (ec && ec != std::errc::no_such_file_or_directory) unreadable(p);
+        if (!folder) {
+            files.push_back(p);  // loadScene names it if it cannot be read
+            continue;
         }
+        std::vector<std::string> inDir;
+        for (fs::directory_iterator it(p, ec), end; it != end && !ec; it.increment(ec))
+            if (it->path().extension() == ".json") inDir.push_back(it->path().string());
+        if (ec) unreadable(p);
+        std::sort(inDir.begin(), inDir.end());
+        files.insert(files.end(), inDir.begin(), inDir.end());
     }
     if (files.empty()) throw InputError("", "scenes", "(none)", "no scene files given");
     // Validate everything first: a bad scene fails before any output exists.
@@ -94,10 +102,10 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         scenes.push_back(loadScene(f));
         Scene& s = scenes.back();
         if (opt.resolution > 0) s.camera.width = s.camera.height = opt.resolution;
-        checkViewMemory(s, s.camera.width, s.camera.height, {s.methods.size()},
+        checkViewMemory(s, s.camera.width, s.camera.height, {.configs = &s.methods},
                         "camera.resolution");
     }
-    prepareOutputDir(opt.outDir);
+    OutputDirectory out(opt.outDir);  // removed again if the suite fails
 
     std::string csv = stressTable().header();
     std::printf("%-22s %-16s %8s %9s %8s %10s %10s %12s\n", "scene", "method", "pixels",
@@ -124,6 +132,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
             std::fprintf(stderr, "stress: %zu/%zu %s\n", i + 1, scenes.size(), name.c_str());
     }
     writeTextFile((fs::path(opt.outDir) / "stress.csv").string(), csv);
+    out.keep();
     return int(scenes.size());
 }
 

@@ -26,6 +26,7 @@
 #include "core/clock.h"
 #include "core/data_dir.h"
 #include "core/format.h"
+#include "core/interrupt.h"
 #include "core/json_read.h"
 #include "core/process.h"
 #include "methods/config.h"
@@ -535,6 +536,7 @@ struct CaseInFlight {
 };
 
 void runCase(CaseRunner& run, const TruthPair& truths, CaseInFlight& f) {
+    throwIfCancelled();
     DrawGate::isolated([&] {
         f.r = renderCase(run.scene, run.study, run.opt, *f.c, truths, run.textures, f.writer);
     });

@@ -11,6 +11,7 @@ import resource
 import signal
 import subprocess
 import sys
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from hostile_common import *  # noqa: E402,F401,F403  (the harness: run, check, scenes, ...)
@@ -325,6 +326,55 @@ def memory_estimates(d):
                                             "--memory-limit", "lots"]), 2, ["--memory-limit"])
 
 
+def memory_beyond_the_frame(d):
+    """--memory-limit holds beyond the frame: a plane's truth that no split into blocks brings
+    under the budget, the maps the methods read (derived, pyramid, cone) and the procedural
+    map itself are estimated and refused before they are made, and the process stays far
+    below what building them would take (a 4096^2 map's truth: about 10 GB)."""
+    big = copy(GOOD)
+    big["heightmap"] = {"procedural": "sine", "size": [4096, 4096]}
+    big["base"] = {"type": "plane", "infinite": True}
+    big["camera"] = {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [64, 64]}
+    big["truth"] = {"rate": 2, "memory_mb": 32}
+    cases = [("truth in no blocks", big, "100", "truth.memory_mb"),
+             ("cone map", {**copy(big), "methods": ["cone"], "truth": {"rate": 1}}, "400",
+              "camera.resolution"),
+             ("derived maps", {**copy(big), "methods": ["iterative"], "truth": {"rate": 1}},
+              "150", "camera.resolution"),
+             ("min-max pyramid", {**copy(big), "methods": ["maxmip"], "truth": {"rate": 1}},
+              "120", "camera.resolution"),
+             ("16384^2 procedural map", {**copy(big), "heightmap": {
+                 "procedural": "sine", "size": [16384, 16384]}}, "256", "heightmap.size")]
+    for name, scene, limit, field in cases:
+        path = write(d, "big.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        r = run(["render", path, "--out", out, "--memory-limit", limit])
+        expect_error(name, r, 2, [field, "needs about", f"limit of {limit} MB"], out)
+    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    check("no child grew past 400 MB", peak_mb < 400, f"{peak_mb:.0f} MB")
+
+
+def shipped_paths(d):
+    """"pgt:NAME" stays inside the shaders shipped with pgt: a name with "..", an absolute or
+    an empty one is refused (exit 2 naming glsl), and no other file's text reaches the
+    message."""
+    for name in ["pgt:../../../../../../etc/passwd", "pgt:presets/../../../../../../etc/passwd",
+                 "pgt:/etc/passwd", "pgt:", "pgt:./parallax.glsl"]:
+        scene = copy(GOOD)
+        scene["methods"] = [{"name": "m", "glsl": name, "function": "F"}]
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        r = run(["render", path, "--out", out])
+        expect_error(name, r, 2, ["methods[0].glsl", "shipped with pgt"], out)
+        check(f"{name}: no foreign text", "root:" not in r.stderr, r.stderr)
+    scene = copy(GOOD)  # a real one still works
+    scene["methods"] = [{"name": "m", "glsl": "pgt:parallax.glsl", "function": "ParallaxMapping",
+                         "sampler": "heightMap"}]
+    path = write(d, "scene.json", json.dumps(scene))
+    r = run(["render", path, "--out", os.path.join(d, "ok")])
+    check("pgt:parallax.glsl renders", r.returncode == 0, r.stderr)
+
+
 def image_header_first(d):
     """A huge image is refused from its header, before decoding; a broken one in one line;
     a device or directory is refused, not read (no hang on /dev/zero)."""
@@ -420,8 +470,115 @@ def stale_temporaries(d):
     check("live kept", live in left, f"{left}")
 
 
+def no_litter(d):
+    """A failed render or fit removes the --out directory it created, and only that: every
+    GLSL compile, sampler and uniform error comes after --out is made; a directory that was
+    there before stays, with what was in it."""
+    bad = write(d, "bad.glsl", "vec2 F(vec2 uv, vec3 V) { return uv +; }\n")
+    good = write(d, "good.glsl", "uniform sampler2D h;\nuniform float k;\n"
+                 "vec2 F(vec2 uv, vec3 V) { return uv + k * texture(h, uv).r * V.xy; }\n")
+    methods = {
+        "compile error": {"name": "m", "glsl": bad, "function": "F"},
+        "missing sampler": {"name": "m", "glsl": good, "function": "F", "sampler": "nope"},
+        "missing uniform": {"name": "m", "glsl": good, "function": "F", "sampler": "h",
+                            "uniforms": {"nope": 1.0}},
+    }
+    for name, method in methods.items():
+        scene = copy(GOOD)
+        scene["methods"] = ["parallax", method]
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "new", "deeper", "out")
+        r = run(["render", path, "--out", out])
+        check(f"{name}: exit 2", r.returncode == 2, r.stderr)
+        check(f"{name}: created parents removed too", not os.path.exists(os.path.join(d, "new")),
+              str(os.listdir(d)))
+        kept = os.path.join(d, "kept")
+        os.makedirs(kept, exist_ok=True)
+        write(kept, "mine.txt", "x")
+        r = run(["render", path, "--out", kept])
+        check(f"{name}: a directory that existed stays", r.returncode == 2 and
+              sorted(os.listdir(kept)) == ["mine.txt"], f"{os.listdir(kept)}")
+    # fit: scenes it refuses after --out was made (only presets: nothing to fit; a view at
+    # theta 90 sees no pixel): exit 2 naming the field, no --out, no fit.json.
+    for name, edit, field in [
+            ("only presets", lambda s: s.update(methods=[{"preset": "godot"}]), "methods"),
+            ("theta 90", lambda s: s.update(fit={"theta": [30, 90], "resolution": [8, 8],
+                                                 "steps": [8], "refine": 0}), "fit.theta = 90")]:
+        scene = copy(GOOD)
+        edit(scene)
+        path = write(d, "fit.json", json.dumps(scene))
+        out = os.path.join(d, "fit_out")
+        expect_error(f"fit {name}", run(["fit", path, "--out", out]), 2, ["fit.json", field], out)
+
+
+def stress_folders(d):
+    """pgt stress on folders it cannot read (a symlink loop as the folder, a loop among its
+    scenes): exit 2 naming the path, never an internal error, no --out left."""
+    os.symlink("l2", os.path.join(d, "l1"))
+    os.symlink("l1", os.path.join(d, "l2"))
+    folder = os.path.join(d, "scenes")
+    os.makedirs(folder)
+    os.symlink("loop.json", os.path.join(folder, "loop.json"))
+    write(folder, "good.json", json.dumps(GOOD))
+    for name, path, words in [("loop as the folder", os.path.join(d, "l1"), ["l1", "cannot read"]),
+                              ("loop among the scenes", folder, ["loop.json"])]:
+        out = os.path.join(d, "out")
+        expect_error(name, run(["stress", path, "--out", out]), 2, words, out)
+
+
+def signals(d):
+    """SIGINT or SIGTERM stops the CLI at once and leaves nothing it made: no temporaries, no
+    --out a render created; a sweep keeps its finished rows."""
+    scene = copy(GOOD)
+    scene["heightmap"] = {"procedural": "bricks", "size": [256, 256]}
+    scene["camera"]["resolution"] = [1536, 1536]
+    scene["methods"] = ["parallax", {"name": "pom", "min_layers": 64, "max_layers": 128}]
+    scene["truth"] = {"rate": 4}
+    path = write(d, "slow.json", json.dumps(scene))
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        out = os.path.join(d, f"render_{sig}")
+        p = subprocess.Popen([PGT, "render", path, "--out", out], stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL)
+        deadline = time.time() + 60  # until the frame's files are being written
+        while time.time() < deadline and p.poll() is None and not (
+                os.path.isdir(out) and any("frame.exr" in n for n in os.listdir(out))):
+            time.sleep(0.01)
+        time.sleep(0.3)
+        running = p.poll() is None
+        t0 = time.time()
+        p.send_signal(sig)
+        p.wait(timeout=30)
+        check(f"{sig.name}: killed mid-render", running, "finished before the signal")
+        check(f"{sig.name}: stops within a second", time.time() - t0 < 1.0,
+              f"{time.time() - t0:.2f} s")
+        check(f"{sig.name}: exit by the signal", p.returncode == -sig, f"exit {p.returncode}")
+        check(f"{sig.name}: nothing left", not os.path.exists(out),
+              f"{os.listdir(out) if os.path.exists(out) else ''}")
+    study = copy(SWEEP)
+    study["camera"]["resolution"] = [128, 128]
+    study["heightmap"]["size"] = [64, 64]
+    study["sweep"]["theta"] = list(range(0, 90, 2))
+    path = write(d, "study.json", json.dumps(study))
+    out = os.path.join(d, "study")
+    p = subprocess.Popen([PGT, "sweep", path, "--out", out, "--no-report"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    csv_path = os.path.join(out, "results.csv")
+    deadline = time.time() + 60
+    while time.time() < deadline and p.poll() is None and not (
+            os.path.exists(csv_path) and sum(1 for _ in open(csv_path)) > 5):
+        time.sleep(0.01)
+    p.send_signal(signal.SIGINT)
+    p.wait(timeout=30)
+    left = os.listdir(out)
+    check("sweep: rows kept", sum(1 for _ in open(csv_path)) > 5)
+    check("sweep: no temporaries", not any(".pgt-tmp." in n for n in left), f"{left}")
+    r = sweep(path, out)
+    check("sweep: resumes", r.returncode == 0 and "resumed" in r.stdout, r.stderr)
+
+
 if __name__ == "__main__":
     main([deep_json, obj_indices, shell_injection, gl_texture_limit, concurrent_sweeps,
           study_identity, results_csv_state, labels, full_disk, render_checks_out_first,
           memory_estimates, image_header_first, messages, zero_pixel_uncertainty,
-          stale_temporaries])
+          stale_temporaries, no_litter, signals, memory_beyond_the_frame, shipped_paths,
+          stress_folders])

@@ -193,3 +193,59 @@ def test_the_angle_plot_example_runs(scenes, tmp_path):
                          capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert (tmp_path / "a.png").stat().st_size > 1000
+
+
+def test_timing_arguments_are_checked_as_the_cli_checks_them(scenes):
+    """timing_repeats 0, -1 and 10**6 are refused as the CLI refuses them (nothing timed
+    would be written as 0 ns/px; a million repeats would run for ever)."""
+    scene = small_scene(scenes)
+    for name, value in [("timing_repeats", 0), ("timing_repeats", -1),
+                        ("timing_repeats", 10**6), ("timing_fragments", -1),
+                        ("gl_timing_fragments", 0)]:
+        with pytest.raises(pgt.InputError, match=f"{name} = {value}: expected an integer in"):
+            pgt.render(scene, **{name: value})
+
+
+def test_a_path_with_a_nul_is_refused(scenes, tmp_path):
+    """A NUL would cut the path in C++ and read another file: refused, naming the path."""
+    real = os.path.join(scenes, "default.json")
+    with pytest.raises(pgt.InputError, match="NUL"):
+        pgt.render(real + "\0.extra")
+    with pytest.raises(pgt.InputError, match="NUL"):
+        pgt.render(small_scene(scenes), out=str(tmp_path / "a\0b"))
+    with pytest.raises(pgt.InputError, match="NUL"):
+        pgt.sweep(real + "\0.extra", str(tmp_path / "study"))
+
+
+CTRL_C_CHILD = r"""
+import json, os, sys, time
+import pgt
+scene = json.loads(sys.argv[1])
+print("started", flush=True)
+t0 = time.time()
+try:
+    pgt.render(scene, out=sys.argv[2])
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print(f"interrupted {time.time() - t0:.3f}", flush=True)
+"""
+
+
+def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
+    """SIGINT during pgt.render raises KeyboardInterrupt within a second and leaves no --out
+    behind (the render created it)."""
+    scene = small_scene(scenes)
+    scene["camera"]["resolution"] = [1536, 1536]
+    scene["methods"] = [{"name": "pom", "min_layers": 64, "max_layers": 128}]
+    out = tmp_path / "out"
+    p = subprocess.Popen(["/usr/bin/python3", "-c", CTRL_C_CHILD, json.dumps(scene), str(out)],
+                         stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.5)  # inside the render
+    sent = time.time()
+    p.send_signal(2)
+    line = p.stdout.readline().strip()
+    p.wait(timeout=30)
+    assert line.startswith("interrupted"), line
+    assert time.time() - sent < 1.5
+    assert not out.exists(), os.listdir(out)
