@@ -74,7 +74,10 @@ const std::vector<std::string>& stressColumns() {
     return names;
 }
 
-int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
+namespace {
+
+// The scene files named: files as given, folders' *.json in name order.
+std::vector<std::string> sceneFiles(const std::vector<std::string>& paths) {
     std::vector<std::string> files;
     for (const auto& p : paths) {
         // A symlink loop, an unreadable folder: bad input naming it, not an internal error.
@@ -95,6 +98,13 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         std::sort(inDir.begin(), inDir.end());
         files.insert(files.end(), inDir.begin(), inDir.end());
     }
+    return files;
+}
+
+}  // namespace
+
+int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
+    const std::vector<std::string> files = sceneFiles(paths);
     if (files.empty()) throw InputError("", "scenes", "(none)", "no scene files given");
     // Validate everything first: a bad scene fails before any output exists.
     std::vector<Scene> scenes;
