@@ -44,14 +44,15 @@ void printSummary(const pgt::RenderResult& r) {
 
 // `pgt render`: checks the memory estimate and --out before any work.
 void renderCommand(const std::string& scenePath, const std::string& outDir,
-                   const pgt::RenderOptions& options) {
+                   const pgt::RenderOptions& options, const std::string& exrCompression) {
     pgt::Scene scene = pgt::loadScene(scenePath);
     pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
                          {.configs = &scene.methods, .writesImages = true, .truthInBlocks = true},
                          "camera.resolution");
     pgt::OutputDirectory out(outDir);  // before the work, so a bad --out fails at once
     // The files are written as the frame's bands are made: memory follows the band.
-    pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods);
+    pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods,
+                             exrCompression);
     pgt::RenderOptions opt = options;
     opt.frame = {false, {&writer}, true};
     pgt::RenderResult result = pgt::renderFrame(scene, opt);
@@ -139,7 +140,7 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
 
 // Everything the command line sets, and which command it chose.
 struct CommandLine {
-    std::string scenePath, outDir, glDevice;
+    std::string scenePath, outDir, glDevice, exrCompression = "piz";
     pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
@@ -169,6 +170,10 @@ void defineCommands(CLI::App& app, CommandLine& c) {
         ->add_option("--gl-timing-fragments", c.renderOpt.glTimingFragments,
                      "GLSL methods: repeat the subset to this many fragments per timed draw")
         ->check(CLI::Range(int64_t(1), int64_t(1) << 23));
+    c.render
+        ->add_option("--exr-compression", c.exrCompression,
+                     "frame.exr's compression: piz (lossless, default), zip, none (fastest)")
+        ->check(CLI::IsMember({"piz", "zip", "none"}));
 
     c.sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
     c.sweep->add_option("scene", c.scenePath, "Scene file (JSON) with a \"sweep\" block")
@@ -218,7 +223,7 @@ int runCommand(const CommandLine& c) {
         pgt::setMemoryLimitMb(c.memoryLimitMb);
         if (!c.glDevice.empty()) pgt::setGlDevice(c.glDevice);
         if (*c.render) {
-            renderCommand(c.scenePath, c.outDir, c.renderOpt);
+            renderCommand(c.scenePath, c.outDir, c.renderOpt, c.exrCompression);
         } else if (*c.sweep) {
             pgt::SweepOptions opt = c.sweepOpt;
             if (!c.shard.empty()) pgt::parseShard(c.shard, opt);

@@ -325,7 +325,8 @@ FrameBand wholeFrameBand(const RenderResult& r) {
 }
 
 RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
-                           const std::vector<MethodConfig>& configs)
+                           const std::vector<MethodConfig>& configs,
+                           const std::string& exrCompression)
     : scene_(scene), width_(width), height_(height) {
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
@@ -334,9 +335,10 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     methods_ = configs.size();
     OIIO::ImageSpec spec(width, height, int(channels_), OIIO::TypeDesc::FLOAT);
     spec.channelnames = names;
-    // PIZ (lossless wavelet + Huffman): measured on the default scene at 2048^2, 1.2 s
-    // against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB).
-    spec.attribute("compression", "piz");
+    // PIZ (lossless wavelet + Huffman) by default: measured on the default scene at 2048^2,
+    // 1.2 s against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB); "none"
+    // writes 252 MB and saves the encoder's CPU (docs/outputs.md).
+    spec.attribute("compression", exrCompression);
     exrFile_ = &files_->stream("frame.exr");
     exr_ = openImage(*exrFile_, "frame.exr", spec);
 }

@@ -26,9 +26,11 @@ class StagedStream;
 // naming the path that could not be written; nothing is left behind then.
 class RenderWriter : public FrameSink {
   public:
-    // Creates DIR and opens DIR/frame.exr for a width x height frame of these methods.
+    // Creates DIR and opens DIR/frame.exr for a width x height frame of these methods, with
+    // OpenEXR's `exrCompression` ("piz", "zip" or "none"; docs/outputs.md).
     RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
-                 const std::vector<MethodConfig>& configs);
+                 const std::vector<MethodConfig>& configs,
+                 const std::string& exrCompression = "piz");
     ~RenderWriter() override;
     void band(const RenderResult& frame, const FrameBand& band) override;
     void finish(const RenderResult& result);
