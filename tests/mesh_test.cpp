@@ -220,6 +220,10 @@ TEST(MeshRender, BundledMeshScenesRender) {
         s.truth.rate = 1;
         RenderResult r = renderFrame(s, {1});
         EXPECT_GT(r.raster.covered, 200) << name;
+        // A mesh's truth has no plane lattice: its segment counts are 0, never read from the
+        // plane grid a mesh does not have (an empty optional; aborts in the hardened build).
+        EXPECT_EQ(r.truthBuild.segmentsU, 0) << name;
+        EXPECT_EQ(r.truthBuild.segmentsV, 0) << name;
         for (const auto& m : r.methods) {
             EXPECT_GT(m.stats.error.count, 100) << name << " " << m.config.label;
             EXPECT_EQ(m.stats.nonfinite, 0) << name << " " << m.config.label;

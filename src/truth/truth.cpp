@@ -35,9 +35,11 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     m.base = std::move(base);
     m.geometry = geometry;
     m.periodic = periodic;
-    m.nu = m.base->grid->nu;
-    m.nv = m.base->grid->nv;
     const bool meshTriangles = !m.base->isGrid();
+    if (!meshTriangles) {  // a mesh has no lattice (its grid is empty)
+        m.nu = m.base->grid->nu;
+        m.nv = m.base->grid->nv;
+    }
     PGT_CHECK(!(meshTriangles && (periodic || geometry == TruthGeometry::Grid)));
     if (periodic) {
         double T = m.base->periodUv;
