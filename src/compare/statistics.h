@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/math.h"
+#include "core/percentile.h"  // percentile(): the one rule
 #include "heightfield/texture.h"
 
 namespace pgt {
@@ -17,10 +18,6 @@ inline double uvErrorTexels(Vec2d a, Vec2d b, int width, int height, Address add
     double eu = d.x * width, ev = d.y * height;
     return std::sqrt(eu * eu + ev * ev);
 }
-
-// Linear interpolation between order statistics at rank q*(n-1); reorders `values`.
-double percentile(std::vector<double>& values, double q);
-double percentile(std::vector<float>& values, double q);
 
 struct Summary {
     int64_t count = 0;

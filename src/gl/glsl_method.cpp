@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/percentile.h"
 #include "gl/gl_api.h"
 #include "gl/program.h"
 
@@ -414,16 +415,13 @@ void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, 
     // llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation (measured 0.2-16
     // ns/px against 12-80 between two glFinish): there the wall clock is the GL's time.
     std::vector<double>& main = software ? wallNs : gpuNs;
-    std::sort(gpuNs.begin(), gpuNs.end());
-    std::sort(wallNs.begin(), wallNs.end());
-    auto at = [&](double q) { return main[size_t(q * double(main.size() - 1) + 0.5)]; };
     GlslTiming& t = run.timing;
-    t.nsPerPixel = at(0.5);
-    t.p25 = at(0.25);
-    t.p75 = at(0.75);
-    t.gpuNsPerPixel = gpuNs[gpuNs.size() / 2];
-    t.wallNsPerPixel = wallNs[wallNs.size() / 2];
     t.repeats = int(main.size());
+    t.nsPerPixel = percentile(main, 0.5);
+    t.p25 = percentile(main, 0.25);
+    t.p75 = percentile(main, 0.75);
+    t.gpuNsPerPixel = percentile(gpuNs, 0.5);
+    t.wallNsPerPixel = percentile(wallNs, 0.5);
     t.fragments = fragments;
 }
 

@@ -10,6 +10,7 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/percentile.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
 
@@ -292,12 +293,10 @@ MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
     }
     std::vector<double> s = cfg.doublePrecision ? cppPasses<double>(cfg, frags, tex, spec.repeats)
                                                 : cppPasses<float>(cfg, frags, tex, spec.repeats);
-    std::sort(s.begin(), s.end());
-    auto at = [&](double q) { return s[size_t(q * double(s.size() - 1) + 0.5)]; };
-    t.median = s[s.size() / 2];
-    t.p25 = at(0.25);
-    t.p75 = at(0.75);
     t.repeats = int(s.size());
+    t.median = percentile(s, 0.5);
+    t.p25 = percentile(s, 0.25);
+    t.p75 = percentile(s, 0.75);
     t.fragments = int64_t(frags.size());
     return t;
 }

@@ -19,6 +19,7 @@
 #include "compare/statistics.h"
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/percentile.h"
 #include "truth/embree_device.h"
 #include "truth/embree_sheet.h"
 
@@ -280,8 +281,7 @@ BareLoopTiming TruthSurface::timeBareEmbreeLoop(const Camera& camera, TraceMode 
         });
         ms.push_back(msSince(t0));
     }
-    std::sort(ms.begin(), ms.end());
-    return {ms[ms.size() / 2], int64_t(made.size())};
+    return {percentile(ms, 0.5), int64_t(made.size())};
 }
 
 }  // namespace pgt
