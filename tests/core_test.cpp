@@ -1,11 +1,11 @@
 // core/: the percentile rule (docs/model.md §7) against numpy's default (linear) values.
-#include "core/percentile.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 #include <vector>
+
+#include "core/percentile.h"
 
 namespace pgt {
 namespace {

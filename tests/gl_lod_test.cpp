@@ -57,7 +57,8 @@ TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     MethodConfig dy = inlineGlsl("dy", "vec2 F(vec2 uv, vec3 V) { return dFdyFine(uv); }\n",
                                  R"(, "sampler": "")");
     const GlslInputs in = screenInputs(f, cam.width(), cam.height());
-    GlslRun rx = runGlsl(*dx.glsl, GlslMaps{t}, in), ry = runGlsl(*dy.glsl, GlslMaps{t}, in);
+    GlslRun rx = runGlsl(*dx.glsl, GlslMaps{{.height = &t}}, in),
+            ry = runGlsl(*dy.glsl, GlslMaps{{.height = &t}}, in);
     double worst = 0;
     for (size_t k = 0; k < f.size(); ++k) {
         worst = std::max(worst, double(glm::length(Vec2d(rx.uv[k]) - f.uvDx[k])));
@@ -69,7 +70,7 @@ TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     // neighbour beyond the one-row image: dFdy is not the rasteriser's.
     GlslInputs packed = in;
     packed.frameWidth = 0;
-    GlslRun py = runGlsl(*dy.glsl, GlslMaps{t}, packed);
+    GlslRun py = runGlsl(*dy.glsl, GlslMaps{{.height = &t}}, packed);
     int far = 0;
     for (size_t k = 0; k < f.size(); ++k)
         far += glm::length(Vec2d(py.uv[k]) - f.uvDy[k]) > 1e-3 * glm::length(f.uvDy[k]);
@@ -111,9 +112,7 @@ TEST(Gl, TrilinearFilterMatchesTheCpp) {
         in.uvDx.push_back(Vec2f(std::cos(a), std::sin(a)) * rho);
         in.uvDy.push_back(Vec2f(-std::sin(a), std::cos(a)) * rho * float(uni(rng)));
     }
-    auto maps = [](const Texture& map) {
-        return GlslMaps{map, nullptr, nullptr, 0, 0, nullptr, nullptr, nullptr, nullptr, true};
-    };
+    auto maps = [](const Texture& map) { return GlslMaps{{.height = &map}, 0, 0, nullptr, true}; };
     const Texture probe = lodProbe(64);
     GlslRun lambda = runGlsl(*m.glsl, maps(probe), in), run = runGlsl(*m.glsl, maps(t), in);
     int over = 0;

@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
 
 #include "compare/statistics.h"
 #include "core/error.h"
+#include "core/json_read.h"
 #include "gl/glsl_method.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
@@ -47,18 +49,14 @@ Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& 
     DerivedMaps dm = makeDerivedMaps(t, s, b);
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
     const ConeMap cone = buildConeMap(t, s < 0);
-    const ConeMap relaxedCone = needsRelaxedConeMap(cpu) ? buildRelaxedConeMap(t, cone) : ConeMap{};
-    GlslRun run = runGlsl(*gl.glsl, t, &dm.normal, &dm.parallax, s, b, in.uv0, in.view, 0, nullptr,
-                          &pyramid, &cone, &relaxedCone);
+    const ConeMap relaxedCone =
+        needs(cpu).has(MapKind::RelaxedCone) ? buildRelaxedConeMap(t, cone) : ConeMap{};
+    const MapRefs maps{&t, &dm.normal, &dm.parallax, &pyramid, &cone, &relaxedCone};
+    GlslRun run = runGlsl(*gl.glsl, maps, s, b, in.uv0, in.view);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;
-        c.height = &t;
-        c.normal = &dm.normal;
-        c.parallax = &dm.parallax;
-        c.pyramid = &pyramid;
-        c.cone = &cone;
-        c.relaxedCone = &relaxedCone;
+        static_cast<MapRefs&>(c) = maps;
         c.scale = float(s);
         c.bias = float(b);
         Vec2f want = runMethod<float>(cpu, c, in.uv0[k], in.view[k]);
@@ -89,76 +87,28 @@ TEST(Gl, ContextIsHeadlessOpenGl) {
     std::printf("GL_RENDERER: %s; GL_VERSION: %s\n", gl.renderer.c_str(), gl.version.c_str());
 }
 
-// Every built-in against its twin. The inputs are bit-identical; the differences come from
-// the GL's arithmetic (its bilinear filter, fused multiply-adds, 1/x and normalize). The
-// single-fetch methods and the Lengyel ones must agree within 1e-3 texel (or 1e-5 of the
-// offset) everywhere; the
-// marches may flip a layer where a float comparison ties (counted: at most 1% of fragments).
+// Every built-in against its twin, as the method table names it (twinEntry): a built-in
+// without one fails here. The inputs are bit-identical; the differences come from the GL's
+// arithmetic (its bilinear filter, fused multiply-adds, 1/x and normalize). The single-fetch
+// methods and the Lengyel ones must agree within 1e-3 texel (or 1e-5 of the offset)
+// everywhere; the marches may flip a layer where a float comparison ties (counted: at most 1%
+// of fragments).
 TEST(Gl, BuiltInShadersMatchTheCppMethods) {
     Texture bricks = test::bricks(128);
     const double s = 0.05, b = -0.025;
     Inputs in = randomInputs(20000, 5);
-    const std::string bind = R"("uniforms": {"height_scale": "scale", "height_bias": "bias")";
-    std::vector<std::tuple<std::string, std::string, bool>> list = {
-        {R"("none")", R"({"name":"g","glsl":"none.glsl","function":"ParallaxNone","sampler":""})",
-         false},
-        {R"("parallax")",
-         R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping","sampler":"heightMap",)" +
-             bind + "}}",
-         false},
-        {R"("offset_limited")",
-         R"({"name":"g","glsl":"offset_limited.glsl","function":"OffsetLimited","sampler":"heightMap",)" +
-             bind + "}}",
-         false},
-        {R"({"name":"steep","min_layers":8,"max_layers":32})",
-         R"({"name":"g","glsl":"layered.glsl","function":"SteepParallax","sampler":"heightMap",)" +
-             bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})",
-         true},
-        {R"({"name":"pom","min_layers":8,"max_layers":32})",
-         R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion","sampler":"heightMap",)" +
-             bind + R"(,"min_layers":8.0,"max_layers":32.0,"max_steps":0}})",
-         true},
-        {R"({"name":"relief","linear_steps":10,"binary_steps":5})",
-         R"({"name":"g","glsl":"relief.glsl","function":"ReliefMapping","sampler":"heightMap",)" +
-             bind + R"(,"linear_steps":10,"binary_steps":5}})",
-         true},
-        {R"({"name":"secant","linear_steps":10,"secant_steps":3})",
-         R"({"name":"g","glsl":"refined.glsl","function":"SecantRelief","sampler":"heightMap",)" +
-             bind + R"(,"linear_steps":10,"secant_steps":3}})",
-         true},
-        {R"({"name":"contact","layers":16})",
-         R"({"name":"g","glsl":"refined.glsl","function":"ContactRefinement","sampler":"heightMap",)" +
-             bind + R"(,"layers":16}})",
-         true},
-        {R"({"name":"maxmip"})",
-         R"({"name":"g","glsl":"maxmip.glsl","function":"MaxMipTrace","sampler":"heightMap","pyramid_sampler":"pyramidMap",)" +
-             bind + R"(,"max_iterations":4096}})",
-         true},
-        {R"({"name":"cone","steps":32,"refine_steps":5})",
-         R"({"name":"g","glsl":"cone.glsl","function":"ConeStep","sampler":"heightMap","cone_sampler":"coneMap",)" +
-             bind + R"(,"steps":32,"refine_steps":5}})",
-         true},
-        {R"({"name":"relaxed_cone","cone_steps":15,"binary_steps":6})",
-         R"({"name":"g","glsl":"cone.glsl","function":"RelaxedConeStep","sampler":"heightMap","relaxed_cone_sampler":"relaxedConeMap",)" +
-             bind + R"(,"cone_steps":15,"binary_steps":6}})",
-         true},
-        {R"({"name":"iterative","iterations":4})",
-         R"({"name":"g","glsl":"lengyel.glsl","function":"IterativeParallax","sampler":"","normal_sampler":"","parallax_sampler":"parallaxMap","uniforms":{"iterations":4}})",
-         false},
-        {R"("tangent_plane")",
-         R"({"name":"g","glsl":"lengyel.glsl","function":"TangentPlaneParallax","sampler":"","normal_sampler":"normalMap","parallax_sampler":"parallaxMap"})",
-         false},
-    };
-    for (const auto& [cpuJson, glJson, march] : list) {
-        MethodConfig cpu = parseMethod(nlohmann::json::parse(cpuJson), "test", "m");
-        MethodConfig gl = glslMethod(glJson);
+    for (const MethodKindInfo& kind : methodKinds()) {
+        MethodConfig cpu = parseMethod(nlohmann::json{{"name", kind.name}}, "test", "m");
+        const nlohmann::json entry = twinEntry(cpu);
+        ASSERT_TRUE(entry.is_object()) << kind.name << " has no GLSL twin in the method table";
+        MethodConfig gl = glslMethod(entry.dump());
         Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
         std::printf(
             "%-15s fragments %lld, over the tolerance %lld, max within it %.2e texel, "
             "fetch count mismatches %lld\n",
             cpu.name.c_str(), (long long)a.n, (long long)a.over, a.maxTexels,
             (long long)a.fetchMismatch);
-        if (march) {
+        if (kind.twin.marches) {
             EXPECT_LE(a.over, a.n / 100) << cpu.name;
             EXPECT_LE(a.fetchMismatch, a.n / 100) << cpu.name;
         } else if (cpu.name == "tangent_plane") {
@@ -174,6 +124,24 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
     }
 }
 
+// scenes/glsl_twins.json lists every built-in (at its own settings) followed by its twin as
+// the method table writes it, and nothing else but other built-ins' twins.
+TEST(Gl, TwinsSceneIsTheMethodTablesTwins) {
+    const nlohmann::json scene = readJsonFile(test::sceneDir() + "/glsl_twins.json");
+    const nlohmann::json& methods = scene.at("methods");
+    std::set<std::string> kinds;
+    for (size_t i = 0; i < methods.size(); ++i) {
+        if (methods[i].is_object() && methods[i].contains("glsl")) continue;  // checked below
+        MethodConfig cpu = parseMethod(methods[i], "twins", "m");
+        if (cpu.label.empty()) cpu.label = cpu.name;
+        kinds.insert(cpu.name);
+        ASSERT_LT(i + 1, methods.size()) << cpu.label << " has no twin after it";
+        EXPECT_EQ(methods[i + 1].dump(), twinEntry(cpu).dump()) << cpu.label;
+    }
+    for (const MethodKindInfo& kind : methodKinds())
+        EXPECT_TRUE(kinds.count(kind.name)) << kind.name;
+}
+
 // Head-on (V = +z) every shader returns uv0 (docs/model.md symmetry), through the GL path.
 TEST(Gl, HeadOnShadersReturnUv0) {
     Texture t = test::smoothTexture(32, 32);
@@ -183,7 +151,7 @@ TEST(Gl, HeadOnShadersReturnUv0) {
         glslMethod(R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion",
         "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.05,"min_layers":8.0,
         "max_layers":32.0,"max_steps":0}})");
-    GlslRun run = runGlsl(*pom.glsl, t, nullptr, nullptr, 0.05, -0.05, in.uv0, in.view);
+    GlslRun run = runGlsl(*pom.glsl, MapRefs{.height = &t}, 0.05, -0.05, in.uv0, in.view);
     for (size_t k = 0; k < in.uv0.size(); ++k)
         EXPECT_LT(glm::length(Vec2d(run.uv[k]) - Vec2d(in.uv0[k])), 2e-7) << k;
 }
@@ -197,7 +165,7 @@ TEST(Gl, MapUploadsAreOwnedAndFreed) {
         glslMethod(R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping",
         "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.025}})");
     auto run = [&](const Texture& map, GlMapUploads* uploads) {
-        return runGlsl(*parallax.glsl, map, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view, 0,
+        return runGlsl(*parallax.glsl, MapRefs{.height = &map}, 0.05, -0.025, in.uv0, in.view, 0,
                        uploads);
     };
     const GlslRun fresh = run(t, nullptr);
@@ -239,7 +207,7 @@ TEST(Gl, CompileErrorNamesFileAndLine) {
     Inputs in = randomInputs(4, 1);
     Texture t = test::smoothTexture(8, 8);
     try {
-        runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.1, 0, in.uv0, in.view);
+        runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
         FAIL() << "no error";
     } catch (const InputError& e) {
         std::string what = e.what();
@@ -261,7 +229,7 @@ TEST(Gl, MissingSamplerOrUniformIsNamed) {
         MethodConfig cfg = parseMethod(
             nlohmann::json::parse(R"({"name":"mine","glsl":")" + path + "\"" + extra + "}"),
             "scene.json", "methods[0]");
-        return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.1, 0, in.uv0, in.view);
+        return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
     };
     EXPECT_NO_THROW(run(R"(,"uniforms":{"height_scale":0.1})"));
     try {
@@ -306,7 +274,7 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
             parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
                         "scene.json", "methods[0]");
         EXPECT_EQ(cfg.preset, name);
-        return runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.025, in.uv0, in.view);
+        return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
     };
     GlslRun godot = preset("godot"), deep = preset("godot_deep");
     GlslRun occlusion = preset("bevy_occlusion"), relief = preset("bevy_relief");

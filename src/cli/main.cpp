@@ -153,8 +153,8 @@ struct CommandLine {
              *merge = nullptr;
 };
 
-void defineCommands(CLI::App& app, CommandLine& c) {
-    app.require_subcommand(1);
+// `pgt render` and its options.
+void defineRender(CLI::App& app, CommandLine& c) {
     c.render = app.add_subcommand("render", "Render one scene: truth, methods, error");
     c.render->add_option("scene", c.scenePath, "Scene file (JSON)")->required();
     c.render->add_option("--out", c.outDir, "Output directory")->required();
@@ -174,7 +174,11 @@ void defineCommands(CLI::App& app, CommandLine& c) {
         ->add_option("--exr-compression", c.exrCompression,
                      "frame.exr's compression: piz (lossless, default), zip, none (fastest)")
         ->check(CLI::IsMember({"piz", "zip", "none"}));
+}
 
+void defineCommands(CLI::App& app, CommandLine& c) {
+    app.require_subcommand(1);
+    defineRender(app, c);
     c.sweep = app.add_subcommand("sweep", "Run the scene's study (its \"sweep\" block)");
     c.sweep->add_option("scene", c.scenePath, "Scene file (JSON) with a \"sweep\" block")
         ->required();

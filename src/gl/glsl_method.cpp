@@ -73,35 +73,45 @@ size_t gLiveMaps = 0;
 
 // A map the GL cannot hold is bad input, named before any upload, not a GL error that a
 // later call would report.
-void checkMapFits(const GlslSpec& spec, const std::string& field, const std::string& name,
-                  const Texture* t) {
-    if (name.empty() || !t) return;
-    const int maxSide = maxTextureSide();
-    if (t->width > maxSide || t->height > maxSide)
-        throw InputError(spec.path, field, name,
-                         "the map it samples is " + std::to_string(t->width) + "x" +
-                             std::to_string(t->height) +
-                             " texels, more than this GL's "
-                             "GL_MAX_TEXTURE_SIZE " +
-                             std::to_string(maxSide) + " (" + contextInfo().renderer +
-                             "); use a smaller height map or no GLSL method");
+// The GL texture size a map of kind `k` takes (the pyramid: its levels stacked in rows; cone
+// maps: one texel per cell).
+std::pair<int, int> glSize(MapKind k, const MapRefs& maps) {
+    switch (k) {
+        case MapKind::Height:
+            return {maps.height->width, maps.height->height};
+        case MapKind::Normal:
+            return {maps.normal->width, maps.normal->height};
+        case MapKind::Parallax:
+            return {maps.parallax->width, maps.parallax->height};
+        case MapKind::Pyramid: {
+            int rows = 0;
+            for (const auto& l : maps.pyramid->levels) rows += l.h;
+            return {maps.pyramid->levels[0].w, rows};
+        }
+        case MapKind::Cone:
+            return {maps.cone->cellsX, maps.cone->cellsY};
+        case MapKind::RelaxedCone:
+            return {maps.relaxedCone->cellsX, maps.relaxedCone->cellsY};
+    }
+    return {0, 0};
 }
 
-void bindSampler(GLuint prog, const GlslSpec& spec, const std::string& field,
-                 const std::string& name, int unit, const Texture* t, bool depth,
-                 GlMapUploads& maps) {
-    if (name.empty()) return;
-    GLint loc = glGetUniformLocation(prog, name.c_str());
-    if (loc < 0)
-        throw InputError(spec.path, field, name,
-                         "is not an active sampler2D uniform of the shader (declare it and "
-                         "sample it in " +
-                             spec.function + ")");
-    PGT_CHECK(t != nullptr);
-    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-    glBindTexture(GL_TEXTURE_2D, maps.texture(*t, depth));
-    glUniform1i(loc, unit);
-    checkGl("uploading the map of " + field + " " + name);
+// Every map the spec names fits the GL's largest texture (before anything is uploaded).
+void checkMapsFit(const GlslSpec& spec, const MapRefs& maps) {
+    const int maxSide = maxTextureSide();
+    for (const MapKindInfo& m : kMapKindTable) {
+        const std::string& name = spec.sampler(m.kind);
+        if (name.empty() || !maps.has(m.kind)) continue;
+        const auto [w, h] = glSize(m.kind, maps);
+        if (w > maxSide || h > maxSide)
+            throw InputError(spec.path, m.samplerKey, name,
+                             "the map it samples is " + std::to_string(w) + "x" +
+                                 std::to_string(h) +
+                                 " texels, more than this GL's "
+                                 "GL_MAX_TEXTURE_SIZE " +
+                                 std::to_string(maxSide) + " (" + contextInfo().renderer +
+                                 "); use a smaller height map or no GLSL method");
+    }
 }
 
 }  // namespace
@@ -309,59 +319,73 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
                          "does not match the uniform's type in the shader");
 }
 
-// maxmip's pyramid (unit 5) and the uniforms that describe it and the map, where declared.
-void bindPyramid(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
-    glUniform2i(glGetUniformLocation(prog, "pgt_map_size"), maps.height.width, maps.height.height);
-    glUniform1i(glGetUniformLocation(prog, "pgt_map_repeat"),
-                maps.height.address == Address::Repeat ? 1 : 0);
-    if (spec.pyramidSampler.empty()) return;
-    GLint loc = glGetUniformLocation(prog, spec.pyramidSampler.c_str());
-    if (loc < 0)
-        throw InputError(spec.path, "pyramid_sampler", spec.pyramidSampler,
-                         "is not an active sampler2D uniform of the shader");
-    PGT_CHECK(maps.pyramid != nullptr);
-    glActiveTexture(GL_TEXTURE5);
-    glBindTexture(GL_TEXTURE_2D, maps.store.pyramid(*maps.pyramid));
-    glUniform1i(loc, 5);
-    int row = 0;
-    for (size_t k = 0; k < maps.pyramid->levels.size(); ++k) {
-        const std::string name = "pgt_pyramid_row[" + std::to_string(k) + "]";
-        glUniform1i(glGetUniformLocation(prog, name.c_str()), row);
-        row += maps.pyramid->levels[k].h;
+// The GL texture of a map of kind `k` (uploaded on first use).
+GLuint mapTexture(MapKind k, const GlslSpec& spec, const DrawMaps& maps) {
+    switch (k) {
+        case MapKind::Height:
+            return maps.store.texture(*maps.height, spec.depthTexture);
+        case MapKind::Normal:
+            return maps.store.texture(*maps.normal, false);
+        case MapKind::Parallax:
+            return maps.store.texture(*maps.parallax, false);
+        case MapKind::Pyramid:
+            return maps.store.pyramid(*maps.pyramid);
+        case MapKind::Cone:
+            return maps.store.cone(*maps.cone);
+        case MapKind::RelaxedCone:
+            return maps.store.cone(*maps.relaxedCone);
     }
-    glUniform1i(glGetUniformLocation(prog, "pgt_pyramid_top"), maps.pyramid->top());
-    checkGl("binding the pyramid of " + spec.path);
+    return 0;
 }
 
-// A cone map (unit 6: cone's, unit 7: relaxed_cone's), its size, the map's top and whether
-// it is built for s < 0.
-void bindConeMap(GLuint prog, const GlslSpec& spec, const char* field, const std::string& sampler,
-                 const ConeMap* map, int unit, GlMapUploads& uploads) {
-    if (sampler.empty()) return;
-    GLint loc = glGetUniformLocation(prog, sampler.c_str());
-    if (loc < 0)
-        throw InputError(spec.path, field, sampler,
-                         "is not an active sampler2D uniform of the shader");
-    PGT_CHECK(map != nullptr);
-    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-    glBindTexture(GL_TEXTURE_2D, uploads.cone(*map));
-    glUniform1i(loc, unit);
-    glUniform2i(glGetUniformLocation(prog, "pgt_cone_cells"), map->cellsX, map->cellsY);
-    glUniform1f(glGetUniformLocation(prog, "pgt_cone_top"), map->top);
-    glUniform1i(glGetUniformLocation(prog, "pgt_cone_inverted"), map->inverted ? 1 : 0);
-    checkGl(std::string("binding the ") + field + " of " + spec.path);
+// The uniforms that describe a map of kind `k` where the shader declares them: the pyramid's
+// level rows and top; a cone map's cells, top and sign of s.
+void describeMap(MapKind k, GLuint prog, const DrawMaps& maps) {
+    if (k == MapKind::Pyramid) {
+        int row = 0;
+        for (size_t l = 0; l < maps.pyramid->levels.size(); ++l) {
+            const std::string name = "pgt_pyramid_row[" + std::to_string(l) + "]";
+            glUniform1i(glGetUniformLocation(prog, name.c_str()), row);
+            row += maps.pyramid->levels[l].h;
+        }
+        glUniform1i(glGetUniformLocation(prog, "pgt_pyramid_top"), maps.pyramid->top());
+    } else if (k == MapKind::Cone || k == MapKind::RelaxedCone) {
+        const ConeMap& map = k == MapKind::Cone ? *maps.cone : *maps.relaxedCone;
+        glUniform2i(glGetUniformLocation(prog, "pgt_cone_cells"), map.cellsX, map.cellsY);
+        glUniform1f(glGetUniformLocation(prog, "pgt_cone_top"), map.top);
+        glUniform1i(glGetUniformLocation(prog, "pgt_cone_inverted"), map.inverted ? 1 : 0);
+    }
+}
+
+// Every map the spec names a sampler for, at its kind's texture unit (methods/maps.h).
+void bindMaps(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
+    glUniform2i(glGetUniformLocation(prog, "pgt_map_size"), maps.height->width,
+                maps.height->height);
+    glUniform1i(glGetUniformLocation(prog, "pgt_map_repeat"),
+                maps.height->address == Address::Repeat ? 1 : 0);
+    for (const MapKindInfo& m : kMapKindTable) {
+        const std::string& name = spec.sampler(m.kind);
+        if (name.empty()) continue;
+        const GLint loc = glGetUniformLocation(prog, name.c_str());
+        if (loc < 0)
+            throw InputError(spec.path, m.samplerKey, name,
+                             "is not an active sampler2D uniform of the shader (declare it and "
+                             "sample it in " +
+                                 spec.function + ")");
+        PGT_CHECK(maps.has(m.kind));
+        glActiveTexture(GLenum(GL_TEXTURE0 + m.glUnit));
+        glBindTexture(GL_TEXTURE_2D, mapTexture(m.kind, spec, maps));
+        glUniform1i(loc, m.glUnit);
+        describeMap(m.kind, prog, maps);
+        checkGl(std::string("binding the ") + m.name + " map of " + spec.path);
+    }
 }
 
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
 // 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map, 7 = the
 // relaxed cone map, 8 = uv0's derivatives.
 void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const DrawImages& img) {
-    bindSampler(prog, spec, "sampler", spec.sampler, 0, &maps.height, spec.depthTexture,
-                maps.store);
-    bindSampler(prog, spec, "normal_sampler", spec.normalSampler, 3, maps.normal, false,
-                maps.store);
-    bindSampler(prog, spec, "parallax_sampler", spec.parallaxSampler, 4, maps.parallax, false,
-                maps.store);
+    bindMaps(prog, spec, maps);
     const std::pair<const char*, GLuint> inputs[3] = {
         {"pgt_uv0", img.uv0}, {"pgt_view", img.view}, {"pgt_grad", img.grad}};
     const int units[3] = {1, 2, 8};
@@ -371,10 +395,6 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
         glUniform1i(glGetUniformLocation(prog, inputs[i].first), units[i]);
     }
     glUniform1i(glGetUniformLocation(prog, "pgt_lod_grad"), maps.lodGrad ? 1 : 0);
-    bindPyramid(prog, spec, maps);
-    bindConeMap(prog, spec, "cone_sampler", spec.coneSampler, maps.cone, 6, maps.store);
-    bindConeMap(prog, spec, "relaxed_cone_sampler", spec.relaxedConeSampler, maps.relaxedCone, 7,
-                maps.store);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
 }
 
@@ -505,9 +525,7 @@ void withMaps(const GlslSpec& spec, const GlslMaps& maps, Job job) {
         std::lock_guard<std::mutex> lock(gMutex);
         ensureContext();
         drainGlErrors();
-        checkMapFits(spec, "sampler", spec.sampler, &maps.height);
-        checkMapFits(spec, "normal_sampler", spec.normalSampler, maps.normal);
-        checkMapFits(spec, "parallax_sampler", spec.parallaxSampler, maps.parallax);
+        checkMapsFit(spec, maps);
         const DrawMaps draw{maps, maps.uploads ? *maps.uploads : once};
         job(draw);
     });
@@ -533,17 +551,13 @@ GlslRun runGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in
     return run;
 }
 
-GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats, GlMapUploads* uploads,
-                const MinMaxPyramid* pyramid, const ConeMap* cone, const ConeMap* relaxedCone) {
+GlslRun runGlsl(const GlslSpec& spec, const MapRefs& maps, double scale, double bias,
+                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view, int timingRepeats,
+                GlMapUploads* uploads) {
     GlslInputs in;
     in.uv0 = uv0;
     in.view = view;
-    return runGlsl(
-        spec,
-        GlslMaps{height, normal, parallax, scale, bias, uploads, pyramid, cone, relaxedCone, false},
-        in, timingRepeats);
+    return runGlsl(spec, GlslMaps{maps, scale, bias, uploads, false}, in, timingRepeats);
 }
 
 GlslRun timeGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,

@@ -15,6 +15,7 @@
 #include "heightfield/minmax_pyramid.h"
 #include "heightfield/texture.h"
 #include "methods/glsl_spec.h"
+#include "methods/maps.h"
 
 namespace pgt {
 
@@ -76,19 +77,12 @@ struct GlslRun {
     GlslTiming timing;              // when timed
 };
 
-// What a draw samples: the maps (uploaded through `uploads` when given, else for the call
-// only), the case's (s, b) for uniforms bound to them, and the method's level of detail.
-// `normal` and `parallax` are 003's derived maps (needed when the spec names their
-// samplers); `pyramid`, `cone`, `relaxedCone` the height map's (when it names theirs).
-struct GlslMaps {
-    const Texture& height;
-    const Texture* normal = nullptr;
-    const Texture* parallax = nullptr;
+// What a draw samples: the maps (methods/maps.h; the height map always, the others where
+// the spec names their samplers), uploaded through `uploads` when given, else for the call
+// only; the case's (s, b) for uniforms bound to them, and the method's level of detail.
+struct GlslMaps : MapRefs {
     double scale = 0, bias = 0;
     GlMapUploads* uploads = nullptr;
-    const MinMaxPyramid* pyramid = nullptr;
-    const ConeMap* cone = nullptr;
-    const ConeMap* relaxedCone = nullptr;
     bool lodGrad = false;  // pgt_sample: textureGrad with uv0's derivatives, else level 0
 };
 
@@ -114,11 +108,9 @@ struct GlslInputs {
 GlslRun runGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
                 int timingRepeats = 0);
 // The same, packed, at level 0 without derivatives (tests and benchmarks).
-GlslRun runGlsl(const GlslSpec& spec, const Texture& height, const Texture* normal,
-                const Texture* parallax, double scale, double bias, const std::vector<Vec2f>& uv0,
-                const std::vector<Vec3f>& view, int timingRepeats = 0,
-                GlMapUploads* uploads = nullptr, const MinMaxPyramid* pyramid = nullptr,
-                const ConeMap* cone = nullptr, const ConeMap* relaxedCone = nullptr);
+GlslRun runGlsl(const GlslSpec& spec, const MapRefs& maps, double scale, double bias,
+                const std::vector<Vec2f>& uv0, const std::vector<Vec3f>& view,
+                int timingRepeats = 0, GlMapUploads* uploads = nullptr);
 
 // A fixed timing workload: `in`'s fragments (packed) repeated until at least `minFragments`,
 // one warm-up draw, then draws until at least `minGpuMs` of GL time and at least

@@ -1,6 +1,7 @@
 // Method entries <-> MethodConfig (methods/config.h).
 #include "methods/config.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -80,16 +81,11 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     // A shader is a few KB; 16 MiB bounds a stray file.
     spec->source = readTextFile(spec->path, file, f.fieldPath("glsl"), "shader file", 16u << 20);
     spec->function = f.string("function", "ParallaxMapping");
-    spec->sampler = f.string("sampler", "depthMap");
-    // 003's derived maps for shaders that read them (iterative, tangent_plane): the unit
-    // normal (RGB) and m_z * (s*h + b), built for the truth's (s, b).
-    spec->normalSampler = f.string("normal_sampler", "");
-    spec->parallaxSampler = f.string("parallax_sampler", "");
-    // The height map's minimum-maximum pyramid (maxmip's twin; docs/methods.md "GLSL methods").
-    spec->pyramidSampler = f.string("pyramid_sampler", "");
-    // The conservative cone map (cone's twin): one R32F ratio per cell, nearest.
-    spec->coneSampler = f.string("cone_sampler", "");
-    spec->relaxedConeSampler = f.string("relaxed_cone_sampler", "");
+    // The sampler each map kind is bound to (methods/maps.h; docs/methods.md "GLSL methods"):
+    // the height map's "depthMap" unless named, the others only where named.
+    for (const MapKindInfo& m : kMapKindTable)
+        spec->samplers[size_t(m.kind)] =
+            f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
     spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
@@ -235,12 +231,11 @@ Json toJson(const MethodConfig& c) {
     if (c.glsl) {
         j["glsl"] = c.glsl->path;
         j["function"] = c.glsl->function;
-        j["sampler"] = c.glsl->sampler;
+        // Every sampler it names (the height map's always: "" says it reads none).
+        for (const MapKindInfo& m : kMapKindTable)
+            if (m.kind == MapKind::Height || !c.glsl->sampler(m.kind).empty())
+                j[m.samplerKey] = c.glsl->sampler(m.kind);
         j["texture"] = c.glsl->depthTexture ? "depth" : "height";
-        if (!c.glsl->pyramidSampler.empty()) j["pyramid_sampler"] = c.glsl->pyramidSampler;
-        if (!c.glsl->coneSampler.empty()) j["cone_sampler"] = c.glsl->coneSampler;
-        if (!c.glsl->relaxedConeSampler.empty())
-            j["relaxed_cone_sampler"] = c.glsl->relaxedConeSampler;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
             u[un.name] = !un.bind.empty()        ? Json(un.bind)
@@ -260,6 +255,29 @@ Json toJson(const MethodConfig& c) {
     // Absent at their defaults: older studies keep their identity.
     if (c.gpu8Filter) j["filter"] = "gpu8";
     if (c.lodGrad) j["lod"] = "grad";
+    return j;
+}
+
+Json twinEntry(const MethodConfig& builtIn) {
+    const MethodKindInfo* info = kindInfo(builtIn.kind);
+    if (!info || !info->twin.file) return nullptr;
+    const GlslTwin& twin = info->twin;
+    Json j = {{"name", builtIn.label + "_gl"},
+              {"glsl", std::string(kShippedShaderPrefix) + twin.file},
+              {"function", twin.function}};
+    for (const MapKindInfo& m : kMapKindTable)
+        if (m.kind == MapKind::Height || twin.maps.has(m.kind))
+            j[m.samplerKey] = twin.maps.has(m.kind) ? m.twinSampler : "";
+    Json u = Json::object();
+    if (twin.scaleBias) u["height_scale"] = "scale", u["height_bias"] = "bias";
+    for (const IntParameter& p : info->parameters) {
+        if (!p.written) continue;
+        const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
+                                       p.key) != twin.floatParameters.end();
+        u[p.key] = asFloat ? Json(double(builtIn.*p.field)) : Json(builtIn.*p.field);
+    }
+    if (!u.empty()) j["uniforms"] = u;
+    if (builtIn.lodGrad) j["lod"] = "grad";
     return j;
 }
 

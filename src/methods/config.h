@@ -28,6 +28,10 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg);
 void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
                   const std::string& path);
 nlohmann::json toJson(const MethodConfig& cfg);
+// A built-in configuration's GLSL twin as a scene's method entry (its row of the method
+// table, methods/registry.h: "LABEL_gl", the shipped shader, its samplers, s and b and the
+// configuration's parameters as uniforms); null when the kind has no twin.
+nlohmann::json twinEntry(const MethodConfig& builtIn);
 
 // A label a user writes (or a GLSL method's name): 1..kMaxLabelLength characters of
 // A-Z a-z 0-9 _ - +, since it names CSV rows, EXR channels and files. Throws InputError.

@@ -3,8 +3,11 @@
 // parsed in methods/config.cpp and run in OpenGL by gl/glsl_method.cpp.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
+
+#include "methods/maps.h"
 
 namespace pgt {
 
@@ -12,12 +15,12 @@ struct GlslSpec {
     std::string path;    // as resolved from the scene file's folder
     std::string source;  // the file's text (read when the scene is parsed)
     std::string function = "ParallaxMapping";
-    std::string sampler = "depthMap";            // "" = the function samples no height map
-    std::string normalSampler, parallaxSampler;  // optional: 003's derived maps
-    std::string pyramidSampler;                  // optional: the minimum-maximum pyramid (maxmip)
-    std::string coneSampler;         // optional: the conservative cone map for the sign of s (cone)
-    std::string relaxedConeSampler;  // optional: the relaxed cone map (relaxed_cone)
-    bool depthTexture = false;       // "texture": "depth" -> the sampler holds d = 1 - h
+    // The sampler uniform each map kind is bound to (methods/maps.h; the entry's
+    // MapKindInfo::samplerKey), "" where the shader reads none: the height map's is
+    // "depthMap" unless the entry says otherwise; the others are optional.
+    std::array<std::string, kMapKinds> samplers = {"depthMap"};
+    const std::string& sampler(MapKind k) const { return samplers[size_t(k)]; }
+    bool depthTexture = false;  // "texture": "depth" -> the height sampler holds d = 1 - h
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
     // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
     struct Uniform {

@@ -12,6 +12,7 @@
 
 #include "core/math.h"
 #include "heightfield/texture.h"
+#include "methods/maps.h"
 
 namespace pgt {
 
@@ -32,9 +33,7 @@ enum class MethodKind {
     Glsl
 };
 
-struct GlslSpec;       // methods/glsl_spec.h: a user's shader function run in OpenGL
-struct MinMaxPyramid;  // heightfield/minmax_pyramid.h: maxmip's tree over the height map
-struct ConeMap;        // heightfield/cone_map.h: cone's ratios per cell
+struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
 
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
@@ -70,16 +69,11 @@ enum MethodFlag : uint32_t {
 // A march longer than this is a runaway (non-finite or absurd depth values): stop and flag.
 inline constexpr int kSafetyStepCap = 1 << 16;
 
-// Texture access for the methods: every sample is one fetch (docs/model.md §8).
+// Texture access for the methods: the maps of methods/maps.h; every sample is one fetch
+// (docs/model.md §8).
 template <class Real>
-struct MethodContext {
-    const Texture* height = nullptr;         // h
-    const Texture* normal = nullptr;         // m (iterative, tangent_plane)
-    const Texture* parallax = nullptr;       // m_z * (s*h + b)
-    const MinMaxPyramid* pyramid = nullptr;  // maxmip
-    const ConeMap* cone = nullptr;           // cone: the map for the sign of s
-    const ConeMap* relaxedCone = nullptr;    // relaxed_cone: the same, relaxed
-    Real scale = 0, bias = 0;                // s, b in UV units (docs/model.md §3)
+struct MethodContext : MapRefs {
+    Real scale = 0, bias = 0;  // s, b in UV units (docs/model.md §3)
     int fetches = 0;
     uint32_t flags = 0;
     bool gpu8 = false;  // the GPU's 8-bit filter weights (runMethod sets it from the config)
@@ -116,15 +110,8 @@ inline Real glslMix(Real x, Real y, Real a) {
 
 std::string toString(MethodKind kind);
 const std::vector<std::string>& methodNames();
-// Which method kinds need the derived normal/parallax maps (003).
-bool needsDerivedMaps(MethodKind kind);
-// The same for a configuration (a GLSL method needs them when it names their samplers).
-bool needsDerivedMaps(const MethodConfig& cfg);
-// Which configurations trace the minimum-maximum pyramid (built once per height map).
-bool needsMinMaxPyramid(const MethodConfig& cfg);
-// Which read a conservative cone map (built once per map and sign of s).
-bool needsConeMap(const MethodConfig& cfg);
-// Which read a relaxed cone map (built from the cone map; per map and sign of s).
-bool needsRelaxedConeMap(const MethodConfig& cfg);
+// The maps a configuration reads: a built-in's from its row of the method table
+// (methods/registry.h), a GLSL method's the kinds whose samplers its entry names.
+MapSet needs(const MethodConfig& cfg);
 
 }  // namespace pgt

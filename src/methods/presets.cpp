@@ -44,7 +44,7 @@ MethodPreset glslPreset(const char* name, const char* source, const char* file,
     MethodPreset p{name, source, {}, {}, file};
     p.config.kind = MethodKind::Glsl;
     p.glsl.function = function;
-    p.glsl.sampler = sampler;
+    p.glsl.samplers[size_t(MapKind::Height)] = sampler;
     p.glsl.depthTexture = depthTexture;
     p.glsl.uniforms = std::move(uniforms);
     return p;

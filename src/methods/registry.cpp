@@ -90,53 +90,154 @@ const std::vector<IntParameter> kIterativeParameters = {
 
 }  // namespace
 
+namespace {
+
+using K = MethodKind;
+using M = MapKind;
+
+// The table: one row per built-in kind, in MethodKind order (a namespace-scope object: read
+// through methodKinds() from functions only, never during another file's static initialisation).
+const std::vector<MethodKindInfo> kMethodKinds = {
+    {.name = "none",
+     .kind = K::None,
+     .runFloat = methodNone<float>,
+     .runDouble = methodNone<double>,
+     .twin = {.file = "none.glsl", .function = "ParallaxNone", .scaleBias = false}},
+    {.name = "parallax",
+     .kind = K::Parallax,
+     .runFloat = methodParallax<float>,
+     .runDouble = methodParallax<double>,
+     .maps = {M::Height},
+     .twin = {.file = "parallax.glsl", .function = "ParallaxMapping", .maps = {M::Height}}},
+    {.name = "offset_limited",
+     .kind = K::OffsetLimited,
+     .runFloat = methodOffsetLimited<float>,
+     .runDouble = methodOffsetLimited<double>,
+     .maps = {M::Height},
+     .twin = {.file = "offset_limited.glsl", .function = "OffsetLimited", .maps = {M::Height}}},
+    {.name = "steep",
+     .kind = K::Steep,
+     .parameters = kLayerParameters,
+     .stepKey = "layers",
+     .labelParameters = layerLabel,
+     .runFloat = methodSteep<float>,
+     .runDouble = methodSteep<double>,
+     .maps = {M::Height},
+     .twin = {.file = "layered.glsl",
+              .function = "SteepParallax",
+              .maps = {M::Height},
+              .floatParameters = {"min_layers", "max_layers"},
+              .marches = true}},
+    {.name = "pom",
+     .kind = K::Pom,
+     .parameters = kLayerParameters,
+     .stepKey = "layers",
+     .labelParameters = layerLabel,
+     .runFloat = methodPom<float>,
+     .runDouble = methodPom<double>,
+     .maps = {M::Height},
+     .twin = {.file = "layered.glsl",
+              .function = "ParallaxOcclusion",
+              .maps = {M::Height},
+              .floatParameters = {"min_layers", "max_layers"},
+              .marches = true}},
+    {.name = "relief",
+     .kind = K::Relief,
+     .parameters = kReliefParameters,
+     .stepKey = "linear_steps",
+     .labelParameters = reliefLabel,
+     .runFloat = methodRelief<float>,
+     .runDouble = methodRelief<double>,
+     .maps = {M::Height},
+     .twin = {.file = "relief.glsl",
+              .function = "ReliefMapping",
+              .maps = {M::Height},
+              .marches = true}},
+    {.name = "iterative",
+     .kind = K::Iterative,
+     .parameters = kIterativeParameters,
+     .stepKey = "iterations",
+     .labelParameters = iterativeLabel,
+     .runFloat = methodIterative<float>,
+     .runDouble = methodIterative<double>,
+     .maps = {M::Height, M::Normal, M::Parallax},
+     .twin = {.file = "lengyel.glsl",
+              .function = "IterativeParallax",
+              .maps = {M::Parallax},
+              .scaleBias = false}},
+    {.name = "tangent_plane",
+     .kind = K::TangentPlane,
+     .runFloat = methodTangentPlane<float>,
+     .runDouble = methodTangentPlane<double>,
+     .maps = {M::Height, M::Normal, M::Parallax},
+     .twin = {.file = "lengyel.glsl",
+              .function = "TangentPlaneParallax",
+              .maps = {M::Normal, M::Parallax},
+              .scaleBias = false}},
+    {.name = "secant",
+     .kind = K::Secant,
+     .parameters = kSecantParameters,
+     .stepKey = "linear_steps",
+     .labelParameters = secantLabel,
+     .runFloat = methodSecant<float>,
+     .runDouble = methodSecant<double>,
+     .maps = {M::Height},
+     .twin = {.file = "refined.glsl",
+              .function = "SecantRelief",
+              .maps = {M::Height},
+              .marches = true}},
+    {.name = "contact",
+     .kind = K::Contact,
+     .parameters = kContactParameters,
+     .stepKey = "layers",
+     .labelParameters = contactLabel,
+     .runFloat = methodContact<float>,
+     .runDouble = methodContact<double>,
+     .maps = {M::Height},
+     .twin = {.file = "refined.glsl",
+              .function = "ContactRefinement",
+              .maps = {M::Height},
+              .marches = true}},
+    {.name = "maxmip",
+     .kind = K::MaxMip,
+     .parameters = kMaxMipParameters,
+     .runFloat = methodMaxMip<float>,
+     .runDouble = methodMaxMip<double>,
+     .maps = {M::Height, M::Pyramid},
+     .twin = {.file = "maxmip.glsl",
+              .function = "MaxMipTrace",
+              .maps = {M::Height, M::Pyramid},
+              .marches = true}},
+    {.name = "cone",
+     .kind = K::Cone,
+     .parameters = kConeParameters,
+     .stepKey = "steps",
+     .labelParameters = coneLabel,
+     .runFloat = methodCone<float>,
+     .runDouble = methodCone<double>,
+     .maps = {M::Height, M::Cone},
+     .twin = {.file = "cone.glsl",
+              .function = "ConeStep",
+              .maps = {M::Height, M::Cone},
+              .marches = true}},
+    {.name = "relaxed_cone",
+     .kind = K::RelaxedCone,
+     .parameters = kRelaxedConeParameters,
+     .stepKey = "cone_steps",
+     .labelParameters = coneLabel,
+     .runFloat = methodRelaxedCone<float>,
+     .runDouble = methodRelaxedCone<double>,
+     .maps = {M::Height, M::RelaxedCone},
+     .twin = {.file = "cone.glsl",
+              .function = "RelaxedConeStep",
+              .maps = {M::Height, M::RelaxedCone},
+              .marches = true}},
+};
+
+}  // namespace
+
 const std::vector<MethodKindInfo>& methodKinds() {
-    using K = MethodKind;
-    static const std::vector<MethodKindInfo> kinds = {
-        {"none", K::None, {}, nullptr, nullptr, false, methodNone<float>, methodNone<double>},
-        {"parallax",
-         K::Parallax,
-         {},
-         nullptr,
-         nullptr,
-         false,
-         methodParallax<float>,
-         methodParallax<double>},
-        {"offset_limited",
-         K::OffsetLimited,
-         {},
-         nullptr,
-         nullptr,
-         false,
-         methodOffsetLimited<float>,
-         methodOffsetLimited<double>},
-        {"steep", K::Steep, kLayerParameters, "layers", layerLabel, false, methodSteep<float>,
-         methodSteep<double>},
-        {"pom", K::Pom, kLayerParameters, "layers", layerLabel, false, methodPom<float>,
-         methodPom<double>},
-        {"relief", K::Relief, kReliefParameters, "linear_steps", reliefLabel, false,
-         methodRelief<float>, methodRelief<double>},
-        {"iterative", K::Iterative, kIterativeParameters, "iterations", iterativeLabel, true,
-         methodIterative<float>, methodIterative<double>},
-        {"tangent_plane",
-         K::TangentPlane,
-         {},
-         nullptr,
-         nullptr,
-         true,
-         methodTangentPlane<float>,
-         methodTangentPlane<double>},
-        {"secant", K::Secant, kSecantParameters, "linear_steps", secantLabel, false,
-         methodSecant<float>, methodSecant<double>},
-        {"contact", K::Contact, kContactParameters, "layers", contactLabel, false,
-         methodContact<float>, methodContact<double>},
-        {"maxmip", K::MaxMip, kMaxMipParameters, nullptr, nullptr, false, methodMaxMip<float>,
-         methodMaxMip<double>, true},
-        {"cone", K::Cone, kConeParameters, "steps", coneLabel, false, methodCone<float>,
-         methodCone<double>, false, true},
-        {"relaxed_cone", K::RelaxedCone, kRelaxedConeParameters, "cone_steps", coneLabel, false,
-         methodRelaxedCone<float>, methodRelaxedCone<double>, false, true, true},
-    };
+    static const std::vector<MethodKindInfo>& kinds = kMethodKinds;
     // kindInfo indexes the table by enum value: checked once here, not per fragment.
     static const bool inOrder = [] {
         for (size_t i = 0; i < kinds.size(); ++i) PGT_CHECK(size_t(kinds[i].kind) == i);
@@ -166,14 +267,15 @@ const std::vector<std::string>& methodNames() {
     return names;
 }
 
-bool needsDerivedMaps(MethodKind kind) {
-    const MethodKindInfo* info = kindInfo(kind);
-    return info && info->derivedMaps;
-}
-
-bool needsDerivedMaps(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->normalSampler.empty() || !cfg.glsl->parallaxSampler.empty();
-    return needsDerivedMaps(cfg.kind);
+MapSet needs(const MethodConfig& cfg) {
+    if (cfg.glsl) {
+        MapSet named;
+        for (const MapKindInfo& m : kMapKindTable)
+            if (!cfg.glsl->sampler(m.kind).empty()) named.add(m.kind);
+        return named;
+    }
+    const MethodKindInfo* info = kindInfo(cfg.kind);
+    return info ? info->maps : MapSet{};
 }
 
 void applyKindDefaults(MethodConfig& cfg) {
@@ -184,24 +286,6 @@ void applyKindDefaults(MethodConfig& cfg) {
         cfg.*p.field = *p.byDefault;
         if (p.alsoField) cfg.*p.alsoField = *p.byDefault;
     }
-}
-
-bool needsMinMaxPyramid(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->pyramidSampler.empty();
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    return info && info->minMaxPyramid;
-}
-
-bool needsConeMap(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->coneSampler.empty() || !cfg.glsl->relaxedConeSampler.empty();
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    return info && info->coneMap;
-}
-
-bool needsRelaxedConeMap(const MethodConfig& cfg) {
-    if (cfg.glsl) return !cfg.glsl->relaxedConeSampler.empty();
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    return info && info->relaxedConeMap;
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {

@@ -27,19 +27,33 @@ template <class Real>
 using MethodFunction = Vec2<Real> (*)(MethodContext<Real>&, Vec2<Real>, Vec3<Real>,
                                       const MethodConfig&);
 
+// A built-in's GLSL twin among the shaders shipped with pgt (src/shaders/): what the twin
+// test runs against the C++ method and scenes/glsl_twins.json lists (twinEntry writes its
+// method entry, methods/config.h).
+struct GlslTwin {
+    const char* file = nullptr;  // "layered.glsl"; null: no twin (a test fails)
+    const char* function = nullptr;
+    MapSet maps = {};       // the samplers it declares, named MapKindInfo::twinSampler
+    bool scaleBias = true;  // uniforms height_scale, height_bias bound to the case's s and b
+    // The parameters its shader declares as float uniforms (layered.glsl mixes the layer
+    // counts); the others are int uniforms.
+    std::vector<std::string> floatParameters = {};
+    // A march: a float comparison that ties may flip a layer against the C++ (the twin test
+    // allows 1 % of fragments); otherwise the twin agrees with the C++ everywhere.
+    bool marches = false;
+};
+
 struct MethodKindInfo {
     const char* name;
     MethodKind kind;
-    std::vector<IntParameter> parameters;
+    std::vector<IntParameter> parameters = {};
     const char* stepKey = nullptr;  // the key of `parameters` a fit varies, or null
     // The parameters shown in a generated label ("8_32" for pom), "" when there are none.
     std::string (*labelParameters)(const MethodConfig&) = nullptr;
-    bool derivedMaps = false;  // reads 003's normal and parallax maps
     MethodFunction<float> runFloat = nullptr;
     MethodFunction<double> runDouble = nullptr;
-    bool minMaxPyramid = false;   // traces heightfield/minmax_pyramid.h (precomputed per map)
-    bool coneMap = false;         // reads heightfield/cone_map.h (per map and sign of s)
-    bool relaxedConeMap = false;  // reads its relaxed cone map (the same)
+    MapSet maps = {};  // the maps it reads (methods/maps.h)
+    GlslTwin twin = {};
 };
 
 // Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).

@@ -48,66 +48,91 @@ void buildOnce(std::shared_ptr<const T>& map, double& ms, Build build) {
 }
 }  // namespace
 
+MapRefs MethodTextures::refs() const {
+    MapRefs r;
+    r.height = height;
+    if (derived) r.normal = &derived->normal, r.parallax = &derived->parallax;
+    r.pyramid = pyramid.get();
+    r.cone = cone.get();
+    r.relaxedCone = relaxedCone.get();
+    return r;
+}
+
 const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
     const auto key = methodScaleBias(cfg, view);
-    const bool needDerived = needsDerivedMaps(cfg), needPyramid = needsMinMaxPyramid(cfg);
-    if (needPyramid) buildOnce(pyramid_, pyramidMs_, [&] { return buildMinMaxPyramid(height_); });
     auto it = cache_.find(key);
     if (it == cache_.end())
         it = cache_
-                 .emplace(key, makeMethodTextures(height_, key.first, key.second, uvExtent_,
-                                                  needDerived))
+                 .emplace(key, makeMethodTextures(height_, key.first, key.second, uvExtent_, false))
                  .first;
-    // An entry made for other methods gains what this one needs; it is never replaced, since
-    // methods set up before hold it.
-    if (needDerived && !it->second.derived)
-        it->second.derived =
-            std::make_unique<DerivedMaps>(makeDerivedMaps(height_, key.first, key.second));
-    if (needPyramid && !it->second.pyramid) it->second.pyramid = pyramid_;  // a hit only reads
+    // An entry made for other methods gains what this one needs; what it holds is never
+    // replaced, since methods set up before read it (a hit only reads).
+    MethodTextures& e = it->second;
     const int sign = key.first < 0 ? 1 : 0;  // cone maps: one per sign of s
-    if (needsConeMap(cfg) && !it->second.cone) {
-        buildOnce(cone_[sign], coneMs_[sign], [&] { return buildConeMap(height_, sign); });
-        it->second.cone = cone_[sign];
+    const MapSet want = needs(cfg);
+    for (const MapKindInfo& m : kMapKindTable) {
+        if (!want.has(m.kind)) continue;
+        switch (m.kind) {
+            case MapKind::Height:
+                break;  // every entry has it
+            case MapKind::Normal:
+            case MapKind::Parallax:  // 003's pair, made together
+                if (!e.derived)
+                    e.derived = std::make_unique<DerivedMaps>(
+                        makeDerivedMaps(height_, key.first, key.second));
+                break;
+            case MapKind::Pyramid:
+                buildOnce(pyramid_, pyramidMs_, [&] { return buildMinMaxPyramid(height_); });
+                e.pyramid = pyramid_;
+                break;
+            case MapKind::RelaxedCone:  // made from the cone map
+            case MapKind::Cone:
+                buildOnce(cone_[sign], coneMs_[sign], [&] { return buildConeMap(height_, sign); });
+                if (m.kind == MapKind::Cone) {
+                    e.cone = cone_[sign];
+                    break;
+                }
+                buildOnce(relaxed_[sign], relaxedMs_[sign],
+                          [&] { return buildRelaxedConeMap(height_, *cone_[sign]); });
+                e.relaxedCone = relaxed_[sign];
+                break;
+        }
     }
-    if (needsRelaxedConeMap(cfg) && !it->second.relaxedCone) {
-        buildOnce(relaxed_[sign], relaxedMs_[sign],
-                  [&] { return buildRelaxedConeMap(height_, *cone_[sign]); });
-        it->second.relaxedCone = relaxed_[sign];
-    }
-    return it->second;
+    return e;
 }
 
 double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& configs) {
     const double texels = double(height.width) * double(height.height);
     const double chain = height.mips ? 4.0 / 3.0 : 1.0;
-    std::set<std::pair<double, double>> derived;  // the (s, b) they are made for; NaN: the view's
-    bool pyramid = false, cone = false, relaxed = false, gl = false;
+    // Per kind: whether any configuration reads it, and the (s, b) a per-(s, b) one is made
+    // for (1e300: the view's).
+    MapSet read, inGl;
+    std::set<std::pair<double, double>> displacements;
     for (const MethodConfig& cfg : configs) {
-        if (needsDerivedMaps(cfg))
-            derived.insert({std::isfinite(cfg.scale) ? cfg.scale : 1e300,
-                            std::isfinite(cfg.bias) ? cfg.bias : 1e300});
-        pyramid = pyramid || needsMinMaxPyramid(cfg);
-        cone = cone || needsConeMap(cfg) || needsRelaxedConeMap(cfg);
-        relaxed = relaxed || needsRelaxedConeMap(cfg);
-        gl = gl || cfg.kind == MethodKind::Glsl;
+        const MapSet want = needs(cfg);
+        read |= want;
+        if (cfg.kind == MethodKind::Glsl) inGl |= want, inGl.add(MapKind::Height);
+        if (want.has(MapKind::Normal) || want.has(MapKind::Parallax))
+            displacements.insert({std::isfinite(cfg.scale) ? cfg.scale : 1e300,
+                                  std::isfinite(cfg.bias) ? cfg.bias : 1e300});
     }
-    double perTexel = 16.0 * chain * double(derived.size());
-    if (pyramid) perTexel += 32.0 / 3.0;
-    if (cone) perTexel += 48;
-    if (relaxed) perTexel += 8;
-    // The GL's copies: the height map, the derived maps (3 + 1 channels), the pyramid (2) and
-    // the cone maps (1 each).
-    if (gl)
-        perTexel += 4 * (chain + (derived.empty() ? 0 : 4 * chain) + (pyramid ? 2 : 0) +
-                         (cone ? 1 : 0) + (relaxed ? 1 : 0));
+    if (read.has(MapKind::RelaxedCone)) read.add(MapKind::Cone);
+    double perTexel = 0;
+    for (const MapKindInfo& m : kMapKindTable) {
+        const double copies = m.perDisplacement ? chain * double(displacements.size()) : 1.0;
+        if (read.has(m.kind)) perTexel += m.bytesPerTexel * copies;
+        const double glChain = m.kind == MapKind::Height ? chain : copies;
+        if (inGl.has(m.kind)) perTexel += 4.0 * m.glChannels * glChain;
+    }
     return perTexel * texels;
 }
 
 double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacement& view) const {
-    double ms = needsMinMaxPyramid(cfg) ? pyramidMs_ : 0.0;
     const int sign = methodScaleBias(cfg, view).first < 0 ? 1 : 0;
-    if (needsConeMap(cfg)) ms += coneMs_[sign];
-    if (needsRelaxedConeMap(cfg)) ms += relaxedMs_[sign];
+    const MapSet want = needs(cfg);
+    double ms = want.has(MapKind::Pyramid) ? pyramidMs_ : 0.0;
+    if (want.has(MapKind::Cone) || want.has(MapKind::RelaxedCone)) ms += coneMs_[sign];
+    if (want.has(MapKind::RelaxedCone)) ms += relaxedMs_[sign];
     return ms;
 }
 
@@ -164,16 +189,7 @@ std::vector<To> toFloat(const std::vector<From>& values) {
 }
 
 GlslMaps glslMaps(const MethodConfig& cfg, const MethodTextures& tex) {
-    return {*tex.height,
-            tex.derived ? &tex.derived->normal : nullptr,
-            tex.derived ? &tex.derived->parallax : nullptr,
-            tex.scale,
-            tex.bias,
-            tex.glMaps.get(),
-            tex.pyramid.get(),
-            tex.cone.get(),
-            tex.relaxedCone.get(),
-            cfg.lodGrad};
+    return {tex.refs(), tex.scale, tex.bias, tex.glMaps.get(), cfg.lodGrad};
 }
 
 // The fragments as a GL draw takes them (V in the exact frame or not); in screen layout

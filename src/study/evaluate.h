@@ -21,13 +21,16 @@ namespace pgt {
 
 class GlMapUploads;  // gl/glsl_method.h
 
-// Inputs every method needs for one (s, b): the height map and, when asked for, 003's maps.
+// The maps (methods/maps.h) methods read at one (s, b): the height map, and the others the
+// methods of a run need, owned (003's derived maps, per (s, b)) or shared (the precomputed
+// ones, per height map and sign of s).
 struct MethodTextures {
     const Texture* height = nullptr;
-    std::unique_ptr<DerivedMaps> derived;          // only when a method needs them
+    std::unique_ptr<DerivedMaps> derived;          // normal and parallax, when read
     std::shared_ptr<const MinMaxPyramid> pyramid;  // maxmip's, shared by every (s, b)
     std::shared_ptr<const ConeMap> cone;           // cone's, for the sign of s
     std::shared_ptr<const ConeMap> relaxedCone;    // relaxed_cone's, the same
+    MapRefs refs() const;                          // by kind, null where not built
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
     // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),
@@ -42,14 +45,7 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
 template <class Real>
 MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
     MethodContext<Real> c;
-    c.height = tex.height;
-    if (tex.derived) {
-        c.normal = &tex.derived->normal;
-        c.parallax = &tex.derived->parallax;
-    }
-    c.pyramid = tex.pyramid.get();
-    c.cone = tex.cone.get();
-    c.relaxedCone = tex.relaxedCone.get();
+    static_cast<MapRefs&>(c) = tex.refs();
     c.scale = Real(tex.scale);
     c.bias = Real(tex.bias);
     return c;
@@ -85,11 +81,10 @@ class MethodTextureCache {
 };
 
 // Memory of the maps `configs` read beyond the height map itself, estimated before any is
-// built (bytes): derived maps per (s, b) they run at, the min-max pyramid, cone maps with
-// their build's peak, and, for GLSL methods, the GL's copies (a software GL keeps them in
-// this process). Per texel, measured at 2048^2 (docs/performance.md): derived maps 16 B (x 4/3
-// with mipmaps), pyramid 32/3 B, cone map 48 B at its build's peak, relaxed cone map 8 B more,
-// a GL texture 4 B per channel.
+// built (bytes): each kind's MapKindInfo::bytesPerTexel (measured at 2048^2, with a build's
+// peak; docs/performance.md), derived maps once per (s, b) they run at and x 4/3 with
+// mipmaps, a relaxed cone map with the cone map it is made from, and for GLSL methods the
+// GL's copies (4 bytes a channel; a software GL keeps them in this process).
 double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& configs);
 
 // Runs one method over all fragments (all cores); pixels not in the list stay uncovered.

@@ -145,12 +145,8 @@ BENCHMARK(BM_TruthUpdate)
 void BM_Method(benchmark::State& state, const char* json) {
     static Texture t = smooth(256);
     MethodConfig cfg = parseMethod(nlohmann::json::parse(json), "bench", "method");
-    MethodTextures tex = makeMethodTextures(t, 0.05, -0.025, 1.0, needsDerivedMaps(cfg.kind));
-    if (needsMinMaxPyramid(cfg))
-        tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
-    if (needsConeMap(cfg)) tex.cone = std::make_shared<const ConeMap>(buildConeMap(t, false));
-    if (needsRelaxedConeMap(cfg))
-        tex.relaxedCone = std::make_shared<const ConeMap>(buildRelaxedConeMap(t, *tex.cone));
+    MethodTextureCache cache(t, 1.0);
+    const MethodTextures& tex = cache.get(cfg, {0.05, -0.025});
     std::vector<Vec2f> uv0(65536);
     Vec3f v(viewFromAngles(60, 20));
     for (size_t k = 0; k < uv0.size(); ++k)
@@ -235,7 +231,7 @@ void BM_GlslDraw(benchmark::State& state) {
             Vec2f(float((double(k % 256) + 0.5) / 256), float((double(k / 256 % 256) + 0.5) / 256));
     GlMapUploads maps;
     for (auto _ : state) {
-        GlslRun run = runGlsl(*cfg.glsl, t, nullptr, nullptr, 0.05, -0.05, uv0, view,
+        GlslRun run = runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.05, uv0, view,
                               int(state.range(1)), &maps);
         benchmark::DoNotOptimize(run.uv.data());
     }
