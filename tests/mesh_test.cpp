@@ -316,8 +316,8 @@ TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
     Scene s = parseScene(nlohmann::json::parse(json), "limit.json");
     Camera cam = makeCamera(s);
     auto frame = [&](int rate) {
-        auto base =
-            tessellateLimitSurface(s.height, *s.mesh.cage, s.mesh.scheme, s.worldPerUv(), rate);
+        auto base = tessellateLimitSurface(s.height, *std::get<MeshBase>(s.base).cage,
+                                           std::get<MeshBase>(s.base).scheme, s.worldPerUv(), rate);
         TruthSurface surface(base, s.displacement, TruthGeometry::Triangles, false);
         return surface.traceFrame(cam);
     };
@@ -342,7 +342,7 @@ namespace {
 // the error map shows the seam: most of pom's error there is frame error.
 TEST(MeshRender, MirroredStripShowsItsSeam) {
     Scene s = loadScene(test::sceneDir() + "/mirrored_obj.json");
-    const auto& drawn = *s.mesh.drawn;
+    const auto& drawn = *std::get<MeshBase>(s.base).drawn;
     int right = 0, left = 0;
     for (size_t k = 0; k < drawn.mesh.vertices.size(); ++k) {
         double x = drawn.mesh.vertices[k].position.x;

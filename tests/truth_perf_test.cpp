@@ -164,13 +164,13 @@ TEST(TruthPerf, ViewWindowTracesLikeTheWholePlane) {
 TEST(TruthPerf, VertexCountsAgreeWithTheTessellation) {
     Scene s;
     s.height = wavyMap(48);
-    s.plane.tiling = 1.3;  // not whole texels per tile: ceil matters
-    s.plane.infinite = true;
+    s.plane()->tiling = 1.3;  // not whole texels per tile: ceil matters
+    s.plane()->infinite = true;
     s.truth.rate = 3;
     s.truth.uncertainty = true;
     auto count = [&](const TruthWindow& w) {
-        return double(tessellatePlane(s.height, s.plane, 3, w)->vertexCount() +
-                      tessellatePlane(s.height, s.plane, 6, w)->vertexCount());
+        return double(tessellatePlane(s.height, *s.plane(), 3, w)->vertexCount() +
+                      tessellatePlane(s.height, *s.plane(), 6, w)->vertexCount());
     };
     EXPECT_EQ(truthVertices(s, TruthWindow{}), count(TruthWindow{}));
     TruthWindow w;
@@ -180,7 +180,7 @@ TEST(TruthPerf, VertexCountsAgreeWithTheTessellation) {
     EXPECT_EQ(truthVertices(s, w), count(w));
     s.truth.uncertainty = false;
     EXPECT_EQ(truthVertices(s, TruthWindow{}),
-              double(tessellatePlane(s.height, s.plane, 3)->vertexCount()));
+              double(tessellatePlane(s.height, *s.plane(), 3)->vertexCount()));
 }
 
 }  // namespace

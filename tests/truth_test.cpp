@@ -80,7 +80,7 @@ Scene smoothScene(int rate, TruthGeometry g = TruthGeometry::Grid) {
 }
 
 Image2D<TruthSample> truthFrame(const Scene& s) {
-    TruthSurface surface(s.height, s.plane, s.displacement, s.truth.rate, s.truth.geometry);
+    TruthSurface surface(s.height, *s.plane(), s.displacement, s.truth.rate, s.truth.geometry);
     return surface.traceFrame(makeCamera(s));
 }
 

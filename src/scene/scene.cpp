@@ -9,6 +9,7 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
+#include "core/overloaded.h"
 #include "heightfield/heightfield.h"
 #include "heightfield/mipmaps.h"
 #include "methods/config.h"
@@ -61,8 +62,7 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
 }
 
 // The control mesh of a mesh base: a built-in cage or an OBJ file beside the scene.
-ControlMesh readCage(Scene& s, JsonFields& f) {
-    MeshBase& m = s.mesh;
+ControlMesh readCage(const Scene& s, JsonFields& f, MeshBase& m) {
     if (f.has("cage") == f.has("file"))
         f.fail(
             "cage",
@@ -89,9 +89,8 @@ ControlMesh readCage(Scene& s, JsonFields& f) {
                          tiling[1]);
 }
 
-void parseMeshBase(Scene& s, JsonFields& f) {
-    MeshBase& m = s.mesh;
-    const ControlMesh cage = readCage(s, f);
+void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
+    const ControlMesh cage = readCage(s, f, m);
     // Bound the work before refining: the drawn mesh has about faces x 4^refine faces (a
     // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
     if (cage.numFaces() > (1 << 20))
@@ -132,32 +131,28 @@ void parseMeshBase(Scene& s, JsonFields& f) {
 void parseBase(Scene& s, JsonFields& root) {
     JsonFields f(root.raw("base"), s.file, "base");
     std::string type = f.choice("type", {"plane", "mesh"}, "plane");
-    s.isMesh = type == "mesh";
-    if (s.isMesh) {
-        parseMeshBase(s, f);
+    if (type == "mesh") {
+        MeshBase m;
+        parseMeshBase(s, f, m);
+        s.base = std::move(m);
     } else {
-        s.plane.size = f.number("size", 1.0, 1e-6, 1e9);
-        s.plane.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
-        if (f.has("center")) s.plane.center = vec3(f, "center");
-        s.plane.infinite = f.boolean("infinite", false);
-        if (s.plane.infinite) {
+        PlaneBase p;
+        p.size = f.number("size", 1.0, 1e-6, 1e9);
+        p.tiling = f.number("tiling", 1.0, 1e-6, 1e6);
+        if (f.has("center")) p.center = vec3(f, "center");
+        p.infinite = f.boolean("infinite", false);
+        if (p.infinite) {
             if (s.height.address != Address::Repeat)
                 f.fail("infinite",
                        "an infinite plane repeats its tile: needs \"address\": \"repeat\"");
             // Whole up to the 1e-9 a decimal written in JSON can be off by.
-            if (std::fabs(s.plane.tiling - std::round(s.plane.tiling)) > 1e-9)
+            if (std::fabs(p.tiling - std::round(p.tiling)) > 1e-9)
                 f.fail("infinite", "an infinite plane needs a whole-number base.tiling");
         }
+        s.base = p;
     }
     s.cullBackFaces = f.boolean("cull_back_faces", true);
-    if (s.isMesh) {
-        UvExtent box{Vec2d(HUGE_VAL), Vec2d(-HUGE_VAL)};
-        for (const Vec2d& uv : s.mesh.cage->uvs)
-            box.lo = glm::min(box.lo, uv), box.hi = glm::max(box.hi, uv);
-        s.uvExtent = box;
-    } else {
-        s.uvExtent = UvExtent(s.plane.tiling);
-    }
+    s.uvExtent = uvExtentOf(s.base);
     f.finish();
 }
 
@@ -176,19 +171,22 @@ void parseCamera(Scene& s, JsonFields& root) {
     c.jitterSeed = uint32_t(f.integer("seed", 1, 0, 2147483647));
     if (c.type == Projection::Orthographic) {
         c.theta = f.number("theta", 0.0, 90.0);
-        if (s.isMesh && f.has("frame") && f.string("frame") == "fill")
-            f.fail("frame", "\"fill\" frames a plane; a mesh base is framed whole (\"plane\")");
+        const PlaneBase* plane = s.plane();
+        if (!plane && f.has("frame") && f.string("frame") == "fill")
+            f.fail("frame", "\"fill\" frames a plane; this base is framed whole (\"plane\")");
         c.phi = f.number("phi", 0.0, -360.0, 360.0);
         c.frame = f.choice("frame", {"plane", "fill"}, "plane") == "fill" ? Framing::Fill
                                                                           : Framing::Plane;
-        c.fillSize =
-            f.number("fill_size", s.plane.infinite ? s.plane.size : s.plane.size / 2, 1e-9, 1e9);
+        if (plane)
+            c.fillSize =
+                f.number("fill_size", plane->infinite ? plane->size : plane->size / 2, 1e-9, 1e9);
         if (f.has("view_height")) {
             if (f.has("frame")) f.fail("view_height", "give either \"frame\" or \"view_height\"");
             c.frame = Framing::View;
             c.viewHeight = f.number("view_height", 1e-9, 1e9);
         }
-        c.target = f.has("target") ? vec3(f, "target") : s.plane.center;
+        // Default: the plane's centre; other bases the origin (where the built-in cages sit).
+        c.target = f.has("target") ? vec3(f, "target") : plane ? plane->center : Vec3d(0);
     } else {
         c.eye = vec3(f, "eye");
         c.target = vec3(f, "target");
@@ -216,10 +214,10 @@ void parseTruth(Scene& s, JsonFields& root) {
         s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
         f.finish();
     }
-    if (!s.isMesh) {
+    if (const PlaneBase* plane = s.plane()) {
         // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
-        double verts = PlaneLattice(s.plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1))
-                           .vertices();
+        double verts =
+            PlaneLattice(*plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1)).vertices();
         if (verts > double(1u << 31))
             throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
                              "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +
@@ -311,18 +309,8 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view) {
     // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.
     double l = s.worldPerUv(), sc = view.displacement.scale, b = view.displacement.bias;
     double zLo = std::min(l * b, l * (sc + b)), zHi = std::max(l * b, l * (sc + b));
-    // The box to frame: the plane with its relief slab, or the mesh grown by the relief.
-    Vec3d boxLo, boxHi;
-    if (s.isMesh) {
-        boxLo = Vec3d(1e300), boxHi = Vec3d(-1e300);
-        for (const auto& vtx : s.mesh.drawn->mesh.vertices)
-            boxLo = glm::min(boxLo, vtx.position), boxHi = glm::max(boxHi, vtx.position);
-        double grow = std::max(std::fabs(zLo), std::fabs(zHi));
-        boxLo -= Vec3d(grow), boxHi += Vec3d(grow);
-    } else {
-        boxLo = s.plane.center + Vec3d(-0.5 * s.plane.size, -0.5 * s.plane.size, zLo);
-        boxHi = s.plane.center + Vec3d(0.5 * s.plane.size, 0.5 * s.plane.size, zHi);
-    }
+    Vec3d boxLo, boxHi;  // the base with its relief
+    reliefBox(s.base, zLo, zHi, boxLo, boxHi);
     Vec3d middle = (boxLo + boxHi) * 0.5;
     Camera probe = Camera::orthographic(-v, middle, up, 1.0, c.width, c.height);
     Vec2d lo(1e300), hi(-1e300);
@@ -345,6 +333,45 @@ namespace {
 // A block of the scene as the user wrote it (null for scenes built in code).
 Json givenBlock(const Scene& s, const char* key) {
     return s.json.is_object() && s.json.contains(key) ? s.json.at(key) : Json();
+}
+
+// resolvedSceneJson's "base": the type and its settings as pgt understood them.
+Json baseJson(const Scene& s) {
+    return std::visit(Overloaded{[&](const PlaneBase& p) {
+                                     return Json{{"type", "plane"},
+                                                 {"size", p.size},
+                                                 {"tiling", p.tiling},
+                                                 {"center", {p.center.x, p.center.y, p.center.z}},
+                                                 {"cull_back_faces", s.cullBackFaces},
+                                                 {"infinite", p.infinite}};
+                                 },
+                                 [&](const MeshBase& m) {
+                                     return Json{{"type", "mesh"},
+                                                 {"source", m.source},
+                                                 {"sha1", m.cage->sourceSha1},
+                                                 {"given", givenBlock(s, "base")},
+                                                 {"scheme", toString(m.scheme)},
+                                                 {"refine", m.refine},
+                                                 {"truth_surface", toString(m.truthSurface)},
+                                                 {"world_per_uv", m.worldPerUv},
+                                                 {"cull_back_faces", s.cullBackFaces}};
+                                 }},
+                      s.base);
+}
+
+// "drawn_mesh": a mesh's refined triangles and its frames' statistics; null for a plane.
+Json drawnMeshJson(const BaseSurface& base) {
+    return std::visit(
+        Overloaded{[](const PlaneBase&) { return Json(nullptr); },
+                   [](const MeshBase& m) {
+                       const RefinedMesh& d = *m.drawn;
+                       return Json{{"vertices", d.mesh.vertices.size()},
+                                   {"triangles", d.mesh.indices.size() / 3},
+                                   {"degenerate_uv_triangles", d.frames.degenerateUvTriangles},
+                                   {"fallback_tangents", d.frames.fallbackTangents},
+                                   {"mirrored_vertices", d.frames.mirroredVertices}};
+                   }},
+        base);
 }
 
 Json cameraJson(const CameraSpec& c) {
@@ -382,28 +409,8 @@ Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
           {"given", givenBlock(s, "heightmap")},
           {"sha1", s.heightSha1}}},
         {"address", toString(s.height.address)},
-        {"base", s.isMesh ? Json{{"type", "mesh"},
-                                 {"source", s.mesh.source},
-                                 {"sha1", s.mesh.cage->sourceSha1},
-                                 {"given", givenBlock(s, "base")},
-                                 {"scheme", toString(s.mesh.scheme)},
-                                 {"refine", s.mesh.refine},
-                                 {"truth_surface", toString(s.mesh.truthSurface)},
-                                 {"world_per_uv", s.mesh.worldPerUv},
-                                 {"cull_back_faces", s.cullBackFaces}}
-                          : Json{{"type", "plane"},
-                                 {"size", s.plane.size},
-                                 {"tiling", s.plane.tiling},
-                                 {"center", {s.plane.center.x, s.plane.center.y, s.plane.center.z}},
-                                 {"cull_back_faces", s.cullBackFaces},
-                                 {"infinite", s.plane.infinite}}},
-        {"drawn_mesh",
-         s.isMesh ? Json{{"vertices", s.mesh.drawn->mesh.vertices.size()},
-                         {"triangles", s.mesh.drawn->mesh.indices.size() / 3},
-                         {"degenerate_uv_triangles", s.mesh.drawn->frames.degenerateUvTriangles},
-                         {"fallback_tangents", s.mesh.drawn->frames.fallbackTangents},
-                         {"mirrored_vertices", s.mesh.drawn->frames.mirroredVertices}}
-                  : Json(nullptr)},
+        {"base", baseJson(s)},
+        {"drawn_mesh", drawnMeshJson(s.base)},
         {"displacement", {{"scale", view.displacement.scale}, {"bias", view.displacement.bias}}},
         {"camera", cameraJson(view.camera)},
         {"methods", methods},
@@ -413,6 +420,54 @@ Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
           {"uncertainty", s.truth.uncertainty},
           {"memory_mb", s.truth.memoryMb}}},
     };
+}
+
+const char* baseType(const BaseSurface& base) {
+    return std::visit(Overloaded{[](const PlaneBase&) { return "plane"; },
+                                 [](const MeshBase&) { return "mesh"; }},
+                      base);
+}
+
+double worldPerUv(const BaseSurface& base) {
+    return std::visit(Overloaded{[](const PlaneBase& p) { return p.worldPerUv(); },
+                                 [](const MeshBase& m) { return m.worldPerUv; }},
+                      base);
+}
+
+UvExtent uvExtentOf(const BaseSurface& base) {
+    return std::visit(Overloaded{[](const PlaneBase& p) { return UvExtent(p.tiling); },
+                                 [](const MeshBase& m) {
+                                     UvExtent box{Vec2d(HUGE_VAL), Vec2d(-HUGE_VAL)};
+                                     for (const Vec2d& uv : m.cage->uvs)
+                                         box.lo = glm::min(box.lo, uv),
+                                         box.hi = glm::max(box.hi, uv);
+                                     return box;
+                                 }},
+                      base);
+}
+
+bool framesCanDiffer(const BaseSurface& base) {
+    // A plane's per-vertex frame is its exact frame; a mesh's is an average over triangles.
+    return std::visit(
+        Overloaded{[](const PlaneBase&) { return false; }, [](const MeshBase&) { return true; }},
+        base);
+}
+
+void reliefBox(const BaseSurface& base, double zLo, double zHi, Vec3d& lo, Vec3d& hi) {
+    std::visit(Overloaded{[&](const PlaneBase& p) {
+                              // The tile with its relief slab along +z.
+                              lo = p.center + Vec3d(-0.5 * p.size, -0.5 * p.size, zLo);
+                              hi = p.center + Vec3d(0.5 * p.size, 0.5 * p.size, zHi);
+                          },
+                          [&](const MeshBase& m) {
+                              // The drawn mesh grown by the relief in every direction.
+                              lo = Vec3d(1e300), hi = Vec3d(-1e300);
+                              for (const auto& vtx : m.drawn->mesh.vertices)
+                                  lo = glm::min(lo, vtx.position), hi = glm::max(hi, vtx.position);
+                              const double grow = std::max(std::fabs(zLo), std::fabs(zHi));
+                              lo -= Vec3d(grow), hi += Vec3d(grow);
+                          }},
+               base);
 }
 
 }  // namespace pgt

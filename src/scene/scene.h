@@ -7,6 +7,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "heightfield/texture.h"
@@ -84,6 +85,22 @@ struct MeshBase {
     std::shared_ptr<const RefinedMesh> drawn;  // built at load time
 };
 
+// The base surface the relief displaces: a plane lattice or a subdivision mesh. Every stage
+// asks it through the functions below (each a std::visit over the alternatives), never by
+// kind: a third kind is one more alternative and its overload in each of them. Plane-only
+// capabilities (truth windows and blocks, the infinite tiling) go through Scene::plane().
+using BaseSurface = std::variant<PlaneBase, MeshBase>;
+
+const char* baseType(const BaseSurface& base);  // "plane", "mesh"
+double worldPerUv(const BaseSurface& base);     // l (docs/model.md §2)
+UvExtent uvExtentOf(const BaseSurface& base);   // the UV range its coordinates span
+// Whether its drawn per-vertex tangent frames can differ from the exact frame of the drawn
+// surface, so that each method also runs with the exact frame (docs/model.md §2): meshes.
+bool framesCanDiffer(const BaseSurface& base);
+// The box holding the base displaced by z in [zLo, zHi] world units along its normals (what
+// an orthographic "plane" framing fits).
+void reliefBox(const BaseSurface& base, double zLo, double zHi, Vec3d& lo, Vec3d& hi);
+
 struct Displacement {
     double scale = 0.05;   // s, UV units
     double bias = -0.025;  // b, UV units
@@ -135,11 +152,12 @@ struct Scene {
     bool mipmaps = false;      // "heightmap": {"mipmaps": true}: height.mips is built
     std::string heightSource;  // file path or procedural name, for the summary
     std::string heightSha1;    // SHA-1 of the height image file ("" for procedural maps)
-    PlaneBase plane;
-    bool isMesh = false;  // base.type "mesh": `mesh` holds it, `plane` is unused
-    MeshBase mesh;
+    BaseSurface base = PlaneBase{};
+    // The plane, for what only a plane lattice has (windows, blocks, tiling); null otherwise.
+    const PlaneBase* plane() const { return std::get_if<PlaneBase>(&base); }
+    PlaneBase* plane() { return std::get_if<PlaneBase>(&base); }
     Displacement displacement;
-    double worldPerUv() const { return isMesh ? mesh.worldPerUv : plane.worldPerUv(); }
+    double worldPerUv() const { return pgt::worldPerUv(base); }
     // Read by every stage whatever the base: the UV range and back-face culling.
     UvExtent uvExtent;
     bool cullBackFaces = true;

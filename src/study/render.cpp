@@ -11,16 +11,20 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/memory.h"
+#include "core/overloaded.h"
 #include "gl/glsl_method.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
 
 BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
-    if (scene.isMesh) return scene.mesh.drawn->mesh;
-    int tiles =
-        scene.plane.infinite ? tilesToCover(camera, scene.plane.center, scene.plane.size) : 0;
-    return makePlaneMesh(scene.plane.center, scene.plane.size, scene.plane.tiling, tiles);
+    return std::visit(Overloaded{[&](const PlaneBase& p) {
+                                     const int tiles =
+                                         p.infinite ? tilesToCover(camera, p.center, p.size) : 0;
+                                     return makePlaneMesh(p.center, p.size, p.tiling, tiles);
+                                 },
+                                 [](const MeshBase& m) { return m.drawn->mesh; }},
+                      scene.base);
 }
 
 namespace {
@@ -165,7 +169,7 @@ class BandPipeline {
             }
             r_.timingsMs["methods_eval"] += msSince(t0);
             m.tally.add(truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels, y0);
-            if (scene_.isMesh && !frags_.pixel.empty()) {
+            if (framesCanDiffer(scene_.base) && !frags_.pixel.empty()) {
                 auto exact = evaluateMethod(cfg, frags_, *m.textures, W, H, true);
                 m.tallyExact.add(truthBand_, exact, map.width, map.height, map.address);
             }
@@ -207,7 +211,7 @@ class BandPipeline {
             MethodFrame& mf = r_.methods[i];
             mf.stats = m.tally.finish();
             mf.coded = m.tally.takeCoded();
-            if (scene_.isMesh) {
+            if (framesCanDiffer(scene_.base)) {
                 mf.statsExactFrame = m.tallyExact.finish();
                 mf.haveExactFrame = true;
             }
@@ -291,7 +295,7 @@ void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCac
         ErrorTally tally;
         tally.add(r.truth, pixels, map.width, map.height, map.address);
         mf.stats = tally.finish();
-        if (scene.isMesh) {
+        if (framesCanDiffer(scene.base)) {
             ErrorTally exact;
             if (frags.size() > 0) pixels = evaluateGlsl(cfg, frags, tex, W, H, true);
             exact.add(r.truth, pixels, map.width, map.height, map.address);
@@ -329,7 +333,8 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
 double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m) {
     PGT_CHECK(m.configs);
     const double pixels = double(width) * height;
-    const double methods = double(m.configs->size()), mesh = scene.isMesh ? 2 : 1;
+    // Twice with the exact-frame pass of a base whose vertex frames can differ from it.
+    const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
     // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
     // interleaved rows (6 + 3 per method floats).
@@ -344,8 +349,8 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     if (m.keepsImages)
         perPixel += sizeof(TruthSample) + sizeof(Fragment) +
                     methods * (sizeof(MethodPixel) + sizeof(float));
-    double truth = 0;
-    if (!scene.isMesh) {
+    double truth = 0;  // a plane's lattice (a mesh's truth is in its own estimate)
+    if (scene.plane()) {
         TruthWindow whole;  // not limited: the whole base
         truth = truthVertices(scene, whole) * kTruthBytesPerGridVertex;
         if (m.truthInBlocks) {
@@ -389,7 +394,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
                             .seed = 1,
                             .glFragments = options.glTimingFragments};
     auto t0 = Clock::now();
-    if (!scene.isMesh) {
+    if (const PlaneBase* plane = scene.plane()) {
         // A block's lattice: truth.memory_mb, or what the memory limit leaves beside the rest
         // of the view when that is less.
         constexpr double kMiB = 1024.0 * 1024.0;
@@ -397,7 +402,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         const double budget = std::max(0.0, std::min(double(scene.truth.memoryMb) * kMiB,
                                                      double(memoryLimitMb()) * kMiB - beside)) /
                               kTruthBytesPerGridVertex;
-        TruthWindow whole = viewWindow(scene.plane, scene.height, scene.displacement, camera);
+        TruthWindow whole = viewWindow(*plane, scene.height, scene.displacement, camera);
         const double vertices = truthVertices(scene, whole);
         TruthFrames f;
         const bool blocks = vertices > budget && traceTruthInBlocks(scene, camera, budget, f);

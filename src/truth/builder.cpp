@@ -6,24 +6,30 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/overloaded.h"
 
 namespace pgt {
 
 std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r) const {
-    if (scene_.isMesh && scene_.mesh.truthSurface == MeshTruth::Limit)
-        return tessellateLimitSurface(scene_.height, *scene_.mesh.cage, scene_.mesh.scheme,
-                                      scene_.worldPerUv(), r);
-    if (scene_.isMesh)
-        return tessellateDrawnMesh(scene_.height, scene_.mesh.drawn->mesh, scene_.worldPerUv(), r);
-    return tessellatePlane(scene_.height, scene_.plane, r, window_);
+    const Texture& h = scene_.height;
+    return std::visit(
+        Overloaded{[&](const PlaneBase& p) { return tessellatePlane(h, p, r, window_); },
+                   [&](const MeshBase& m) {
+                       // The limit surface (the asset as meant) or the drawn triangles.
+                       return m.truthSurface == MeshTruth::Limit
+                                  ? tessellateLimitSurface(h, *m.cage, m.scheme, m.worldPerUv, r)
+                                  : tessellateDrawnMesh(h, m.drawn->mesh, m.worldPerUv, r);
+                   }},
+        scene_.base);
 }
 
 void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, PixelRect block) {
     PGT_CHECK(!base_ && !fine_);
-    if (scene_.isMesh) return;
-    window_ = viewWindow(scene_.plane, scene_.height, disp, camera, block);
+    const PlaneBase* plane = scene_.plane();
+    if (!plane) return;  // windows are cells of a plane's lattice
+    window_ = viewWindow(*plane, scene_.height, disp, camera, block);
     // A whole view's window is only worth it when it is clearly smaller than the tile.
-    const double T = scene_.plane.tiling;
+    const double T = plane->tiling;
     const Vec2d extent = window_.uvMax - window_.uvMin;
     if (window_.empty || (block.empty() && window_.limited && extent.x * extent.y >= 0.5 * T * T))
         window_ = {};
@@ -31,10 +37,11 @@ void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, P
 
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
     const int rate = scene_.truth.rate;
-    // A mesh's truth is an explicit triangle list; grids are for planes.
-    TruthGeometry geometry = scene_.isMesh ? TruthGeometry::Triangles : scene_.truth.geometry;
+    // Grids are for a plane's lattice; any other base's truth is an explicit triangle list.
+    const PlaneBase* plane = scene_.plane();
+    const TruthGeometry geometry = plane ? scene_.truth.geometry : TruthGeometry::Triangles;
     // A window of an infinite plane is traced as it is: it covers every hit of the view.
-    bool periodic = !scene_.isMesh && scene_.plane.infinite && !window_.limited;
+    const bool periodic = plane && plane->infinite && !window_.limited;
     if (!base_) base_ = tessellate(rate);
     TruthPair p;
     p.truth = std::make_unique<TruthSurface>(base_, disp, geometry, periodic);
@@ -60,10 +67,12 @@ const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncerta
 
 // Plane vertices of a truth (and its 2x-rate twin) over the whole tile or a window.
 double truthVertices(const Scene& scene, const TruthWindow& w) {
+    const PlaneBase* plane = scene.plane();
+    if (!plane) return 0;  // counted by the mesh's own estimate (scene/scene.cpp)
     double sum = 0;
     for (int r : {scene.truth.rate, scene.truth.uncertainty ? 2 * scene.truth.rate : 0}) {
         if (r == 0) continue;
-        PlaneLattice lattice(scene.plane, scene.height, r);
+        PlaneLattice lattice(*plane, scene.height, r);
         sum += w.limited ? lattice.vertices(w.uvMin, w.uvMax) : lattice.vertices();
     }
     return sum;
@@ -74,6 +83,7 @@ double truthVertices(const Scene& scene, const TruthWindow& w) {
 // Returns false (frames untouched) when no n <= 16 brings every block under the budget.
 bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetVertices,
                         TruthFrames& f) {
+    if (!scene.plane()) return false;  // blocks are windows of a plane's lattice
     const int W = camera.width(), H = camera.height();
     for (int n = 2; n <= 16; ++n) {
         std::vector<PixelRect> blocks;
@@ -82,7 +92,7 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
             for (int bx = 0; bx < n && fits; ++bx) {
                 PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
                 TruthWindow w =
-                    viewWindow(scene.plane, scene.height, scene.displacement, camera, b);
+                    viewWindow(*scene.plane(), scene.height, scene.displacement, camera, b);
                 fits = w.limited && (w.empty || truthVertices(scene, w) <= budgetVertices);
                 if (w.empty) continue;  // sees no part of the plane: every pixel misses
                 blocks.push_back(b);

@@ -72,7 +72,7 @@ Scene frameScene(int mapSide, int pixels) {
 void BM_TruthFrame(benchmark::State& state) {
     Scene s = frameScene(1024, int(state.range(0)));
     TruthGeometry g = state.range(2) ? TruthGeometry::Triangles : TruthGeometry::Grid;
-    TruthSurface surface(s.height, s.plane, s.displacement, 1, g);
+    TruthSurface surface(s.height, *s.plane(), s.displacement, 1, g);
     Camera cam = makeCamera(s);
     TraceMode mode = state.range(1) ? TraceMode::Coherent : TraceMode::Single;
     Image2D<TruthSample> frame;  // reused, as the bare loop reuses its ray buffer
@@ -106,8 +106,8 @@ BENCHMARK(BM_TruthFrame)
 // The default study's surface: infinite plane (periodic tile walk), 512^2 at theta 60.
 void BM_TruthFramePeriodic(benchmark::State& state) {
     Scene s = frameScene(256, 512);
-    s.plane.infinite = true;
-    auto base = tessellatePlane(s.height, s.plane, 4);
+    s.plane()->infinite = true;
+    auto base = tessellatePlane(s.height, *s.plane(), 4);
     TruthSurface surface(base, s.displacement, TruthGeometry::Grid, true);
     Camera cam = makeCamera(s);
     TraceMode mode = state.range(0) ? TraceMode::Coherent : TraceMode::Single;
