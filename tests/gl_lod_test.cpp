@@ -158,7 +158,8 @@ TEST(Gl, PomGradTwinOverAFrame) {
     TruthBuilder builder(s);
     TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
     MethodTextureCache textures(s.height, s.uvExtent);
-    RenderResult r = renderView(s, s.view(), truths, s.methods, textures, TimingSpec{0, 0, 1}, {});
+    RenderResult r = renderView(s, s.view(), truths, s.methods, textures,
+                                TimingSpec{.repeats = 0, .maxFragments = 0, .seed = 1}, {});
     ASSERT_EQ(r.methods.size(), 4u);
     const auto& grad = r.methods[0].pixels.data;
     const auto& zero = r.methods[1].pixels.data;

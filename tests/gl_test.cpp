@@ -316,10 +316,11 @@ TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     EXPECT_THROW(preset("unreal"), InputError);
 }
 
-// A study draws its GLSL methods after the frame (FrameOptions::deferGlsl, one draw over the
-// whole frame's fragments): the same statistics as the draws band by band, on a frame of
-// three bands, and nothing is left pending.
-TEST(Gl, DeferredDrawsEqualTheBandDraws) {
+// Every pipeline draws a GLSL method band by band, each draw through FrameOptions::glDraw when
+// given (a study's draw gate): the runner sees one draw of the GLSL method per band that has
+// fragments and none of the C++ one, and the band draws equal one draw over the whole frame's
+// fragments pixel for pixel (the bands keep the 2x2 quads whole).
+TEST(Gl, BandDrawsRunThroughTheRunnerAndEqualAWholeFrameDraw) {
     const std::string method =
         R"([{"name":"g","glsl":")" + shaderDir() +
         R"(/layered.glsl","function":"ParallaxOcclusion","sampler":"heightMap",
@@ -331,34 +332,44 @@ TEST(Gl, DeferredDrawsEqualTheBandDraws) {
     TruthBuilder builder(s);
     TruthPair truths = builder.build(s.displacement, s.truth.uncertainty);
     MethodTextureCache textures(s.height, s.uvExtent);
-    const TimingSpec timing{1, 0, 1, 4096, 0};
-    FrameOptions inBand{false, {}, false, true};
-    RenderResult a = renderView(s, s.view(), truths, s.methods, textures, timing, inBand);
-    FrameOptions deferred = inBand;
-    deferred.deferGlsl = true;
-    RenderResult b = renderView(s, s.view(), truths, s.methods, textures, timing, deferred);
-    EXPECT_TRUE(b.glslPending);
-    EXPECT_EQ(b.methods[0].stats.error.count, 0);  // not drawn yet
-    drawGlslMethods(b, s, textures);
-    EXPECT_FALSE(b.glslPending);
-    EXPECT_TRUE(b.truth.data.empty());
-    ASSERT_EQ(a.methods.size(), b.methods.size());
-    for (size_t i = 0; i < a.methods.size(); ++i) {
-        const FrameStats &x = a.methods[i].stats, &y = b.methods[i].stats;
-        EXPECT_GT(x.error.count, 1000) << i;
-        EXPECT_EQ(x.error.count, y.error.count) << i;
-        EXPECT_EQ(x.error.p50, y.error.p50) << i;
-        EXPECT_EQ(x.error.max, y.error.max) << i;
-        EXPECT_NEAR(x.error.mean, y.error.mean, 1e-12 * x.error.mean) << i;
+    const TimingSpec timing{
+        .repeats = 1, .maxFragments = 0, .seed = 1, .glFragments = 4096, .glMinMs = 0};
+    int draws = 0;
+    FrameOptions frame{.keepImages = true,
+                       .sinks = {},
+                       .deferTiming = true,
+                       .glDraw = [&](const std::function<void()>& draw) {
+                           ++draws;
+                           draw();
+                       }};
+    RenderResult r = renderView(s, s.view(), truths, s.methods, textures, timing, frame);
+    const Camera camera = makeCamera(s);
+    const FragmentList all =
+        compactFragments(rasterize(sceneBaseMesh(s, camera), camera, {s.cullBackFaces}));
+    std::set<int> bands;  // 139 rows: bands of 108 and 31
+    for (int32_t p : all.pixel) bands.insert(p / 150 / bandRows(150));
+    EXPECT_EQ(draws, int(bands.size()));
+    EXPECT_GE(draws, 2);
+    const Image2D<MethodPixel> whole =
+        evaluateMethod(s.methods[0], all, textures.at(s.methods[0], s.displacement), 150, 139);
+    int64_t compared = 0;
+    for (size_t k = 0; k < whole.data.size(); ++k) {
+        const MethodPixel &band = r.methods[0].pixels.data[k], &one = whole.data[k];
+        ASSERT_EQ(band.covered, one.covered) << k;
+        if (!one.covered) continue;
+        EXPECT_EQ(band.uv.x, one.uv.x) << k;
+        EXPECT_EQ(band.uv.y, one.uv.y) << k;
+        ++compared;
     }
+    EXPECT_GT(compared, 5000);
     // The GLSL method is timed with the C++ ones (deferTiming: by timeMethods), on a workload
     // of at least TimingSpec::glFragments.
-    EXPECT_TRUE(std::isnan(b.methods[0].nsPerPixel));  // not measured yet
-    timeMethods(b, textures, timing);
-    EXPECT_GT(b.methods[0].nsPerPixel, 0);
-    EXPECT_GE(b.methods[0].timing.fragments, 4096);
-    EXPECT_EQ(b.methods[0].timing.repeats, 1);
-    EXPECT_GE(b.methods[0].timing.p75, b.methods[0].timing.p25);
+    EXPECT_TRUE(std::isnan(r.methods[0].nsPerPixel));  // not measured yet
+    timeMethods(r, textures, timing);
+    EXPECT_GT(r.methods[0].nsPerPixel, 0);
+    EXPECT_GE(r.methods[0].timing.fragments, 4096);
+    EXPECT_EQ(r.methods[0].timing.repeats, 1);
+    EXPECT_GE(r.methods[0].timing.p75, r.methods[0].timing.p25);
 }
 
 }  // namespace

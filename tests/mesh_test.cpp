@@ -197,7 +197,8 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
         s->camera.viewHeight = 1.2;
         s->camera.target = Vec3d(0);
     }
-    RenderResult a = renderFrame(plane, {1}), b = renderFrame(mesh, {1});
+    RenderResult a = renderFrame(plane, {.timingRepeats = 1}),
+                 b = renderFrame(mesh, {.timingRepeats = 1});
     ASSERT_EQ(a.methods.size(), b.methods.size());
     EXPECT_EQ(a.raster.covered, b.raster.covered);
     for (size_t k = 0; k < a.methods.size(); ++k) {
@@ -218,7 +219,7 @@ TEST(MeshRender, BundledMeshScenesRender) {
         Scene s = loadScene(test::sceneDir() + "/" + name + ".json");
         s.camera.width = s.camera.height = 48;
         s.truth.rate = 1;
-        RenderResult r = renderFrame(s, {1});
+        RenderResult r = renderFrame(s, {.timingRepeats = 1});
         EXPECT_GT(r.raster.covered, 200) << name;
         // A mesh's truth has no plane lattice: its segment counts are 0, never read from the
         // plane grid a mesh does not have (an empty optional; aborts in the hardened build).
@@ -273,7 +274,7 @@ TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
             "camera": {"type": "orthographic", "theta": 60, "phi": 0, "resolution": [64, 64]},
             "methods": ["parallax"], "truth": {"rate": 2, "uncertainty": false}})";
         Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
-        RenderResult r = renderFrame(s, {1});
+        RenderResult r = renderFrame(s, {.timingRepeats = 1});
         return 1.0 - r.methods[0].statsExactFrame.error.mean / r.methods[0].stats.error.mean;
     };
     EXPECT_NEAR(share("affine.obj"), 0.0, 1e-9);
@@ -360,7 +361,7 @@ TEST(MeshRender, MirroredStripShowsItsSeam) {
     EXPECT_GT(drawn.frames.fallbackTangents, 0);
     s.camera.width = s.camera.height = 128;
     s.truth.uncertainty = false;
-    RenderResult r = renderFrame(s, {1});
+    RenderResult r = renderFrame(s, {.timingRepeats = 1});
     const MethodFrame& pom = r.methods[2];
     ASSERT_EQ(pom.config.name, "pom");
     EXPECT_GT(1 - pom.statsExactFrame.error.mean / pom.stats.error.mean, 0.5);
@@ -386,7 +387,7 @@ TEST(MeshRender, LoopSchemeOnATriangleCage) {
             "camera": {"type": "orthographic", "theta": 40, "phi": 20, "resolution": [64, 64]},
             "methods": ["parallax", "pom"], "truth": {"rate": 1}})";
         Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
-        RenderResult r = renderFrame(s, {1});
+        RenderResult r = renderFrame(s, {.timingRepeats = 1});
         EXPECT_GT(r.raster.covered, 500) << truth;
         for (const auto& m : r.methods) {
             EXPECT_EQ(m.stats.nonfinite, 0) << truth;
@@ -439,7 +440,7 @@ TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
         s.file, "methods");
     EXPECT_EQ(s.uvExtent.lo, Vec2d(0, 0));
     EXPECT_EQ(s.uvExtent.hi, Vec2d(2, 1));
-    RenderResult r = renderFrame(s, {1});
+    RenderResult r = renderFrame(s, {.timingRepeats = 1});
     const MethodFrame &plain = r.methods[0], &discard = r.methods[1];
     int64_t kept = 0, dropped = 0, beyondU1 = 0;
     for (size_t k = 0; k < plain.pixels.size(); ++k) {

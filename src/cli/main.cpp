@@ -54,7 +54,7 @@ void renderCommand(const std::string& scenePath, const std::string& outDir,
     pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods,
                              exrCompression);
     pgt::RenderOptions opt = options;
-    opt.frame = {false, {&writer}, true};
+    opt.frame = {.keepImages = false, .sinks = {&writer}, .keepCodedErrors = true};
     pgt::RenderResult result = pgt::renderFrame(scene, opt);
     auto t0 = pgt::Clock::now();
     writer.finish(result);  // the error maps and summary.json

@@ -119,7 +119,7 @@ Rendered render(const std::string& file, const std::string& text, const std::str
                          "camera.resolution");
     std::unique_ptr<pgt::OutputDirectory> outDir;
     if (!out.empty()) outDir = std::make_unique<pgt::OutputDirectory>(out);
-    pgt::RenderOptions options(repeats);
+    pgt::RenderOptions options{.timingRepeats = repeats};
     options.timingFragments = fragments;
     options.glTimingFragments = glFragments;
     options.frame.keepImages = true;

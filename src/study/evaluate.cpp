@@ -48,16 +48,6 @@ void buildOnce(std::shared_ptr<const T>& map, double& ms, Build build) {
 }
 }  // namespace
 
-MapRefs MethodTextures::refs() const {
-    MapRefs r;
-    r.height = height;
-    if (derived) r.normal = &derived->normal, r.parallax = &derived->parallax;
-    r.pyramid = pyramid.get();
-    r.cone = cone.get();
-    r.relaxedCone = relaxedCone.get();
-    return r;
-}
-
 const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
     const auto key = methodScaleBias(cfg, view);
     auto it = cache_.find(key);

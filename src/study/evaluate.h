@@ -30,7 +30,16 @@ struct MethodTextures {
     std::shared_ptr<const MinMaxPyramid> pyramid;  // maxmip's, shared by every (s, b)
     std::shared_ptr<const ConeMap> cone;           // cone's, for the sign of s
     std::shared_ptr<const ConeMap> relaxedCone;    // relaxed_cone's, the same
-    MapRefs refs() const;                          // by kind, null where not built
+    // By kind, null where not built (inline: a method context is made per fragment).
+    MapRefs refs() const {
+        MapRefs r;
+        r.height = height;
+        if (derived) r.normal = &derived->normal, r.parallax = &derived->parallax;
+        r.pyramid = pyramid.get();
+        r.cone = cone.get();
+        r.relaxedCone = relaxedCone.get();
+        return r;
+    }
     double scale = 0, bias = 0;
     UvExtent uvExtent;  // the base's UV range (discard_outside)
     // GLSL methods: these maps' GL textures, uploaded on first use (under the GL lock),

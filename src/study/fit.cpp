@@ -39,12 +39,6 @@ std::vector<double> range(double from, double to, double step) {
     return out;
 }
 
-struct View {
-    Image2D<TruthSample> truth;
-    FragmentList frags;
-    int width, height;
-};
-
 struct Score {
     double objective = INFINITY, mean = NAN, p90 = NAN;
     bool ok = false;
@@ -109,28 +103,24 @@ class FitScorer {
                 ViewSpec v = scene.view();
                 v.camera.theta = th, v.camera.phi = ph;
                 v.camera.width = plan.width, v.camera.height = plan.height;
-                Camera cam = makeCamera(scene, v);
-                FragmentList frags = compactFragments(
-                    rasterize(sceneBaseMesh(scene, cam), cam, {scene.cullBackFaces}));
-                if (frags.size() == 0)  // every candidate would score nothing there
+                views_.push_back(prepareView(scene, v, truths));
+                if (views_.back().raster.covered == 0)  // every candidate would score nothing
                     throw InputError(scene.file, "fit.theta", formatNumber(th, 9),
                                      "the view at theta " + formatNumber(th, 9) + ", phi " +
                                          formatNumber(ph, 9) +
                                          " shows no pixel of the surface (edge-on or away); fit "
                                          "over view angles that see it");
-                views_.push_back(
-                    {truths.truth->traceFrame(cam), std::move(frags), plan.width, plan.height});
             }
     }
 
+    // The configuration measured on every view by the one per-view pipeline (study/render.h).
     Score score(const MethodConfig& cfg) {
         Score sc;
-        const MethodTextures& tex = textures_.get(cfg, scene_.displacement);
+        const std::vector<MethodConfig> one = {cfg};
         double obj = 0, mean = 0, p90 = 0;
-        for (const View& v : views_) {
-            auto px = evaluateMethod(cfg, v.frags, tex, v.width, v.height);
-            FrameStats fs = compareWithTruth(v.truth, px, scene_.height.width, scene_.height.height,
-                                             scene_.height.address);
+        for (const PreparedView& v : views_) {
+            const FrameStats fs =
+                renderPrepared(scene_, v, one, textures_, {.keepImages = false}).methods[0].stats;
             // A candidate that yields non-finite UVs is not a default anyone should ship.
             if (fs.nonfinite > 0 || fs.error.count == 0) return sc;
             obj += objective_ == "mean" ? fs.error.mean : fs.error.p90;
@@ -145,7 +135,7 @@ class FitScorer {
     const Scene& scene_;
     std::string objective_;
     MethodTextureCache textures_;
-    std::vector<View> views_;
+    std::vector<PreparedView> views_;
 };
 
 // One method at one step count: the grid of (scale factor, bias ratio), then a compass

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/clock.h"
 #include "core/error.h"
@@ -29,12 +30,16 @@ BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
 
 namespace {
 
-// Where a view's truth comes from: surfaces traced band by band, or whole frames traced
-// before (block by block, renderFrame).
+// Where a view's truth and fragments come from: surfaces traced band by band, or whole frames
+// traced before (block by block: renderFrame; once for many configurations: a
+// PreparedView); fragments rasterised band by band, or prepared.
 struct TruthInput {
     const TruthPair* surfaces = nullptr;
     const TruthFrames* frames = nullptr;
-    bool haveFine() const { return surfaces ? bool(surfaces->fine) : frames->haveFine; }
+    const PreparedView* prepared = nullptr;  // its bands read as they are
+    bool haveFine() const {
+        return surfaces ? bool(surfaces->fine) : frames ? frames->haveFine : false;
+    }
 };
 
 // One configuration across the bands: its maps, its tallies, the band's images.
@@ -61,7 +66,6 @@ class BandPipeline {
                  const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                  const TimingSpec& timing, const FrameOptions& options, RenderResult& r)
         : scene_(scene),
-          mesh_(sceneBaseMesh(scene, r.camera)),
           truth_(truth),
           timing_(timing),
           options_(options),
@@ -80,13 +84,16 @@ class BandPipeline {
 
     void run() {
         auto t0 = Clock::now();
-        const Rasterizer raster(mesh_, r_.camera, {scene_.cullBackFaces});
-        r_.raster = raster.setupStats();
+        // The drawn mesh culled and binned, unless the fragments are prepared.
+        const BaseMesh mesh = truth_.prepared ? BaseMesh{} : sceneBaseMesh(scene_, r_.camera);
+        std::optional<Rasterizer> raster;
+        if (!truth_.prepared) {
+            raster.emplace(mesh, r_.camera, RasterOptions{scene_.cullBackFaces});
+            r_.raster = raster->setupStats();
+        }
         r_.timingsMs["raster"] += msSince(t0);
         const int W = r_.camera.width(), H = r_.camera.height();
-        PGT_CHECK(!deferGlsl() || (options_.sinks.empty() && !options_.keepImages));
-        r_.glslPending = deferGlsl();
-        if (options_.keepImages || deferGlsl()) r_.truth = Image2D<TruthSample>(W, H);
+        if (options_.keepImages) r_.truth = Image2D<TruthSample>(W, H);
         if (options_.keepImages) {
             r_.fragments = Image2D<Fragment>(W, H);
             for (size_t i = 0; i < runs_.size(); ++i) {
@@ -95,10 +102,11 @@ class BandPipeline {
                 r_.methods.back().errTexels = Image2D<float>(W, H);
             }
         }
-        for (int y0 = 0; y0 < H; y0 += kBandRows) {
+        const int rows = bandRows(W);
+        for (int y0 = 0; y0 < H; y0 += rows) {
             throwIfCancelled();
-            const PixelRect band{0, y0, W, std::min(H, y0 + kBandRows)};
-            rasterBand(raster, band);
+            const PixelRect band{0, y0, W, std::min(H, y0 + rows)};
+            rasterBand(raster ? &*raster : nullptr, band);
             traceBand(band);
             methodsBand(band.y0);
             emit(band);
@@ -107,33 +115,34 @@ class BandPipeline {
     }
 
   private:
-    // Whether some GLSL method waits for drawGlslMethods.
-    bool deferGlsl() const {
-        if (!options_.deferGlsl) return false;
-        for (const MethodRun& m : runs_)
-            if (m.config->kind == MethodKind::Glsl) return true;
-        return false;
-    }
-
-    // The band's fragments appended to the frame's list (pixel indices in the frame).
-    void keepForGlsl(int y0) { r_.glslFragments.append(frags_, y0 * fragments_.width); }
-
-    void rasterBand(const Rasterizer& raster, PixelRect band) {
+    // The band's fragments: rasterised, or the prepared view's.
+    void rasterBand(const Rasterizer* raster, PixelRect band) {
         auto t0 = Clock::now();
-        raster.rasterizeRows(band.y0, band.y1, fragments_, r_.raster);
-        frags_ = compactFragments(fragments_);  // pixel indices within the band
-        sampler_.add(frags_);
+        if (truth_.prepared) {
+            const PreparedView::Band& b =
+                truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))];
+            fragments_ = &b.fragments;
+            frags_ = &b.frags;
+        } else {
+            raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster);
+            ownFrags_ = compactFragments(ownFragments_);  // pixel indices within the band
+            fragments_ = &ownFragments_;
+            frags_ = &ownFrags_;
+        }
+        if (timing_.repeats > 0) sampler_.add(*frags_);
         r_.timingsMs["raster"] += msSince(t0);
     }
 
     void traceBand(PixelRect band) {
         auto t0 = Clock::now();
-        if (truth_.surfaces) {
-            truth_.surfaces->truth->traceRect(r_.camera, band, truthBand_);
-        } else {
-            truthBand_ = rowsOf(truth_.frames->truth, band);
-        }
-        for (const TruthSample& t : truthBand_.data) r_.truthHits += t.hit;
+        truthBand_ = &ownTruth_;
+        if (truth_.surfaces)
+            truth_.surfaces->truth->traceRect(r_.camera, band, ownTruth_);
+        else if (truth_.prepared)
+            truthBand_ = &truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
+        else
+            ownTruth_ = rowsOf(truth_.frames->truth, band);
+        for (const TruthSample& t : truthBand_->data) r_.truthHits += t.hit;
         r_.timingsMs["trace"] += msSince(t0);
         if (!truth_.haveFine()) return;
         auto t1 = Clock::now();
@@ -141,45 +150,73 @@ class BandPipeline {
             truth_.surfaces->fine->traceRect(r_.camera, band, fineBand_);
         else
             fineBand_ = rowsOf(truth_.frames->fine, band);
-        uncertainty_.add(truthBand_, fineBand_, scene_.height.width, scene_.height.height,
+        uncertainty_.add(*truthBand_, fineBand_, scene_.height.width, scene_.height.height,
                          scene_.height.address);
         r_.timingsMs["trace_fine"] += msSince(t1);
     }
 
-    static Image2D<TruthSample> rowsOf(const Image2D<TruthSample>& full, PixelRect band) {
-        Image2D<TruthSample> out(band.width(), band.height());
+    template <class T>
+    static Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
+        Image2D<T> out(band.width(), band.height());
         std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(),
                     out.data.begin());
         return out;
     }
 
+    // One configuration over the band's fragments (V in the exact frame or not).
+    Image2D<MethodPixel> evaluate(const MethodRun& m, bool exactFrame) const {
+        const int W = fragments_->width, H = fragments_->height;
+        if (frags_->pixel.empty()) return Image2D<MethodPixel>(W, H);  // nothing in this band
+        return evaluateMethod(*m.config, *frags_, *m.textures, W, H, exactFrame);
+    }
+
+    // The band's GLSL methods drawn together, in one call of FrameOptions::glDraw when given
+    // (a study's draw gate: one wait a band, not one a method); their exact-frame passes too.
+    void drawGlsl(std::vector<Image2D<MethodPixel>>& exact) {
+        auto draws = [&] {
+            for (size_t i = 0; i < runs_.size(); ++i) {
+                if (runs_[i].config->kind != MethodKind::Glsl) continue;
+                runs_[i].pixels = evaluate(runs_[i], false);
+                if (framesCanDiffer(scene_.base)) exact[i] = evaluate(runs_[i], true);
+            }
+        };
+        const bool any = std::any_of(runs_.begin(), runs_.end(), [](const MethodRun& m) {
+            return m.config->kind == MethodKind::Glsl;
+        });
+        if (!any || frags_->pixel.empty())
+            draws();
+        else if (options_.glDraw)
+            options_.glDraw(draws);
+        else
+            draws();
+    }
+
     // Every configuration over the band's fragments, compared with the band's truth.
     void methodsBand(int y0) {
-        const int W = fragments_.width, H = fragments_.height;
         const Texture& map = scene_.height;
-        if (deferGlsl()) keepForGlsl(y0);
-        for (MethodRun& m : runs_) {
-            const MethodConfig& cfg = *m.config;
-            if (cfg.kind == MethodKind::Glsl && deferGlsl()) continue;
+        auto tg = Clock::now();
+        std::vector<Image2D<MethodPixel>> glExact(runs_.size());
+        drawGlsl(glExact);
+        r_.timingsMs["methods_eval"] += msSince(tg);
+        r_.timingsMs["methods"] += msSince(tg);
+        for (size_t i = 0; i < runs_.size(); ++i) {
+            MethodRun& m = runs_[i];
+            const bool gl = m.config->kind == MethodKind::Glsl;
             auto t0 = Clock::now();
-            if (frags_.pixel.empty()) {
-                m.pixels = Image2D<MethodPixel>(W, H);  // nothing to draw in this band
-            } else {
-                m.pixels = evaluateMethod(cfg, frags_, *m.textures, W, H);
-            }
+            if (!gl) m.pixels = evaluate(m, false);
             r_.timingsMs["methods_eval"] += msSince(t0);
-            m.tally.add(truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels, y0);
-            if (framesCanDiffer(scene_.base) && !frags_.pixel.empty()) {
-                auto exact = evaluateMethod(cfg, frags_, *m.textures, W, H, true);
-                m.tallyExact.add(truthBand_, exact, map.width, map.height, map.address);
-            }
+            m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
+                        y0);
+            if (framesCanDiffer(scene_.base) && !frags_->pixel.empty())
+                m.tallyExact.add(*truthBand_, gl ? glExact[i] : evaluate(m, true), map.width,
+                                 map.height, map.address);
             r_.timingsMs["methods"] += msSince(t0);
         }
     }
 
     void emit(PixelRect band) {
         auto t0 = Clock::now();
-        FrameBand fb{band.y0, band.y1, &truthBand_, &fragments_, {}, {}};
+        FrameBand fb{band.y0, band.y1, truthBand_, fragments_, {}, {}};
         for (size_t i = 0; i < runs_.size(); ++i) {
             fb.pixels.push_back(&runs_[i].pixels);
             fb.errTexels.push_back(&runs_[i].errTexels);
@@ -188,8 +225,8 @@ class BandPipeline {
                 copyRows(runs_[i].errTexels, band.y0, r_.methods[i].errTexels);
             }
         }
-        if (options_.keepImages || deferGlsl()) copyRows(truthBand_, band.y0, r_.truth);
-        if (options_.keepImages) copyRows(fragments_, band.y0, r_.fragments);
+        if (options_.keepImages) copyRows(*truthBand_, band.y0, r_.truth);
+        if (options_.keepImages) copyRows(*fragments_, band.y0, r_.fragments);
         for (FrameSink* sink : options_.sinks) sink->band(r_, fb);
         r_.timingsMs["write"] += msSince(t0);
     }
@@ -232,7 +269,6 @@ class BandPipeline {
     }
 
     const Scene& scene_;
-    const BaseMesh mesh_;
     const TruthInput truth_;
     const TimingSpec& timing_;
     const FrameOptions& options_;
@@ -242,9 +278,14 @@ class BandPipeline {
     std::vector<MethodRun> runs_;
     UncertaintyTally uncertainty_;
     // The current band.
-    Image2D<Fragment> fragments_;
-    FragmentList frags_;
-    Image2D<TruthSample> truthBand_, fineBand_;
+    // The current band: its truth, fragments (as an image and as a list): what was traced and
+    // rasterised here (own*), or a prepared view's.
+    const Image2D<TruthSample>* truthBand_ = nullptr;
+    const Image2D<Fragment>* fragments_ = nullptr;
+    const FragmentList* frags_ = nullptr;
+    Image2D<TruthSample> ownTruth_, fineBand_;
+    Image2D<Fragment> ownFragments_;
+    FragmentList ownFrags_;
 };
 
 RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,
@@ -257,6 +298,8 @@ RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& 
     if (truth.surfaces) {
         r.truthBuild = truth.surfaces->truth->stats();
         if (truth.surfaces->fine) r.truthBuildFine = truth.surfaces->fine->stats();
+    } else if (truth.prepared) {
+        r.truthBuild = truth.prepared->build;
     } else {
         r.truthBuild = truth.frames->build;
         r.truthBuildFine = truth.frames->buildFine;
@@ -271,6 +314,40 @@ RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& 
 
 }  // namespace
 
+PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths) {
+    PreparedView v;
+    v.view = view;
+    v.camera = makeCamera(scene, view);
+    v.build = truths.truth->stats();
+    const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
+    const Image2D<Fragment> fragments =
+        rasterize(sceneBaseMesh(scene, v.camera), v.camera, {scene.cullBackFaces}, &v.raster);
+    const int W = v.camera.width(), H = v.camera.height();
+    for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
+        const int rows = std::min(H, y0 + bandRows(W)) - y0;
+        PreparedView::Band b;
+        b.truth = Image2D<TruthSample>(W, rows);
+        b.fragments = Image2D<Fragment>(W, rows);
+        std::copy_n(truth.data.begin() + int64_t(y0) * W, b.truth.size(), b.truth.data.begin());
+        std::copy_n(fragments.data.begin() + int64_t(y0) * W, b.fragments.size(),
+                    b.fragments.data.begin());
+        b.frags = compactFragments(b.fragments);
+        v.bands.push_back(std::move(b));
+    }
+    return v;
+}
+
+RenderResult renderPrepared(const Scene& scene, const PreparedView& v,
+                            const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                            const FrameOptions& frame) {
+    TruthInput input;
+    input.prepared = &v;
+    RenderResult r = renderWith(scene, v.view, v.camera, input, configs, textures,
+                                TimingSpec{.repeats = 0}, frame);
+    r.raster = v.raster;
+    return r;
+}
+
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, const FrameOptions& frame) {
@@ -278,35 +355,6 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
     input.surfaces = &truths;
     return renderWith(scene, view, makeCamera(scene, view), input, configs, textures, timing,
                       frame);
-}
-
-void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures) {
-    if (!r.glslPending) return;
-    auto t0 = Clock::now();
-    const Texture& map = scene.height;
-    const int W = r.camera.width(), H = r.camera.height();
-    for (MethodFrame& mf : r.methods) {
-        const MethodConfig& cfg = mf.config;
-        if (cfg.kind != MethodKind::Glsl) continue;
-        const MethodTextures& tex = textures.at(cfg, r.view.displacement);
-        const FragmentList& frags = r.glslFragments;
-        Image2D<MethodPixel> pixels(W, H);
-        if (frags.size() > 0) pixels = evaluateGlsl(cfg, frags, tex, W, H, false);
-        ErrorTally tally;
-        tally.add(r.truth, pixels, map.width, map.height, map.address);
-        mf.stats = tally.finish();
-        if (framesCanDiffer(scene.base)) {
-            ErrorTally exact;
-            if (frags.size() > 0) pixels = evaluateGlsl(cfg, frags, tex, W, H, true);
-            exact.add(r.truth, pixels, map.width, map.height, map.address);
-            mf.statsExactFrame = exact.finish();
-        }
-    }
-    r.glslFragments = {};
-    r.truth = {};
-    r.glslPending = false;
-    r.timingsMs["methods_eval"] += msSince(t0);
-    r.timingsMs["methods"] += msSince(t0);
 }
 
 void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
@@ -338,7 +386,7 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
     // interleaved rows (6 + 3 per method floats).
-    const double band = double(width) * std::min(height, kBandRows);
+    const double band = double(width) * std::min(height, bandRows(width));
     double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 68 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     if (m.writesImages) perBandPixel += (6.0 + 3.0 * methods) * sizeof(float) * 2;

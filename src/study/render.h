@@ -4,7 +4,9 @@
 // which is why the pieces are separate.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -57,17 +59,21 @@ struct RenderResult {
     RasterStats raster;
     std::vector<MethodFrame> methods;
     std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
-    FragmentList timed;          // FrameOptions::deferTiming: the seeded subset to time methods on
-    bool glslPending = false;    // FrameOptions::deferGlsl: GLSL methods wait for their draws
-    FragmentList glslFragments;  // and the frame's fragments they are drawn over (with `truth`)
-    int64_t truthHits = 0;       // pixels whose truth ray hit the surface
-    int truthBlocks = 1;         // > 1: the truth was traced block by block (TruthSpec::memoryMb)
+    FragmentList timed;     // FrameOptions::deferTiming: the seeded subset to time methods on
+    int64_t truthHits = 0;  // pixels whose truth ray hit the surface
+    int truthBlocks = 1;    // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
-// The frame is made in bands of rows (kBandRows, the last one shorter): each band is
+// The frame is made in bands of rows (bandRows, the last one shorter): each band is
 // rasterised, traced, evaluated and compared over all cores, handed to the sinks, and
-// dropped, so memory follows the band, not the frame.
-constexpr int kBandRows = 64;
+// dropped, so memory follows the band, not the frame. A band has at least kBandRows rows
+// and, in narrow frames, enough rows for kBandPixels pixels (a study's 96^2 frame is one band:
+// one GL draw per method, not two); always an even count, so that the GL's 2x2 quads stay
+// whole.
+constexpr int kBandRows = 64, kBandPixels = 16384;
+inline int bandRows(int width) {
+    return std::max(kBandRows, (kBandPixels / std::max(width, 1)) & ~1);
+}
 
 // One band's images, each W x (y1 - y0), row y of the frame at row y - y0.
 struct FrameBand {
@@ -86,16 +92,16 @@ class FrameSink {
 };
 
 struct FrameOptions {
-    bool keepImages = true;         // assemble the whole frame's images in the result
-    std::vector<FrameSink*> sinks;  // get every band
-    bool keepCodedErrors = false;   // MethodFrame::coded (4 bytes a pixel per method)
+    bool keepImages = true;              // assemble the whole frame's images in the result
+    std::vector<FrameSink*> sinks = {};  // get every band
+    bool keepCodedErrors = false;        // MethodFrame::coded (4 bytes a pixel per method)
     // Leave the methods' timing to timeMethods (RenderResult::timed keeps the subset):
     // a study times them in a phase of its own, where no rendering competes for the cores.
     bool deferTiming = false;
-    // Leave the GLSL methods to drawGlslMethods (the frame's truth and fragments are kept for
-    // them): a study draws them in a phase of their own, so that a software GL's threads do
-    // not wait for cores that the rendering holds. Not with sinks (they need every band).
-    bool deferGlsl = false;
+    // How each GLSL draw runs (a band's fragments at a time, as for every method): directly
+    // when empty; a study runs them through its draw gate, so that no C++ timing runs beside
+    // them (study/study_cases.cpp).
+    std::function<void(const std::function<void()>&)> glDraw = {};
 };
 
 // The per-view measurement: one view with given truth surfaces (built for the view's (s, b)):
@@ -117,17 +123,31 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
 FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing);
 
-// The GLSL methods of a deferGlsl result (none: nothing to do): drawn over the whole frame's
-// fragments, compared with its truth; drops the kept frame. (Timed with the C++ methods, on
-// the timing subset.)
-void drawGlslMethods(RenderResult& r, const Scene& scene, const MethodTextureCache& textures);
+// A view traced and rasterised once, then measured for any number of configurations (pgt
+// fit's candidates) by the same pipeline as renderView, its truth and fragments copied band by
+// band instead of traced and rasterised (no uncertainty, no timing).
+struct PreparedView {
+    ViewSpec view;
+    Camera camera;
+    TruthBuildStats build;
+    RasterStats raster;
+    struct Band {  // the pipeline's bands of kBandRows rows
+        Image2D<TruthSample> truth;
+        Image2D<Fragment> fragments;
+        FragmentList frags;  // compactFragments(fragments)
+    };
+    std::vector<Band> bands;
+};
+PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths);
+RenderResult renderPrepared(const Scene& scene, const PreparedView& view,
+                            const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
+                            const FrameOptions& frame = {});
 
 struct RenderOptions {
-    RenderOptions(int repeats = 3) : timingRepeats(repeats) {}  // NOLINT: {repeats} reads well
-    int timingRepeats = 3;
+    int timingRepeats = 3;                // 0: no timing
     int timingFragments = 65536;          // a seeded subset of this many (0: every fragment)
     int64_t glTimingFragments = 1 << 20;  // GL: the subset repeated to this many per draw
-    FrameOptions frame;
+    FrameOptions frame = {};
 };
 
 // The whole `pgt render`: builds the truth for the scene's (s, b) and renders its view.

@@ -128,7 +128,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
         MethodTextureCache textures(s.height, s.uvExtent);
         // No method timing: the stress table reports counts and errors, not cost.
         RenderResult r = renderView(s, s.view(), truths, s.methods, textures, {0, 0, 1},
-                                    FrameOptions{false, {}, false});
+                                    FrameOptions{.keepImages = false, .sinks = {}});
         PrecisionCheck pc = truths.truth->checkPrecision(r.camera, s.height, opt.precisionSamples);
         for (const auto& m : r.methods) {
             const FrameStats& st = m.stats;

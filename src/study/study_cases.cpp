@@ -34,12 +34,13 @@ ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
 namespace {
 
 // One case rendered with its methods' timing deferred (and, with images, its files being
-// written: `writer` finishes them once the timing is in).
+// written: `writer` finishes them once the timing is in), its GLSL draws run by `glDraw`.
 RenderResult renderCase(const Scene& scene, const Study& study, const CaseOptions& opt,
                         const StudyCase& c, const TruthPair& truths, MethodTextureCache& textures,
-                        std::unique_ptr<RenderWriter>& writer) {
+                        std::unique_ptr<RenderWriter>& writer,
+                        const std::function<void(const std::function<void()>&)>& glDraw) {
     const ViewSpec view = caseView(scene, study, c);
-    FrameOptions frame{.keepImages = false, .sinks = {}, .deferTiming = true};
+    FrameOptions frame{.keepImages = false, .deferTiming = true, .glDraw = glDraw};
     if (!opt.imagesDir.empty()) {
         char dir[32];
         std::snprintf(dir, sizeof dir, "case_%05d", c.index);
@@ -48,8 +49,6 @@ RenderResult renderCase(const Scene& scene, const Study& study, const CaseOption
             view.camera.height, study.configs);
         frame.sinks.push_back(writer.get());
         frame.keepCodedErrors = true;
-    } else {
-        frame.deferGlsl = true;
     }
     return renderView(scene, view, truths, study.configs, textures, study.timing, frame);
 }
@@ -186,10 +185,13 @@ struct CaseInFlight {
 
 void runCase(CaseRunner& run, const TruthPair& truths, CaseInFlight& f) {
     throwIfCancelled();
+    // The render's GLSL draws (a band at a time) run through the gate, alone with respect
+    // to C++ timings.
+    auto glDraw = [&run](const std::function<void()>& draw) { run.gate.draw(draw); };
     DrawGate::isolated([&] {
-        f.r = renderCase(run.scene, run.study, run.opt, *f.c, truths, run.textures, f.writer);
+        f.r =
+            renderCase(run.scene, run.study, run.opt, *f.c, truths, run.textures, f.writer, glDraw);
     });
-    if (f.r.glslPending) run.gate.draw([&] { drawGlslMethods(f.r, run.scene, run.textures); });
     run.gate.timing([&] { timeMethods(f.r, run.textures, run.study.timing, false); });
     run.glTimings.fill(f.r, run.study, *f.c);
 }
