@@ -35,9 +35,6 @@ GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* dat
     return t;
 }
 
-// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
-// bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
-// samples).
 // The map's texels as the GL takes them: 1 or 3 channels, d = 1 - h when `depth`.
 std::vector<float> mapTexels(const Texture& t, bool depth) {
     const int c = t.channels >= 3 ? 3 : 1;
@@ -50,8 +47,11 @@ std::vector<float> mapTexels(const Texture& t, bool depth) {
     return data;
 }
 
-// A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not glGenerateMipmap's, and
-// trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and GL filter alike.
+// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
+// bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
+// samples). A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not
+// glGenerateMipmap's, and trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and
+// GL filter alike.
 GLuint uploadMap(const Texture& t, bool depth) {
     const bool rgb = t.channels >= 3;
     const GLenum internal = rgb ? GL_RGB32F : GL_R32F, format = rgb ? GL_RGB : GL_RED;

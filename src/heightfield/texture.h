@@ -104,13 +104,6 @@ template <class Real>
     return bottom + (top - bottom) * fy;
 }
 
-// All channels at once (normal maps): same weights as sampleBilinear.
-template <class Real>
-inline Vec3<Real> sampleBilinear3(const Texture& t, Vec2<Real> uv, bool gpu8 = false) {
-    return {sampleBilinear<Real>(t, uv, 0, gpu8), sampleBilinear<Real>(t, uv, 1, gpu8),
-            sampleBilinear<Real>(t, uv, 2, gpu8)};
-}
-
 // The level of detail lambda of the GL specification (4.6 §8.14.1, eq. 8.6-8.7, no bias or
 // clamps) for a map of W x H texels and the UV derivatives along screen x and y:
 // rho = max(|d(u W, v H)/dx|, |d(u W, v H)/dy|), lambda = log2(rho). Non-finite derivatives

@@ -42,10 +42,12 @@ struct MethodFrame {
     // A study's GLSL methods are timed once per view direction (docs/studies.md): the case
     // whose fragments and (s, b) the timing ran on; -1: this frame's own.
     int timingCase = -1;
-    // The build time of its precomputed data (maxmip's pyramid): once per map, shared by every
-    // view and (s, b) of a run; 0 for methods without any.
+    // The build time of its precomputed maps (the min-max pyramid, cone maps; methods/maps.h):
+    // once per map, shared by every view and (s, b) of a run; 0 for methods without any.
     double precomputeMs = 0;
-    std::string timingBackend;  // "cpu", or "gl: RENDERER" for GLSL methods
+    // "cpu", or for GLSL methods "gl timer query: RENDERER" or "gl wall clock: RENDERER
+    // (software renderer, not a GPU time)" (study/evaluate.h timingBackend).
+    std::string timingBackend;
 };
 
 struct RenderResult {

@@ -93,7 +93,9 @@ struct TruthSurface::Impl {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
         s.hit = true;
         if (geometry == TruthGeometry::Grid) {
-            // Grid hits report u, v over the whole grid primitive (BUILD-NOTES.md).
+            // Embree 3.13 reports a grid hit's u, v over the whole grid primitive (0..1 across
+            // its width x height vertices), not over the cell that was hit: the cell is found
+            // here, and (u, v) made local to it.
             const RTCGrid& g = grids[rh.hit.primID];
             const int i0 = gridStart[rh.hit.primID].first, j0 = gridStart[rh.hit.primID].second;
             double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
