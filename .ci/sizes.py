@@ -1,9 +1,10 @@
 #!/usr/bin/python3
-"""Size limits of src/ (docs/layout.md): at most 5 functions over 60 lines, no source file
-over 600 lines. Functions are found as clang-format lays them out: a line at indentation 0
-or 4 that opens a signature with "(" and ends, possibly lines later, in "{"; the body runs
-to the matching "}". Prints the longest functions; exits 1 when a limit is exceeded.
-Usage: .ci/sizes.py [REPO]"""
+"""Size limits of src/ and analysis/ (docs/layout.md): in src/, at most 5 functions over 60
+lines; in analysis/ (Python), none; no file over 600 lines. C++ functions are found as
+clang-format lays them out: a line at indentation 0 or 4 that opens a signature with "(" and
+ends, possibly lines later, in "{"; the body runs to the matching "}". A Python function runs
+from its "def" to the next line indented as deep or less. Prints the long ones; exits 1 when
+a limit is exceeded. Usage: .ci/sizes.py [REPO]"""
 import re
 import subprocess
 import sys
@@ -48,25 +49,50 @@ def functions(path):
     return out
 
 
+def python_functions(path):
+    """(length, first line, name) of every def in a Python file (blank lines at a body's end
+    not counted)."""
+    lines = open(path, encoding='utf-8').read().split('\n')
+    out = []
+    for i, line in enumerate(lines):
+        m = re.match(r'^(\s*)def (\w+)', line)
+        if not m:
+            continue
+        indent, last = len(m.group(1)), i
+        for k in range(i + 1, len(lines)):
+            if lines[k].strip() and len(lines[k]) - len(lines[k].lstrip()) <= indent:
+                break
+            if lines[k].strip():
+                last = k
+        out.append((last - i + 1, i + 1, m.group(2)))
+    return out
+
+
 def main():
     repo = sys.argv[1] if len(sys.argv) > 1 else '.'
-    files = subprocess.check_output(['git', '-C', repo, 'ls-files', 'src/*.cpp', 'src/*.h'],
-                                    text=True).split()
-    long_functions, long_files = [], []
-    for f in files:
+    listed = lambda *patterns: subprocess.check_output(  # noqa: E731
+        ['git', '-C', repo, 'ls-files', *patterns], text=True).split()
+    long_functions, long_python, long_files = [], [], []
+    for f in listed('src/*.cpp', 'src/*.h') + listed('analysis/*.py'):
         path = repo + '/' + f
         n = sum(1 for _ in open(path, encoding='utf-8'))
         if n > MAX_FILE_LINES:
             long_files.append((n, f))
-        long_functions += [(n, f, line, name) for n, line, name in functions(path) if n > LONG]
+        if f.endswith('.py'):
+            long_python += [(n, f, line, name) for n, line, name in python_functions(path)
+                            if n > LONG]
+        else:
+            long_functions += [(n, f, line, name) for n, line, name in functions(path)
+                               if n > LONG]
     long_functions.sort(reverse=True)
-    for n, f, line, name in long_functions:
+    for n, f, line, name in long_functions + long_python:
         print(f'sizes: {name} ({f}:{line}) is {n} lines')
     for n, f in long_files:
         print(f'sizes: {f} is {n} lines, over {MAX_FILE_LINES}')
-    ok = len(long_functions) <= MAX_LONG_FUNCTIONS and not long_files
-    print(f'sizes: {len(long_functions)} functions over {LONG} lines (at most '
-          f'{MAX_LONG_FUNCTIONS}), {len(long_files)} files over {MAX_FILE_LINES} lines: '
+    ok = len(long_functions) <= MAX_LONG_FUNCTIONS and not long_files and not long_python
+    print(f'sizes: {len(long_functions)} C++ functions over {LONG} lines (at most '
+          f'{MAX_LONG_FUNCTIONS}), {len(long_python)} Python functions over {LONG} lines '
+          f'(none allowed), {len(long_files)} files over {MAX_FILE_LINES} lines: '
           + ('ok' if ok else 'FAILED'))
     return 0 if ok else 1
 

@@ -15,6 +15,23 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import KEYS, nice, pd, plt, save_figure, write_text  # noqa: E402
 
 
+def plot_label(grp, label, args, worse, growth):
+    """One configuration's old and new error against view angle."""
+    m_old, m_new = args.metric + "_old", args.metric + "_new"
+    by_theta = grp.groupby("theta")[[m_old, m_new]].mean()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(by_theta.index, by_theta[m_old], marker="o", label="old")
+    ax.plot(by_theta.index, by_theta[m_new], marker="s", label="new")
+    ax.set_yscale("log")
+    ax.set_xlabel("view angle theta [degrees]")
+    ax.set_ylabel(f"{args.metric} UV error [texels]")
+    ax.set_title(f"{label}: {'REGRESSION' if worse else 'ok'} ({growth:+.1%})")
+    ax.legend()
+    fig.tight_layout()
+    save_figure(fig, os.path.join(args.out, f"compare_{label}.png"), dpi=100)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("old")
@@ -49,18 +66,7 @@ def main():
         rows.append((label, len(grp), a, b, growth, worse))
         if worse:
             regressions.append(label)
-        by_theta = grp.groupby("theta")[[m_old, m_new]].mean()
-        fig, ax = plt.subplots(figsize=(6, 4))
-        ax.plot(by_theta.index, by_theta[m_old], marker="o", label="old")
-        ax.plot(by_theta.index, by_theta[m_new], marker="s", label="new")
-        ax.set_yscale("log")
-        ax.set_xlabel("view angle theta [degrees]")
-        ax.set_ylabel(f"{args.metric} UV error [texels]")
-        ax.set_title(f"{label}: {'REGRESSION' if worse else 'ok'} ({growth:+.1%})")
-        ax.legend()
-        fig.tight_layout()
-        save_figure(fig, os.path.join(args.out, f"compare_{label}.png"), dpi=100)
-        plt.close(fig)
+        plot_label(grp, label, args, worse, growth)
     only_old = sorted(set(old["label"]) - set(new["label"]))
     only_new = sorted(set(new["label"]) - set(old["label"]))
     lines = ["# pgt comparison", "", f"OLD `{args.old}`, NEW `{args.new}`, metric `{args.metric}`, "

@@ -58,6 +58,16 @@ def fig_error_vs_theta(df, reps, figdir):
     return out
 
 
+def mark_precomputed(ax, agg, pts):
+    """Circles precomputed methods: their per-pixel cost leaves out a build made once per map."""
+    for i in np.flatnonzero(agg["precompute"].values > 0):
+        ax.scatter([max(pts[i][0], 1e-2)], [pts[i][1]], s=90, facecolors="none",
+                   edgecolors="k", lw=0.8)
+        ax.annotate(f"+{nice(agg['precompute'].iloc[i], 3)} ms precompute",
+                    (max(pts[i][0], 1e-2), pts[i][1]), fontsize=6, color="0.3",
+                    textcoords="offset points", xytext=(4, -10))
+
+
 def fig_pareto(df, figdir):
     if "timing_backend" not in df.columns:  # studies written before GLSL methods existed
         df = df.assign(timing_backend="cpu")
@@ -101,13 +111,7 @@ def fig_pareto(df, figdir):
         for i in front:
             ax.annotate(agg["label"].iloc[i], (max(pts[i][0], 1e-2), pts[i][1]), fontsize=7,
                         textcoords="offset points", xytext=(4, 4))
-        # Precomputed methods: the per-pixel cost leaves out a build made once per map.
-        for i in np.flatnonzero(agg["precompute"].values > 0):
-            ax.scatter([max(pts[i][0], 1e-2)], [pts[i][1]], s=90, facecolors="none",
-                       edgecolors="k", lw=0.8)
-            ax.annotate(f"+{nice(agg['precompute'].iloc[i], 3)} ms precompute",
-                        (max(pts[i][0], 1e-2), pts[i][1]), fontsize=6, color="0.3",
-                        textcoords="offset points", xytext=(4, -10))
+        mark_precomputed(ax, agg, pts)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel(xlabel)
@@ -178,6 +182,118 @@ def fig_heatmaps(df, reps, figdir):
     return files
 
 
+def header_lines(df, study):
+    """The report's title, the study's scene, cases and the units."""
+    cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
+    lines = ["# pgt study report", ""]
+    if study:
+        hm = study["scene"]["heightmap"]
+        lines.append(f"Scene: `{hm['source']}` height map {hm['size'][0]}x{hm['size'][1]}, "
+                     f"address `{study['scene']['address']}`, resolution "
+                     f"{study['resolution'][0]}x{study['resolution'][1]}.")
+    lines += [
+        f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
+        f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "
+        f"scale {', '.join(f'{s:g}' for s in sorted(df['scale'].unique()))}; "
+        f"bias ratio {', '.join(f'{r:g}' for r in sorted(df['bias_ratio'].dropna().unique()))}) "
+        f"x {df['label'].nunique()} method configurations = {len(df)} rows.",
+        "",
+        f"Truth uncertainty (rate vs 2 x rate), p99 over pixels: median over cases "
+        f"{nice(df['truth_uncertainty_p99'].median())} texels, largest "
+        f"{nice(df['truth_uncertainty_p99'].max())} texels. Errors below it are below the "
+        "truth's own tessellation error.",
+        "",
+        "Errors are UV distances in texels (docs/model.md §7); run time is the method alone, "
+        "single-threaded, on this machine's CPU; GLSL methods (marked GL) are timed by the GL "
+        "named in results.csv's timing_backend, not comparable with one CPU thread.",
+        ""]
+    return lines
+
+
+def runtime_lines(theta_figs, agg, pareto_files, fronts):
+    """Error against view angle and against run time, with the Pareto fronts and the table."""
+    lines = ["## Error against view angle", ""]
+    for scale, ratio, fname in theta_figs:
+        lines += [f"![error vs theta, s = {scale:g}](figures/{fname})", ""]
+    lines += ["## Error against run time", "",
+              f"![error vs ns/px](figures/{pareto_files['ns']})", "",
+              f"![error vs fetches](figures/{pareto_files['fetches']})", "",
+              "Pareto front (mean error over all cases against ns/px): "
+              + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", ""]
+    if "gl" in fronts:
+        backends = sorted({str(b) for b in agg["backend"] if str(b) != "cpu"})
+        lines += ["GL Pareto front (the GLSL methods against their GL time, dashed; "
+                  + "; ".join(backends) + "): "
+                  + ", ".join(f"`{l}`" for l in fronts["gl"]) + ".", ""]
+    lines += ["Circled points are precomputed methods: their ns/px leaves out the build of "
+              "their maps, made once per height map and given beside them (precompute ms).", "",
+              "| configuration | mean error | p90 | ns/px | fetches/px | precompute ms |",
+              "|---|---|---|---|---|---|"]
+    for _, r in agg.sort_values("mean").iterrows():
+        gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
+        pre = nice(r["precompute"], 3) if r["precompute"] > 0 else "—"
+        lines.append(f"| {r['label']} | {nice(r['mean'])} | {nice(r['p90'])} | "
+                     f"{nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} | {pre} |")
+    return lines
+
+
+def defaults_lines(table, table80, heat):
+    """The scale and bias defaults, over all angles and up to 80 degrees, and the heat maps."""
+    lines = ["", "## Scale and bias defaults", "",
+             "For each method (its configuration as the scene lists it) and scale: the bias "
+             "ratio b/s with the lowest error averaged over the study's view angles, by mean "
+             "and by p90, beside the ratio the source documents use.", "",
+             "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
+             "documents' b/s | mean there | spread of the mean over b/s |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for _, r in table.iterrows():
+        lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
+                     f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} | "
+                     f"{nice(r['doc_ratio'])} ({r['doc_source']}) | {nice(r['mean_at_doc'])} | "
+                     f"{r['spread']:.1%} |")
+    lines += ["", "A small spread means the bias hardly matters for that method (steep, pom and "
+              "relief are translation-covariant in b on an infinite plane: what is left is the "
+              "noise of the estimate), so the 'best' ratio there is not a recommendation."]
+    if table80 is not None and not table80.empty:
+        lines += ["", "The same over view angles up to 80 degrees only:", "",
+                  "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there |",
+                  "|---|---|---|---|---|---|"]
+        for _, r in table80.iterrows():
+            lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
+                         f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} |")
+    lines += [""]
+    for fname in heat:
+        lines += [f"![{fname}](figures/{fname})", ""]
+    return lines
+
+
+def frame_and_stiff_lines(df):
+    """The tangent frame's share of the error (meshes) and the stiff cases counted."""
+    lines = []
+    if "mean_exact_frame" in df.columns and df["mean_exact_frame"].notna().any():
+        fr = df.groupby("label")[["mean", "mean_exact_frame"]].mean()
+        lines += ["## Method error and tangent-frame error", "",
+                  "Each method also ran with the exact frame of the drawn surface (T along dS/du, "
+                  "B along dS/dv, N the normal the truth displaces along). Its error is the "
+                  "method's own; the rest is what the per-vertex (Listing 7.4/7.8) frame adds.", "",
+                  "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
+        for label, r in fr.iterrows():
+            share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
+            lines.append(f"| {label} | {nice(r['mean'])} | {nice(r['mean_exact_frame'])} | "
+                         f"{share:+.1%} |")
+        lines.append("")
+    bad = df.groupby("label")[["nonfinite", "zero_divide", "step_limit"]].sum()
+    bad = bad[(bad > 0).any(axis=1)]
+    if not bad.empty:
+        lines += ["## Stiff cases counted", "", "| configuration | non-finite px | 0/0 or dot <= 0 | "
+                  "step limit |", "|---|---|---|---|"]
+        for label, r in bad.iterrows():
+            lines.append(f"| {label} | {int(r['nonfinite'])} | {int(r['zero_divide'])} | "
+                         f"{int(r['step_limit'])} |")
+        lines.append("")
+    return lines
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("dir", help="study directory (results.csv, study.json)")
@@ -204,99 +320,8 @@ def main():
     pool.close()
     pool.join()
 
-    cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
-    lines = ["# pgt study report", ""]
-    if study:
-        lines.append(f"Scene: `{study['scene']['heightmap']['source']}` height map "
-                     f"{study['scene']['heightmap']['size'][0]}x{study['scene']['heightmap']['size'][1]}, "
-                     f"address `{study['scene']['address']}`, resolution "
-                     f"{study['resolution'][0]}x{study['resolution'][1]}.")
-    lines += [
-        f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
-        f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "
-        f"scale {', '.join(f'{s:g}' for s in sorted(df['scale'].unique()))}; "
-        f"bias ratio {', '.join(f'{r:g}' for r in sorted(df['bias_ratio'].dropna().unique()))}) "
-        f"x {df['label'].nunique()} method configurations = {len(df)} rows.",
-        "",
-        f"Truth uncertainty (rate vs 2 x rate), p99 over pixels: median over cases "
-        f"{nice(df['truth_uncertainty_p99'].median())} texels, largest "
-        f"{nice(df['truth_uncertainty_p99'].max())} texels. Errors below it are below the "
-        "truth's own tessellation error.",
-        "",
-        "Errors are UV distances in texels (docs/model.md §7); run time is the method alone, "
-        "single-threaded, on this machine's CPU; GLSL methods (marked GL) are timed by the GL "
-        "named in results.csv's timing_backend, not comparable with one CPU thread.",
-        "",
-        "## Error against view angle", ""]
-    for scale, ratio, fname in theta_figs:
-        lines.append(f"![error vs theta, s = {scale:g}](figures/{fname})")
-        lines.append("")
-    lines += ["## Error against run time", "",
-              f"![error vs ns/px](figures/{pareto_files['ns']})", "",
-              f"![error vs fetches](figures/{pareto_files['fetches']})", "",
-              "Pareto front (mean error over all cases against ns/px): "
-              + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", ""]
-    if "gl" in fronts:
-        backends = sorted({str(b) for b in agg["backend"] if str(b) != "cpu"})
-        lines += ["GL Pareto front (the GLSL methods against their GL time, dashed; "
-                  + "; ".join(backends) + "): "
-                  + ", ".join(f"`{l}`" for l in fronts["gl"]) + ".", ""]
-    lines += [
-              "Circled points are precomputed methods: their ns/px leaves out the build of "
-              "their maps, made once per height map and given beside them (precompute ms).", "",
-              "| configuration | mean error | p90 | ns/px | fetches/px | precompute ms |",
-              "|---|---|---|---|---|---|"]
-    for _, r in agg.sort_values("mean").iterrows():
-        gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
-        pre = nice(r["precompute"], 3) if r["precompute"] > 0 else "—"
-        lines.append(f"| {r['label']} | {nice(r['mean'])} | {nice(r['p90'])} | "
-                     f"{nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} | {pre} |")
-    lines += ["", "## Scale and bias defaults", "",
-              "For each method (its configuration as the scene lists it) and scale: the bias "
-              "ratio b/s with the lowest error averaged over the study's view angles, by mean "
-              "and by p90, beside the ratio the source documents use.", "",
-              "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
-              "documents' b/s | mean there | spread of the mean over b/s |",
-              "|---|---|---|---|---|---|---|---|---|"]
-    for _, r in table.iterrows():
-        lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
-                     f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} | "
-                     f"{nice(r['doc_ratio'])} ({r['doc_source']}) | {nice(r['mean_at_doc'])} | "
-                     f"{r['spread']:.1%} |")
-    lines += ["", "A small spread means the bias hardly matters for that method (steep, pom and "
-              "relief are translation-covariant in b on an infinite plane: what is left is the "
-              "noise of the estimate), so the 'best' ratio there is not a recommendation."]
-    if table80 is not None and not table80.empty:
-        lines += ["", "The same over view angles up to 80 degrees only:", "",
-                  "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there |",
-                  "|---|---|---|---|---|---|"]
-        for _, r in table80.iterrows():
-            lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
-                         f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} |")
-    lines += [""]
-    for fname in heat:
-        lines += [f"![{fname}](figures/{fname})", ""]
-    if "mean_exact_frame" in df.columns and df["mean_exact_frame"].notna().any():
-        fr = df.groupby("label")[["mean", "mean_exact_frame"]].mean()
-        lines += ["## Method error and tangent-frame error", "",
-                  "Each method also ran with the exact frame of the drawn surface (T along dS/du, "
-                  "B along dS/dv, N the normal the truth displaces along). Its error is the "
-                  "method's own; the rest is what the per-vertex (Listing 7.4/7.8) frame adds.", "",
-                  "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
-        for label, r in fr.iterrows():
-            share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
-            lines.append(f"| {label} | {nice(r['mean'])} | {nice(r['mean_exact_frame'])} | "
-                         f"{share:+.1%} |")
-        lines.append("")
-    bad = df.groupby("label")[["nonfinite", "zero_divide", "step_limit"]].sum()
-    bad = bad[(bad > 0).any(axis=1)]
-    if not bad.empty:
-        lines += ["## Stiff cases counted", "", "| configuration | non-finite px | 0/0 or dot <= 0 | "
-                  "step limit |", "|---|---|---|---|"]
-        for label, r in bad.iterrows():
-            lines.append(f"| {label} | {int(r['nonfinite'])} | {int(r['zero_divide'])} | "
-                         f"{int(r['step_limit'])} |")
-        lines.append("")
+    lines = (header_lines(df, study) + runtime_lines(theta_figs, agg, pareto_files, fronts)
+             + defaults_lines(table, table80, heat) + frame_and_stiff_lines(df))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))
     print(f"wrote {os.path.join(args.dir, 'report.md')}")
 
