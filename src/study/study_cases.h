@@ -1,7 +1,8 @@
-// A study's cases run, in the plan's order: one truth per (s, b), reused for every view of
-// it; the cases of a surface in a pipeline, at most one in flight per core, each rendered, its
-// GLSL methods drawn and its C++ methods timed, then handed on in case order the moment it
-// and the cases before it are done (so a kill loses at most the cases in flight). GLSL
+// A study's cases run, surface by surface ((s, b) in the plan's order): one truth per (s, b),
+// reused for every view of it; the cases of a surface in a pipeline, at most one in flight
+// per core, grazing views first (the costliest, so that the surface ends on cheap ones), each
+// rendered, its GLSL methods drawn and its C++ methods timed, then handed on in that order the
+// moment it and the cases before it are done (so a kill loses at most the cases in flight). GLSL
 // methods are timed once per view direction (Study::timing.glPerView), with nothing beside
 // them; draws and C++ timings never overlap (docs/studies.md).
 #pragma once

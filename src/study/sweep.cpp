@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
@@ -312,6 +313,27 @@ std::string hms(double seconds) {
 
 namespace {
 
+// results.csv's rows in case order (stable: a case's rows keep their configuration order),
+// rewritten whole when they were not.
+void sortByCase(const std::string& path) {
+    const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
+    bool torn = false;
+    auto records = splitCsvRecords(text, header().size(), &torn);
+    auto caseOf = [](const std::vector<std::string>& f) {  // a hand-edited case goes last
+        char* end = nullptr;
+        const long long v = f.empty() ? 0 : std::strtoll(f[0].c_str(), &end, 10);
+        return f.empty() || end == f[0].c_str() || *end ? LLONG_MAX : v;
+    };
+    if (torn || std::is_sorted(records.begin(), records.end(),
+                               [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); }))
+        return;
+    std::stable_sort(records.begin(), records.end(),
+                     [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); });
+    std::string sorted = header();
+    for (const auto& f : records) sorted += resultTable().line(f);
+    writeTextFile(path, sorted);
+}
+
 // The study directory ready to append to: study.json written or checked against this study,
 // results.csv cut to its complete cases. Returns the keys of the cases already there.
 std::set<std::string> openStudyDir(const Study& study, const Json& identity,
@@ -415,6 +437,9 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     }
     ::close(fd);
     sum.finished = sum.resumed + sum.done == sum.total;
+    // Cases land in the order they finish; a finished study is in case order, as one run on
+    // one machine and a merge write it.
+    if (sum.finished && !todo.empty()) sortByCase(csvPath);
     if (!todo.empty()) progress.show(true);
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
