@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A pgt study on a Slurm cluster: a job array of N shards (pgt sweep --shard slurm), then a
+# A pgt study on a Slurm cluster: a job array of N shards (pgt sweep --shard slurm:N), then a
 # merge job that runs only when every shard succeeded (--dependency=afterok) and writes the
 # whole study, with its report, to OUT/study. Prints the two job ids.
 #
@@ -22,7 +22,7 @@ mkdir -p "$out/logs"
 q() { printf '%q' "$1"; }
 array=$(sbatch --parsable "$@" --job-name=pgt-shards --array="0-$((n - 1))" \
   --output="$out/logs/shard_%a.log" \
-  --wrap="$(q "$pgt") sweep $(q "$scene") --out $(q "$out")/shard_\$SLURM_ARRAY_TASK_ID --no-report --shard slurm")
+  --wrap="$(q "$pgt") sweep $(q "$scene") --out $(q "$out")/shard_\$SLURM_ARRAY_TASK_ID --no-report --shard slurm:$n")
 array=${array%%;*}
 shards=""
 for ((i = 0; i < n; i++)); do shards+=" $(q "$out/shard_$i")"; done

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli/report.h"
+#include "cli/shard.h"
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/interrupt.h"
@@ -74,7 +76,7 @@ void sweepCommand(const std::string& scenePath, pgt::SweepOptions sweepOpt, bool
     pgt::Study study = pgt::parseStudy(scene);
     std::printf("study: %zu cases x %zu method configurations at %dx%d\n", study.cases.size(),
                 study.configs.size(), study.width, study.height);
-    sweepOpt.report = !noReport;
+    if (!noReport) sweepOpt.report = pgt::writeStudyReport;
     pgt::SweepSummary sum = pgt::runSweep(scene, study, sweepOpt);
     std::printf("%d cases run, %d resumed, %d of %d done in %.1f s: %s/results.csv\n", sum.done,
                 sum.resumed, sum.done + sum.resumed, sum.total, sum.wallSeconds,
@@ -100,15 +102,15 @@ void sweepCommand(const std::string& scenePath, pgt::SweepOptions sweepOpt, bool
 
 // `pgt merge`: the shards joined, and the study's report.
 void mergeCommand(const std::vector<std::string>& dirs, const std::string& outDir, bool noReport) {
-    pgt::MergeSummary m = pgt::mergeShards(dirs, outDir);
+    pgt::MergeSummary m =
+        pgt::mergeShards(dirs, outDir, noReport ? pgt::ReportWriter{} : pgt::writeStudyReport);
     std::printf("merged %d shards: %d cases, %d rows: %s/results.csv\n", m.shards, m.cases, m.rows,
                 outDir.c_str());
     if (noReport) return;
-    std::string why, report = pgt::writeStudyReport(outDir, &why);
-    if (report.empty())
-        std::printf("report not written: %s\n", why.c_str());
+    if (m.reportPath.empty())
+        std::printf("report not written: %s\n", m.reportWhy.c_str());
     else
-        std::printf("report: %s\n", report.c_str());
+        std::printf("report: %s\n", m.reportPath.c_str());
 }
 
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
@@ -187,9 +189,10 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.sweep->add_flag("--images", c.sweepOpt.images, "Also write every case's images");
     c.sweep->add_flag("--fresh", c.sweepOpt.fresh, "Discard earlier results instead of resuming");
     c.sweep->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
-    c.sweep->add_option("--max-cases", c.sweepOpt.maxCases, "Stop after this many new cases");
+    c.sweep->add_option("--max-cases", c.sweepOpt.maxCases, "Stop after this many new cases")
+        ->check(CLI::Range(0, 1 << 30));
     c.sweep->add_option("--shard", c.shard,
-                        "Run only shard I of N (I/N, or slurm: from the job array)");
+                        "Run only shard I of N (I/N; slurm:N or slurm: from the job array)");
 
     c.merge = app.add_subcommand("merge", "Join the shards of one study into one study");
     c.merge->add_option("dirs", c.mergeDirs, "The shards' output directories")->required();
@@ -213,7 +216,7 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     for (CLI::App* sub : {c.render, c.sweep, c.stress})
         sub->add_option("--gl-device", c.glDevice,
                         "GL for GLSL methods: egl-device:N (default: EGL surfaceless, Mesa)");
-    for (CLI::App* sub : {c.render, c.sweep, c.fit, c.stress})
+    for (CLI::App* sub : {c.render, c.sweep, c.fit, c.stress, c.merge})
         sub->add_option("--memory-limit", c.memoryLimitMb,
                         "Refuse inputs estimated to need more memory than this (MB)")
             ->check(CLI::Range(uint64_t(64), uint64_t(1) << 30))
@@ -230,7 +233,7 @@ int runCommand(const CommandLine& c) {
             renderCommand(c.scenePath, c.outDir, c.renderOpt, c.exrCompression);
         } else if (*c.sweep) {
             pgt::SweepOptions opt = c.sweepOpt;
-            if (!c.shard.empty()) pgt::parseShard(c.shard, opt);
+            if (c.sweep->count("--shard")) pgt::parseShard(c.shard, opt.outDir, opt);
             sweepCommand(c.scenePath, opt, c.noReport);
         } else if (*c.merge) {
             mergeCommand(c.mergeDirs, c.outDir, c.noReport);

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/report.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/json_read.h"
@@ -172,7 +173,7 @@ py::dict sweep(const std::string& file, const std::string& text, const std::stri
         pgt::SweepOptions options;
         options.outDir = out;
         options.fresh = fresh;
-        options.report = report;
+        if (report) options.report = pgt::writeStudyReport;
         options.images = images;
         options.progress = progress;
         return pgt::runSweep(scene, study, options);

@@ -62,19 +62,22 @@ struct StudyAxes {
     bool ratios = false;  // `biases` are b / s
 };
 
-StudyAxes readAxes(JsonFields& f, const Scene& scene) {
+// What a study's axes default to: the scene's own view angles and (s, b).
+struct AxisDefaults {
+    double theta = 0, phi = 0, scale = 0, bias = 0;
+};
+
+StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
     StudyAxes a;
-    a.thetas =
-        f.has("theta") ? valueList(f, "theta", 0, 90) : std::vector<double>{scene.camera.theta};
-    a.phis = f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{scene.camera.phi};
-    a.scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3)
-                              : std::vector<double>{scene.displacement.scale};
+    a.thetas = f.has("theta") ? valueList(f, "theta", 0, 90) : std::vector<double>{d.theta};
+    a.phis = f.has("phi") ? valueList(f, "phi", -360, 360) : std::vector<double>{d.phi};
+    a.scales = f.has("scale") ? valueList(f, "scale", -1e3, 1e3) : std::vector<double>{d.scale};
     if (f.has("bias") && f.has("bias_ratio"))
         f.fail("bias_ratio", "give either \"bias\" or \"bias_ratio\", not both");
     a.ratios = f.has("bias_ratio");
     a.biases = a.ratios        ? valueList(f, "bias_ratio", -1e3, 1e3)
                : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
-                               : std::vector<double>{scene.displacement.bias};
+                               : std::vector<double>{d.bias};
     return a;
 }
 
@@ -227,7 +230,8 @@ Study parseStudy(const Scene& scene) {
                          "studies sweep the view angle: they need an orthographic camera");
     JsonFields f(scene.sweep, file, "sweep");
     Study st;
-    StudyAxes axes = readAxes(f, scene);
+    StudyAxes axes = readAxes(f, {scene.camera.theta, scene.camera.phi, scene.displacement.scale,
+                                  scene.displacement.bias});
     readFrameSettings(f, scene, st);
     ParameterLists lists;
     f.finish(readParameterLists(f, scene, lists));
@@ -237,6 +241,26 @@ Study parseStudy(const Scene& scene) {
                     f.has("resolution") ? "sweep.resolution" : "camera.resolution");
     st.resolved = studyIdentity(scene, st);
     return st;
+}
+
+std::vector<StudyCase> planCases(const Json& identity, const std::string& file) {
+    // The identity holds the sweep block as written and the resolved scene, whose camera and
+    // displacement are the axes' defaults (readAxes).
+    const Json* scene =
+        identity.is_object() && identity.contains("scene") && identity.contains("sweep")
+            ? &identity.at("scene")
+            : nullptr;
+    auto number = [&](const char* block, const char* key) {
+        if (!scene || !scene->contains(block) || !scene->at(block).contains(key) ||
+            !scene->at(block).at(key).is_number())
+            throw InputError(file, std::string("scene.") + block + "." + key, "",
+                             "not a study's study.json (made by pgt sweep)");
+        return scene->at(block).at(key).get<double>();
+    };
+    const AxisDefaults d{number("camera", "theta"), number("camera", "phi"),
+                         number("displacement", "scale"), number("displacement", "bias")};
+    JsonFields f(identity.at("sweep"), file, "sweep");
+    return makeCases(readAxes(f, d), file);
 }
 
 }  // namespace pgt

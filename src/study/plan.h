@@ -34,6 +34,11 @@ struct Study {
 // Reads the scene's "sweep" block (docs/studies.md); throws InputError on bad input.
 Study parseStudy(const Scene& scene);
 
+// The cases of the study a study.json identifies (its "sweep" and resolved "scene"), made as
+// parseStudy makes them: what pgt merge checks every shard's rows against. InputError naming
+// `file` when the identity is not a study's.
+std::vector<StudyCase> planCases(const nlohmann::json& identity, const std::string& file);
+
 // Bounds that keep a study's plan small (its lists are allocated whole).
 constexpr int64_t kMaxStudyCases = 1000000;
 constexpr int64_t kMaxStudyConfigs = 10000;

@@ -35,6 +35,7 @@
 #include "study/outputs.h"
 #include "study/staged_files.h"
 #include "study/study_cases.h"
+#include "study/study_dir.h"
 
 namespace pgt {
 
@@ -157,44 +158,6 @@ std::string resultLine(const std::vector<std::string>& fields) {
     return resultTable().line(fields);
 }
 
-void parseShard(const std::string& value, SweepOptions& opt) {
-    auto number = [&](const std::string& text, const std::string& field, long lo, long hi) {
-        char* end = nullptr;
-        errno = 0;
-        long v = text.empty() ? 0 : std::strtol(text.c_str(), &end, 10);
-        if (text.empty() || *end || errno || v < lo || v > hi)
-            throw InputError(
-                "command line", field, text,
-                "expected an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
-        return int(v);
-    };
-    if (value == "slurm") {
-        auto env = [](const char* name) {
-            const char* v = std::getenv(name);
-            return std::string(v ? v : "");
-        };
-        if (env("SLURM_ARRAY_TASK_ID").empty() || env("SLURM_ARRAY_TASK_COUNT").empty())
-            throw InputError("command line", "--shard", value,
-                             "SLURM_ARRAY_TASK_ID and SLURM_ARRAY_TASK_COUNT are not set "
-                             "(not inside a Slurm job array)");
-        const int id = number(env("SLURM_ARRAY_TASK_ID"), "SLURM_ARRAY_TASK_ID", 0, 1000000);
-        const std::string minText = env("SLURM_ARRAY_TASK_MIN");
-        const int first = minText.empty() ? 0 : number(minText, "SLURM_ARRAY_TASK_MIN", 0, id);
-        opt.shardCount =
-            number(env("SLURM_ARRAY_TASK_COUNT"), "SLURM_ARRAY_TASK_COUNT", 1, 1000000);
-        opt.shardIndex = id - first;
-    } else {
-        const auto slash = value.find('/');
-        if (slash == std::string::npos)
-            throw InputError("command line", "--shard", value, "expected I/N or slurm");
-        opt.shardCount = number(value.substr(slash + 1), "--shard", 1, 1000000);
-        opt.shardIndex = number(value.substr(0, slash), "--shard", 0, 1000000);
-    }
-    if (opt.shardIndex >= opt.shardCount)
-        throw InputError("command line", "--shard", value,
-                         "the shard index must be below the shard count");
-}
-
 Json shardIdentity(const Study& study, int index, int count) {
     Json id = study.resolved;
     Json labels = Json::array();
@@ -206,59 +169,6 @@ Json shardIdentity(const Study& study, int index, int count) {
 
 namespace {
 
-// Reads results.csv, keeps only the rows of complete cases (every configuration present),
-// rewrites the file when anything was dropped (a torn last line, a half-written case), and
-// returns the keys of the complete cases. An empty (0-byte) file is given its header.
-std::set<std::string> loadFinished(const std::string& path, const Study& study) {
-    std::set<std::string> finished;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return finished;
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (text.empty()) {
-        writeTextFile(path, header());
-        return finished;
-    }
-    if (text.compare(0, header().size(), header()) != 0)
-        throw InputError(
-            path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
-            "results.csv has other columns (an older pgt?): use --fresh or another --out");
-    std::map<std::string, std::vector<std::string>> rowsByKey;
-    std::map<std::string, std::set<std::string>> labelsByKey;
-    std::vector<std::string> order;
-    bool dropped = false;
-    for (const auto& f : splitCsvRecords(text, header().size(), &dropped)) {
-        if (f.size() != resultColumns().size()) {
-            dropped = true;
-            continue;
-        }
-        StudyCase c;
-        try {
-            c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
-            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]);
-        } catch (const std::exception&) {
-            dropped = true;
-            continue;
-        }
-        std::string key = c.key();
-        if (!rowsByKey.count(key)) order.push_back(key);
-        rowsByKey[key].push_back(resultTable().line(f));
-        labelsByKey[key].insert(f[7]);
-    }
-    std::set<std::string> wantLabels;
-    for (const auto& cfg : study.configs) wantLabels.insert(cfg.label);
-    std::string kept = header();
-    for (const auto& key : order) {
-        if (labelsByKey[key] == wantLabels && rowsByKey[key].size() == wantLabels.size()) {
-            finished.insert(key);
-            for (const auto& l : rowsByKey[key]) kept += l;
-        } else {
-            dropped = true;
-        }
-    }
-    if (dropped) writeTextFile(path, kept);
-    return finished;
-}
-
 void appendAll(int fd, const std::string& text, const std::string& path) {
     size_t off = 0;
     while (off < text.size()) {
@@ -267,40 +177,6 @@ void appendAll(int fd, const std::string& text, const std::string& path) {
         off += size_t(n);
     }
 }
-
-// An advisory lock (flock) on DIR/.pgt-lock, held while a sweep writes DIR. The kernel
-// drops it when the process ends, killed or not, so a stale lock cannot block a resume.
-class StudyLock {
-  public:
-    explicit StudyLock(const std::string& dir) {
-        path_ = (fs::path(dir) / ".pgt-lock").string();
-        fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-        if (fd_ < 0) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
-        if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-            char owner[32] = {0};
-            ssize_t n = ::pread(fd_, owner, sizeof owner - 1, 0);
-            ::close(fd_);
-            std::string pid = n > 0 ? std::string(owner, size_t(n)) : std::string("?");
-            while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
-            throw OutputError(dir + " is in use by another pgt sweep (process " + pid +
-                              "); wait for it to finish or use another --out");
-        }
-        std::string me = std::to_string(::getpid()) + "\n";
-        if (::ftruncate(fd_, 0) == 0) {
-            ssize_t ignored = ::pwrite(fd_, me.data(), me.size(), 0);
-            (void)ignored;  // the pid is only for the message above
-        }
-    }
-    ~StudyLock() {
-        if (fd_ >= 0) ::close(fd_);  // closing releases the lock
-    }
-    StudyLock(const StudyLock&) = delete;
-    StudyLock& operator=(const StudyLock&) = delete;
-
-  private:
-    std::string path_;
-    int fd_ = -1;
-};
 
 std::string hms(double seconds) {
     int s = int(std::lround(seconds));
@@ -312,60 +188,6 @@ std::string hms(double seconds) {
 }  // namespace
 
 namespace {
-
-// results.csv's rows in case order (stable: a case's rows keep their configuration order),
-// rewritten whole when they were not.
-void sortByCase(const std::string& path) {
-    const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
-    bool torn = false;
-    auto records = splitCsvRecords(text, header().size(), &torn);
-    auto caseOf = [](const std::vector<std::string>& f) {  // a hand-edited case goes last
-        char* end = nullptr;
-        const long long v = f.empty() ? 0 : std::strtoll(f[0].c_str(), &end, 10);
-        return f.empty() || end == f[0].c_str() || *end ? LLONG_MAX : v;
-    };
-    if (torn || std::is_sorted(records.begin(), records.end(),
-                               [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); }))
-        return;
-    std::stable_sort(records.begin(), records.end(),
-                     [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); });
-    std::string sorted = header();
-    for (const auto& f : records) sorted += resultTable().line(f);
-    writeTextFile(path, sorted);
-}
-
-// The study directory ready to append to: study.json written or checked against this study,
-// results.csv cut to its complete cases. Returns the keys of the cases already there.
-std::set<std::string> openStudyDir(const Study& study, const Json& identity,
-                                   const SweepOptions& opt, const std::string& csvPath,
-                                   const std::string& studyPath) {
-    std::error_code ec;
-    for (const std::string& path : {csvPath, studyPath})
-        if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
-            throw OutputError("cannot use " + path + ": it is not a regular file");
-    if (opt.fresh) {
-        fs::remove(csvPath, ec);
-        fs::remove(studyPath, ec);
-    }
-    // A directory holds one study: resuming a different one would mix incomparable rows.
-    if (fs::exists(studyPath)) {
-        Json old;
-        try {
-            old = readJsonFile(studyPath);
-        } catch (const InputError&) {
-            old = nullptr;  // unreadable or hostile: not this study
-        }
-        if (old != identity)
-            throw InputError(
-                studyPath, "", "",
-                "this directory holds a different study; use --fresh or another --out");
-    } else {
-        writeTextFile(studyPath, identity.dump(2) + "\n");
-    }
-    std::set<std::string> finished = loadFinished(csvPath, study);
-    if (!fs::exists(csvPath)) writeTextFile(csvPath, header());
-    return finished;
-}
 
 // "sweep: 12/40 cases (4 resumed), 1.50 cases/s, ETA 0:00:19" on stderr: in place on a
 // terminal, about 20 lines in all otherwise.
@@ -405,7 +227,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     const bool sharded = opt.shardCount > 1;
     const Json identity =
         sharded ? shardIdentity(study, opt.shardIndex, opt.shardCount) : study.resolved;
-    std::set<std::string> finished = openStudyDir(study, identity, opt, csvPath, studyPath);
+    std::set<std::string> finished = openStudyDir(study, identity, opt.fresh, csvPath, studyPath);
     int fd = ::open(csvPath.c_str(), O_WRONLY | O_APPEND);
     if (fd < 0) throw OutputError("cannot open " + csvPath + " for appending");
 
@@ -443,36 +265,10 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     if (!todo.empty()) progress.show(true);
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
-        sum.reportPath = writeStudyReport(opt.outDir, &sum.reportWhy);
+        sum.reportPath = opt.report(opt.outDir, &sum.reportWhy);
         sum.reportTried = true;
     }
     return sum;
-}
-
-std::string writeStudyReport(const std::string& outDir, std::string* why) {
-    std::string script;
-    try {
-        script = (fs::path(dataSubdir("analysis", "PGT_ANALYSIS_DIR")) / "report.py").string();
-    } catch (const InputError& e) {
-        *why = e.what();
-        return "";
-    }
-    if (!fs::exists(script)) {
-        *why = "report script " + script + " not found (set PGT_ANALYSIS_DIR)";
-        return "";
-    }
-    const std::string python = "/usr/bin/python3";
-    if (runProgram({python, "-c", "import matplotlib, pandas, numpy"}, true) != 0) {
-        *why =
-            "/usr/bin/python3 with matplotlib, pandas and numpy is needed for the report "
-            "(apt-get install python3-matplotlib python3-pandas python3-numpy)";
-        return "";
-    }
-    if (runProgram({python, script, outDir}) != 0) {
-        *why = "the report script failed: " + python + " " + script + " " + outDir;
-        return "";
-    }
-    return (fs::path(outDir) / "report.md").string();
 }
 
 }  // namespace pgt

@@ -3,6 +3,7 @@
 // flushed, and a re-run skips the cases already there.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -20,15 +21,13 @@ struct SweepOptions {
     bool fresh = false;    // discard earlier results in outDir instead of resuming
     int maxCases = -1;     // stop after this many new cases (tests; -1 = all)
     bool progress = true;  // progress on stderr
-    bool report = false;   // run analysis/report.py when every case is done (still locked)
+    // Writes the study's report when every case is done (still under the lock): returns its
+    // path, or "" with the reason set. Given by the front end (cli/report.h); none: no report.
+    std::function<std::string(const std::string& outDir, std::string* why)> report = {};
     // This run's share of the study (--shard I/N): the cases whose index is I modulo N, so
     // every shard gets every (s, b) and view angle alike. study.json then names the shard.
     int shardIndex = 0, shardCount = 1;
 };
-
-// "--shard I/N", or "slurm": I = SLURM_ARRAY_TASK_ID - SLURM_ARRAY_TASK_MIN (0 if unset),
-// N = SLURM_ARRAY_TASK_COUNT. Throws InputError naming --shard (or the variable).
-void parseShard(const std::string& value, SweepOptions& options);
 
 // The study identity a shard's study.json holds: `resolved` plus
 // {"shard": {"index", "count", "cases", "labels"}}.
@@ -55,11 +54,5 @@ const std::vector<std::string>& resultColumns();
 // other column is equal between runs of one study, whole, resumed or merged. The Python
 // side's list (analysis/columns.py) is checked against this one by the tests.
 const std::vector<std::string>& measuredResultColumns();
-
-// The study directory is locked for the run (flock on DIR/.pgt-lock): a second run into the
-// same directory is refused with OutputError while the first one runs.
-// Runs analysis/report.py on a study directory when /usr/bin/python3 has matplotlib, pandas
-// and numpy; returns the report's path, or "" with `why` set when it could not run.
-std::string writeStudyReport(const std::string& outDir, std::string* why);
 
 }  // namespace pgt

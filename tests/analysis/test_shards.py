@@ -96,9 +96,10 @@ with tempfile.TemporaryDirectory() as d:
           r.returncode == 0 and r2.returncode == 0 and rows(os.path.join(d, "m5")) == want,
           r.stderr + r2.stderr)
 
-    # --shard slurm takes I and N from the job array's variables.
-    env = dict(os.environ, SLURM_ARRAY_TASK_ID="5", SLURM_ARRAY_TASK_MIN="4",
-               SLURM_ARRAY_TASK_COUNT="3")
+    # --shard slurm takes I from the job array's index and N from slurm:N (or a plain
+    # 0..N-1 array; hostile.slurm_semantics has the other cases).
+    env = dict(os.environ, SLURM_ARRAY_TASK_ID="1", SLURM_ARRAY_TASK_MIN="0",
+               SLURM_ARRAY_TASK_MAX="2", SLURM_ARRAY_TASK_COUNT="3")
     sl = os.path.join(d, "slurm1")
     r = run("sweep", scene, "--out", sl, "--no-report", "--shard", "slurm", env=env)
     check("--shard slurm is shard 1/3", r.returncode == 0 and

@@ -1,0 +1,163 @@
+// The study directory (study/study_dir.h): its lock, its study.json, its complete cases.
+#include "study/study_dir.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <vector>
+
+#include "core/error.h"
+#include "core/json_fields.h"
+#include "core/json_read.h"
+#include "study/csv_table.h"
+#include "study/staged_files.h"
+#include "study/sweep.h"
+
+namespace pgt {
+
+namespace fs = std::filesystem;
+
+StudyLock::StudyLock(const std::string& dir) {
+    path_ = (fs::path(dir) / ".pgt-lock").string();
+    fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw OutputError("cannot create " + path_ + ": " + std::strerror(errno));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        char owner[32] = {0};
+        ssize_t n = ::pread(fd_, owner, sizeof owner - 1, 0);
+        ::close(fd_);
+        std::string pid = n > 0 ? std::string(owner, size_t(n)) : std::string("?");
+        while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
+        throw OutputError(dir + " is in use by another pgt sweep or merge (process " + pid +
+                          "); wait for it to finish or use another --out");
+    }
+    std::string me = std::to_string(::getpid()) + "\n";
+    if (::ftruncate(fd_, 0) == 0) {
+        ssize_t ignored = ::pwrite(fd_, me.data(), me.size(), 0);
+        (void)ignored;  // the pid is only for the message above
+    }
+}
+
+StudyLock::~StudyLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+}
+
+bool holdsStudy(const std::string& studyPath, const Json& identity) {
+    std::error_code ec;
+    if (!fs::exists(studyPath, ec)) return false;
+    Json old;
+    try {
+        old = readJsonFile(studyPath);
+    } catch (const InputError&) {
+        old = nullptr;  // unreadable or hostile: not this study
+    }
+    // A resumed different study would mix incomparable rows; a merge would replace it.
+    if (old != identity)
+        throw InputError(studyPath, "", "",
+                         "this directory holds a different study; use --fresh or another --out");
+    return true;
+}
+
+namespace {
+
+// Reads results.csv, keeps only the rows of complete cases (every configuration present),
+// rewrites the file when anything was dropped (a torn last line, a half-written case), and
+// returns the keys of the complete cases. An empty (0-byte) file is given its header.
+std::set<std::string> loadFinished(const std::string& path, const Study& study) {
+    std::set<std::string> finished;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return finished;
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.empty()) {
+        writeTextFile(path, resultHeader());
+        return finished;
+    }
+    if (text.compare(0, resultHeader().size(), resultHeader()) != 0)
+        throw InputError(
+            path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
+            "results.csv has other columns (an older pgt?): use --fresh or another --out");
+    std::map<std::string, std::vector<std::string>> rowsByKey;
+    std::map<std::string, std::set<std::string>> labelsByKey;
+    std::vector<std::string> order;
+    bool dropped = false;
+    for (const auto& f : splitCsvRecords(text, resultHeader().size(), &dropped)) {
+        if (f.size() != resultColumns().size()) {
+            dropped = true;
+            continue;
+        }
+        StudyCase c;
+        try {
+            c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
+            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]);
+        } catch (const std::exception&) {
+            dropped = true;
+            continue;
+        }
+        std::string key = c.key();
+        if (!rowsByKey.count(key)) order.push_back(key);
+        rowsByKey[key].push_back(resultLine(f));
+        labelsByKey[key].insert(f[7]);
+    }
+    std::set<std::string> wantLabels;
+    for (const auto& cfg : study.configs) wantLabels.insert(cfg.label);
+    std::string kept = resultHeader();
+    for (const auto& key : order) {
+        if (labelsByKey[key] == wantLabels && rowsByKey[key].size() == wantLabels.size()) {
+            finished.insert(key);
+            for (const auto& l : rowsByKey[key]) kept += l;
+        } else {
+            dropped = true;
+        }
+    }
+    if (dropped) writeTextFile(path, kept);
+    return finished;
+}
+
+}  // namespace
+
+std::set<std::string> openStudyDir(const Study& study, const Json& identity, bool fresh,
+                                   const std::string& csvPath, const std::string& studyPath) {
+    std::error_code ec;
+    for (const std::string& path : {csvPath, studyPath})
+        if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
+            throw OutputError("cannot use " + path + ": it is not a regular file");
+    if (fresh) {
+        fs::remove(csvPath, ec);
+        fs::remove(studyPath, ec);
+    }
+    if (!holdsStudy(studyPath, identity)) writeTextFile(studyPath, identity.dump(2) + "\n");
+    std::set<std::string> finished = loadFinished(csvPath, study);
+    if (!fs::exists(csvPath)) writeTextFile(csvPath, resultHeader());
+    return finished;
+}
+
+// results.csv's rows in case order (stable: a case's rows keep their configuration order),
+// rewritten whole when they were not.
+void sortByCase(const std::string& path) {
+    const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
+    bool torn = false;
+    auto records = splitCsvRecords(text, resultHeader().size(), &torn);
+    auto caseOf = [](const std::vector<std::string>& f) {  // a hand-edited case goes last
+        char* end = nullptr;
+        const long long v = f.empty() ? 0 : std::strtoll(f[0].c_str(), &end, 10);
+        return f.empty() || end == f[0].c_str() || *end ? LLONG_MAX : v;
+    };
+    if (torn || std::is_sorted(records.begin(), records.end(),
+                               [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); }))
+        return;
+    std::stable_sort(records.begin(), records.end(),
+                     [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); });
+    std::string sorted = resultHeader();
+    for (const auto& f : records) sorted += resultLine(f);
+    writeTextFile(path, sorted);
+}
+
+}  // namespace pgt
