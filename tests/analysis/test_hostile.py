@@ -526,6 +526,27 @@ def stress_folders(d):
         expect_error(name, run(["stress", path, "--out", out]), 2, words, out)
 
 
+def long_precompute(d):
+    """A relaxed cone map build (minutes at 2048^2) says how far it is and how long it has left
+    after 3 s on stderr, and SIGINT stops it within a second, leaving nothing."""
+    scene = copy(GOOD)
+    scene["heightmap"] = {"procedural": "bricks", "size": [768, 768]}
+    scene["methods"] = ["relaxed_cone"]
+    path = write(d, "cone.json", json.dumps(scene))
+    out = os.path.join(d, "out")
+    p = subprocess.Popen([PGT, "render", path, "--out", out], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.PIPE, text=True)
+    line = p.stderr.readline()  # the first progress line, after the quiet 3 s
+    running = p.poll() is None
+    t0 = time.time()
+    p.send_signal(signal.SIGINT)
+    p.wait(timeout=30)
+    check("progress with time left", "relaxed cone map 768x768:" in line and "left" in line, line)
+    check("still building when it spoke", running)
+    check("stops within a second", time.time() - t0 < 1.0, f"{time.time() - t0:.2f} s")
+    check("nothing left", not os.path.exists(out))
+
+
 def signals(d):
     """SIGINT or SIGTERM stops the CLI at once and leaves nothing it made: no temporaries, no
     --out a render created; a sweep keeps its finished rows."""
@@ -581,4 +602,4 @@ if __name__ == "__main__":
           study_identity, results_csv_state, labels, full_disk, render_checks_out_first,
           memory_estimates, image_header_first, messages, zero_pixel_uncertainty,
           stale_temporaries, no_litter, signals, memory_beyond_the_frame, shipped_paths,
-          stress_folders])
+          stress_folders, long_precompute])
