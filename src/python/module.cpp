@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cfenv>
 #include <chrono>
 #include <condition_variable>
 #include <memory>
@@ -35,12 +36,18 @@ namespace {
 // checks for signals every 50 ms: Ctrl-C then requests a cancel (core/interrupt.h), the work
 // unwinds within about a second (its staged files and created --out removed by their
 // destructors) and KeyboardInterrupt is raised here. Called with the GIL held.
+// The floating-point environment: the work runs in the default one whatever the caller set
+// (a new thread inherits its creator's: rounding toward zero in Python would change pgt's
+// numbers), and the caller's own (rounding, and on x86-64 MXCSR with its flush-to-zero and
+// denormals-are-zero bits, which the tracing threads set for Embree) is restored on return.
 template <class F>
 auto interruptible(F work) -> decltype(work()) {
     using Result = decltype(work());
     std::optional<Result> result;
     std::exception_ptr error;
     bool interrupted = false;
+    std::fenv_t caller;
+    std::fegetenv(&caller);
     {
         py::gil_scoped_release free;
         std::mutex m;
@@ -48,6 +55,7 @@ auto interruptible(F work) -> decltype(work()) {
         bool done = false;
         pgt::clearCancel();
         std::thread worker([&] {
+            std::fesetenv(FE_DFL_ENV);
             try {
                 result.emplace(work());
             } catch (...) {
@@ -71,6 +79,7 @@ auto interruptible(F work) -> decltype(work()) {
         worker.join();
         pgt::clearCancel();
     }
+    std::fesetenv(&caller);
     if (interrupted) throw py::error_already_set();
     if (error) std::rethrow_exception(error);
     return std::move(*result);

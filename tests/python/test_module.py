@@ -4,8 +4,11 @@ Run as: /usr/bin/python3 -m pytest tests/python/test_module.py --pgt PGT --scene
 with the module on PYTHONPATH (the build tree's build/python, or an install's
 lib/python3/dist-packages)."""
 
+import ctypes
+import ctypes.util
 import json
 import os
+import platform
 import subprocess
 import threading
 import time
@@ -249,3 +252,26 @@ def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
     assert line.startswith("interrupted"), line
     assert time.time() - sent < 1.5
     assert not out.exists(), os.listdir(out)
+
+
+def test_the_callers_floating_point_state_is_kept_and_does_not_change_results(scenes):
+    """pgt's tracing threads set flush-to-zero and denormals-are-zero for Embree: the calling
+    Python thread keeps its own state (a denormal stays a denormal, its rounding mode stays),
+    and a caller's rounding mode does not reach pgt's numbers."""
+    libm = ctypes.CDLL(ctypes.util.find_library("m"))
+    fe_downward = {"x86_64": 0x400, "aarch64": 0x800000}.get(platform.machine())
+    if fe_downward is None:
+        pytest.skip(f"no FE_DOWNWARD value known for {platform.machine()}")
+    scene = small_scene(scenes)
+    tiny = np.array([1e-310])
+    assert tiny[0] * 1.0 != 0.0
+    reference = pgt.render(scene, timing_fragments=0).pixels
+    assert libm.fesetround(fe_downward) == 0
+    try:
+        frame = pgt.render(scene, timing_fragments=0).pixels
+        after = libm.fegetround()
+    finally:
+        libm.fesetround(0)
+    assert after == fe_downward
+    assert (tiny * 1.0)[0] == 1e-310, "denormals flushed in the calling thread"
+    np.testing.assert_array_equal(frame, reference)
