@@ -261,6 +261,109 @@ TEST(Gl, MissingSamplerOrUniformIsNamed) {
     }
 }
 
+// Code written in another dialect runs unchanged (docs/methods.md "GLSL dialects"): pgt's
+// pom as WebGL 1 code (ES 1.00: texture2DLodEXT and its #extension line, precision
+// statements, a constant-bound loop) and as WebGL 2 code (ES 3.00), held to the C++ built-in
+// as the twins are, and to the shipped twin (the same arithmetic in the 4.50 wrapper).
+TEST(Gl, EsDialectsRunUnchangedAndEqualTheBuiltIn) {
+    Texture bricks = test::bricks(128);
+    const double s = 0.05, b = -0.025;
+    Inputs in = randomInputs(20000, 5);
+    const MethodConfig cpu = parseMethod(nlohmann::json{{"name", "pom"}}, "test", "m");
+    const MethodConfig twin = glslMethod(twinEntry(cpu).dump());
+    const GlslRun twinRun = runGlsl(*twin.glsl, MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
+    for (const auto& [file, version] :
+         {std::pair<std::string, std::string>{"pom_es100.glsl", "100"},
+          {"pom_es300.glsl", "300 es"}}) {
+        const nlohmann::json entry = {{"name", "pom_es"},
+                                      {"glsl", test::testDataDir() + "/glsl/" + file},
+                                      {"function", "ParallaxOcclusionES"},
+                                      {"sampler", "heightMap"},
+                                      {"uniforms",
+                                       {{"height_scale", "scale"},
+                                        {"height_bias", "bias"},
+                                        {"min_layers", 8.0},
+                                        {"max_layers", 32.0}}}};
+        const MethodConfig gl = glslMethod(entry.dump());
+        EXPECT_EQ(gl.glsl->version, version) << file;
+        const Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
+        const GlslRun run = runGlsl(*gl.glsl, MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
+        double maxFromTwin = 0;
+        for (size_t k = 0; k < in.uv0.size(); ++k)
+            maxFromTwin =
+                std::max(maxFromTwin, uvErrorTexels(Vec2d(run.uv[k]), Vec2d(twinRun.uv[k]),
+                                                    bricks.width, bricks.height, Address::Clamp));
+        std::printf(
+            "%s: fragments %lld, over 1e-3 texel from pom %lld, max within %.2e; fetch count "
+            "mismatches %lld; largest difference from the shipped twin %.2e texel\n",
+            file.c_str(), (long long)a.n, (long long)a.over, a.maxTexels,
+            (long long)a.fetchMismatch, maxFromTwin);
+        EXPECT_LE(a.over, a.n / 100) << file;
+        EXPECT_LE(a.fetchMismatch, a.n / 100) << file;
+        EXPECT_LE(maxFromTwin, 1e-3) << file;
+    }
+}
+
+// The dialect comes from the entry's "version" or the file's #version line; the legacy
+// names (texture2D, ...) exist in 100, 110 and 120 only, so a 3.30 file may define its own
+// texture2D; unknown versions and a desktop version beyond the GL's are refused by name.
+TEST(Gl, DialectsAreNamedOrReadAndUnknownOnesRefused) {
+    const std::string own = test::testDataDir() + "/glsl/own_texture2d.glsl";
+    Inputs in = randomInputs(64, 3);
+    Texture t = test::smoothTexture(8, 8);
+    auto entry = [&](const std::string& path, const std::string& extra) {
+        return glslMethod(R"({"name":"mine","glsl":")" + path +
+                          R"(","uniforms":{"height_scale":0.1})" + extra + "}");
+    };
+    const MethodConfig desktop = entry(own, "");
+    EXPECT_EQ(desktop.glsl->version, "330");
+    const GlslRun r = runGlsl(*desktop.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+    for (size_t k = 0; k < in.uv0.size(); ++k) {
+        const float d = 1.0f - sampleBilinear<float>(t, in.uv0[k]);
+        const Vec2f want = in.uv0[k] - Vec2f(in.view[k].x, in.view[k].y) * d * 0.1f;
+        EXPECT_LT(glm::length(Vec2d(r.uv[k] - want)), 1e-4) << k;
+        EXPECT_EQ(r.fetches[k], 1u);
+    }
+    // Named ES 1.00, its own texture2D meets the legacy name: a compile error in its file.
+    const MethodConfig legacy = entry(own, R"(,"version":"100")");
+    EXPECT_EQ(legacy.glsl->version, "100");
+    try {
+        runGlsl(*legacy.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find(own + ":7"), std::string::npos) << e.what();
+    }
+    for (const std::string bad :
+         {R"(,"version":"500")", R"(,"version":"330 es")", R"(,"version":true)"}) {
+        try {
+            entry(own, bad);
+            FAIL() << bad;
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), "methods[0].version") << e.what();
+        }
+    }
+    const std::string odd = writeShader("odd.glsl", "// a comment\n#version 999\n");
+    try {
+        entry(odd, "");
+        FAIL() << "#version 999 accepted";
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.field(), "#version");
+        EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
+    }
+    const MethodConfig newer = entry(own, R"(,"version":"460")");
+    if (glContext().glslVersion >= 460) {
+        EXPECT_NO_THROW(runGlsl(*newer.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view));
+    } else {
+        try {
+            runGlsl(*newer.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+            FAIL() << "460 accepted by a GL with GLSL " << glContext().glslVersion;
+        } catch (const InputError& e) {
+            EXPECT_EQ(e.field(), "version");
+            EXPECT_NE(std::string(e.what()).find("compiles GLSL up to"), std::string::npos);
+        }
+    }
+}
+
 // The engine presets on a constant height h (depth d = 1 - h) have closed forms: Godot's
 // offset without the division by V.z, uv0 - V.xy * 0.05 * d, for the plain and the deep
 // variant (its occlusion step lands exactly on a flat depth); Bevy's occlusion divides by

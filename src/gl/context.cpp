@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <cstdio>
 #include <deque>
 #include <exception>
 #include <future>
@@ -99,6 +100,9 @@ void createContext() {
     gInfo.renderer = str(GL_RENDERER);
     gInfo.version = str(GL_VERSION);
     gInfo.vendor = str(GL_VENDOR);
+    int glslMajor = 0, glslMinor = 0;  // "4.50 ..." (the desktop form: a 4.5 core context)
+    if (std::sscanf(str(GL_SHADING_LANGUAGE_VERSION).c_str(), "%d.%d", &glslMajor, &glslMinor) == 2)
+        gInfo.glslVersion = glslMajor * 100 + glslMinor;
     for (const char* sw : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
         if (gInfo.renderer.find(sw) != std::string::npos) gInfo.software = true;
 }

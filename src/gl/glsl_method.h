@@ -22,6 +22,7 @@ namespace pgt {
 // The GL the methods run in, named as the driver names itself.
 struct GlInfo {
     std::string renderer, version, vendor;
+    int glslVersion = 0;    // GL_SHADING_LANGUAGE_VERSION as a #version number (4.50 -> 450)
     bool software = false;  // llvmpipe / softpipe / swrast: timings are CPU timings
 };
 

@@ -37,6 +37,21 @@ vec4 pgt_texelFetch(sampler2D s, ivec2 p, int l) { pgt_fetches++; return texelFe
 #define texelFetch pgt_texelFetch
 )";
 
+// The legacy dialects' texture functions (GLSL ES 1.00 and desktop 1.10/1.20, with the lod
+// extensions ES 1.00 code enables), counted as the modern ones are.
+constexpr const char* kLegacyNames = R"(#define texture2D pgt_texture
+#define texture2DLod pgt_textureLod
+#define texture2DLodEXT pgt_textureLod
+#define texture2DGradEXT pgt_textureGrad
+#define texture2DGradARB pgt_textureGrad
+)";
+
+// Extensions whose functions GLSL 4.50 has built in: their #extension lines are blanked
+// (an #extension after the prelude's code would be refused, and "require" of an ES-only name
+// fails on a desktop GL).
+constexpr const char* kCoreExtensions[] = {
+    "GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod", "GL_ARB_shader_texture_lod"};
+
 constexpr const char* kMain = R"(
 uniform sampler2D pgt_uv0;   // RG32F: uv0 per texel (packed, or the frame's pixels)
 uniform sampler2D pgt_view;  // RGBA32F: tangent-space V; w: 2 a fragment, 1 a helper, 0 none
@@ -65,13 +80,20 @@ void main() {  // one triangle covering the viewport
 }
 )";
 
-std::string stripVersion(const std::string& src) {
+// The user's file as the wrapper holds it: its #version line and the #extension lines of
+// kCoreExtensions blanked, so every other line keeps its number.
+std::string userLines(const std::string& src) {
     std::istringstream in(src);
     std::ostringstream out;
     std::string line;
     while (std::getline(in, line)) {
-        size_t first = line.find_first_not_of(" \t");
-        if (first != std::string::npos && line.compare(first, 8, "#version") == 0) line.clear();
+        std::istringstream words(line);
+        std::string directive, name;
+        words >> directive >> name;
+        if (directive == "#version") line.clear();
+        if (directive == "#extension")
+            for (const char* e : kCoreExtensions)
+                if (name == e) line.clear();
         out << line << "\n";
     }
     return out.str();
@@ -172,6 +194,18 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file, int
     return s;
 }
 
+// A desktop dialect newer than the context's GLSL is refused (ES dialects run in 4.50 core,
+// which holds ES 3.20's functions).
+void checkDialect(const GlslSpec& spec) {
+    if (spec.version.find("es") != std::string::npos || spec.version == "100") return;
+    const GlInfo& gl = contextInfo();  // programFor runs on the GL thread, after ensureContext()
+    if (gl.glslVersion > 0 && std::stoi(spec.version) > gl.glslVersion)
+        throw InputError(spec.path, "version", spec.version,
+                         "this OpenGL (" + gl.renderer + ") compiles GLSL up to " +
+                             std::to_string(gl.glslVersion / 100) + "." +
+                             std::to_string(gl.glslVersion % 100));
+}
+
 struct Program {
     GLuint id = 0;
 };
@@ -182,15 +216,17 @@ std::map<std::string, Program> gPrograms;
 }  // namespace
 
 GLuint programFor(const GlslSpec& spec) {
-    std::string key = spec.path + "\n" + spec.function + "\n" + spec.source;
+    std::string key = spec.path + "\n" + spec.function + "\n" + spec.version + "\n" + spec.source;
     auto it = gPrograms.find(key);
     if (it != gPrograms.end()) return it->second.id;
     if (!isIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
-    const std::string user = stripVersion(spec.source);
-    const int first = countLines(kPrelude), count = countLines(user);
-    std::string fs =
-        std::string(kPrelude) + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
+    checkDialect(spec);
+    const std::string prelude =
+        std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "");
+    const std::string user = userLines(spec.source);
+    const int first = countLines(prelude), count = countLines(user);
+    std::string fs = prelude + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
     GLuint prog = glCreateProgram();

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "core/format.h"
 #include "core/json_read.h"
@@ -51,6 +52,42 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     return out;
 }
 
+// The GLSL dialects pgt compiles (GlslSpec::version).
+const std::vector<std::string> kGlslVersions = {"100", "300 es", "310 es", "320 es", "110", "120",
+                                                "130", "140",    "150",    "330",    "400", "410",
+                                                "420", "430",    "440",    "450",    "460"};
+
+// The dialect: the entry's "version" (a string, or a desktop number such as 330), else the
+// file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
+std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
+    if (f.has("version")) {
+        const Json& v = f.raw("version");
+        std::string named = v.is_number_integer() ? std::to_string(v.get<int64_t>())
+                            : v.is_string()       ? v.get<std::string>()
+                                                  : v.dump();
+        if (std::find(kGlslVersions.begin(), kGlslVersions.end(), named) == kGlslVersions.end())
+            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (100, " +
+                                  "300 es, 310 es, 320 es, 110 ... 460)");
+        return named;
+    }
+    std::istringstream lines(spec.source);
+    std::string line;
+    for (int n = 1; std::getline(lines, line); ++n) {
+        std::istringstream words(line);
+        std::string directive, number, profile;
+        words >> directive >> number >> profile;
+        if (directive != "#version") continue;
+        const std::string named = profile == "es" ? number + " es" : number;
+        if (std::find(kGlslVersions.begin(), kGlslVersions.end(), named) == kGlslVersions.end())
+            throw InputError(spec.path, "#version", line,
+                             "line " + std::to_string(n) +
+                                 ": not a GLSL version pgt compiles (100, 300 es, 310 es, "
+                                 "320 es, 110 ... 460)");
+        return named;
+    }
+    return "110";
+}
+
 // {"name": "mine", "glsl": FILE, "function": F, "sampler": S, "texture": "height"|"depth",
 //  "uniforms": {...}}: the file is read now, relative to the scene file's folder; "pgt:F"
 // names F among the shipped shaders (share/pgt/shaders, methods/presets.h shaderDir).
@@ -81,6 +118,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     // A shader is a few KB; 16 MiB bounds a stray file.
     spec->source = readTextFile(spec->path, file, f.fieldPath("glsl"), "shader file", 16u << 20);
     spec->function = f.string("function", "ParallaxMapping");
+    spec->version = glslVersion(f, *spec);
     // The sampler each map kind is bound to (methods/maps.h; docs/methods.md "GLSL methods"):
     // the height map's "depthMap" unless named, the others only where named.
     for (const MapKindInfo& m : kMapKindTable)
@@ -231,6 +269,7 @@ Json toJson(const MethodConfig& c) {
     if (c.glsl) {
         j["glsl"] = c.glsl->path;
         j["function"] = c.glsl->function;
+        if (c.glsl->version != "110") j["version"] = c.glsl->version;  // 110: none named
         // Every sampler it names (the height map's always: "" says it reads none).
         for (const MapKindInfo& m : kMapKindTable)
             if (m.kind == MapKind::Height || !c.glsl->sampler(m.kind).empty())

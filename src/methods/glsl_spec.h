@@ -15,6 +15,15 @@ struct GlslSpec {
     std::string path;    // as resolved from the scene file's folder
     std::string source;  // the file's text (read when the scene is parsed)
     std::string function = "ParallaxMapping";
+    // The dialect the file is written in (docs/methods.md "GLSL dialects"): "100" (ES 1.00,
+    // WebGL 1), "300 es", "310 es", "320 es" or a desktop "110" ... "460", from the entry's
+    // "version", else the file's #version line, else "110" (GLSL's own default). Every
+    // dialect compiles in pgt's GLSL 4.50 core wrapper; the legacy ones (100, 110, 120) get
+    // their texture2D family of names.
+    std::string version = "110";
+    bool legacyTextureNames() const {
+        return version == "100" || version == "110" || version == "120";
+    }
     // The sampler uniform each map kind is bound to (methods/maps.h; the entry's
     // MapKindInfo::samplerKey), "" where the shader reads none: the height map's is
     // "depthMap" unless the entry says otherwise; the others are optional.
