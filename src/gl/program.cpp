@@ -197,7 +197,7 @@ GLuint compile(GLenum type, const std::string& src, const std::string& file, int
 // A desktop dialect newer than the context's GLSL is refused (ES dialects run in 4.50 core,
 // which holds ES 3.20's functions).
 void checkDialect(const GlslSpec& spec) {
-    if (spec.version.find("es") != std::string::npos || spec.version == "100") return;
+    if (spec.isEs()) return;
     const GlInfo& gl = contextInfo();  // programFor runs on the GL thread, after ensureContext()
     if (gl.glslVersion > 0 && std::stoi(spec.version) > gl.glslVersion)
         throw InputError(spec.path, "version", spec.version,

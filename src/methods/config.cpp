@@ -52,10 +52,14 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     return out;
 }
 
-// The GLSL dialects pgt compiles (GlslSpec::version).
+// The GLSL dialects pgt compiles (GlslSpec::version), and how messages list them.
 const std::vector<std::string> kGlslVersions = {"100", "300 es", "310 es", "320 es", "110", "120",
                                                 "130", "140",    "150",    "330",    "400", "410",
                                                 "420", "430",    "440",    "450",    "460"};
+constexpr const char* kGlslVersionsNamed = "100, 300 es, 310 es, 320 es, 110 ... 460";
+bool knownGlslVersion(const std::string& v) {
+    return std::find(kGlslVersions.begin(), kGlslVersions.end(), v) != kGlslVersions.end();
+}
 
 // The dialect: the entry's "version" (a string, or a desktop number such as 330), else the
 // file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
@@ -65,9 +69,9 @@ std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
         std::string named = v.is_number_integer() ? std::to_string(v.get<int64_t>())
                             : v.is_string()       ? v.get<std::string>()
                                                   : v.dump();
-        if (std::find(kGlslVersions.begin(), kGlslVersions.end(), named) == kGlslVersions.end())
-            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (100, " +
-                                  "300 es, 310 es, 320 es, 110 ... 460)");
+        if (!knownGlslVersion(named))
+            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (" +
+                                  kGlslVersionsNamed + ")");
         return named;
     }
     std::istringstream lines(spec.source);
@@ -78,11 +82,10 @@ std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
         words >> directive >> number >> profile;
         if (directive != "#version") continue;
         const std::string named = profile == "es" ? number + " es" : number;
-        if (std::find(kGlslVersions.begin(), kGlslVersions.end(), named) == kGlslVersions.end())
+        if (!knownGlslVersion(named))
             throw InputError(spec.path, "#version", line,
-                             "line " + std::to_string(n) +
-                                 ": not a GLSL version pgt compiles (100, 300 es, 310 es, "
-                                 "320 es, 110 ... 460)");
+                             "line " + std::to_string(n) + ": not a GLSL version pgt compiles (" +
+                                 kGlslVersionsNamed + ")");
         return named;
     }
     return "110";

@@ -21,6 +21,7 @@ struct GlslSpec {
     // dialect compiles in pgt's GLSL 4.50 core wrapper; the legacy ones (100, 110, 120) get
     // their texture2D family of names.
     std::string version = "110";
+    bool isEs() const { return version == "100" || version.find(" es") != std::string::npos; }
     bool legacyTextureNames() const {
         return version == "100" || version == "110" || version == "120";
     }

@@ -37,7 +37,7 @@ namespace {
 // unwinds within about a second (its staged files and created --out removed by their
 // destructors) and KeyboardInterrupt is raised here. Called with the GIL held.
 // The floating-point environment: the work runs in the default one whatever the caller set
-// (a new thread inherits its creator's: rounding toward zero in Python would change pgt's
+// (a new thread inherits its creator's: a rounding mode set in Python would change pgt's
 // numbers), and the caller's own (rounding, and on x86-64 MXCSR with its flush-to-zero and
 // denormals-are-zero bits, which the tracing threads set for Embree) is restored on return.
 template <class F>
