@@ -34,6 +34,10 @@ void checkGl(const std::string& what);
 // Any GL error left by an earlier call is reported there; start each step clean so that a
 // later check blames only its own calls.
 void drainGlErrors();
+// A 2D float texture, level 0 from `data` (null: undefined), one filter for both directions,
+// one wrap mode, no further levels (gl/map_uploads.cpp).
+GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* data, GLenum filter,
+                   GLenum wrap);
 // GL_MAX_TEXTURE_SIZE of the current context (texels per side).
 int maxTextureSide();
 

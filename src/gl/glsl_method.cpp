@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -20,56 +21,6 @@ using namespace gl;
 namespace {
 
 GLuint gVao = 0;
-
-GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* data, GLenum filter,
-                   GLenum wrap) {
-    GLuint t = 0;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexImage2D(GL_TEXTURE_2D, 0, GLint(internal), w, h, 0, format, GL_FLOAT, data);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GLint(filter));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GLint(filter));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GLint(wrap));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GLint(wrap));
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-    return t;
-}
-
-// The map's texels as the GL takes them: 1 or 3 channels, d = 1 - h when `depth`.
-std::vector<float> mapTexels(const Texture& t, bool depth) {
-    const int c = t.channels >= 3 ? 3 : 1;
-    std::vector<float> data(size_t(t.width) * t.height * size_t(c));
-    for (size_t k = 0; k < size_t(t.width) * t.height; ++k)
-        for (int ch = 0; ch < c; ++ch) {
-            float h = t.texels[k * size_t(t.channels) + size_t(ch)];
-            data[k * size_t(c) + size_t(ch)] = depth ? 1.0f - h : h;
-        }
-    return data;
-}
-
-// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
-// bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
-// samples). A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not
-// glGenerateMipmap's, and trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and
-// GL filter alike.
-GLuint uploadMap(const Texture& t, bool depth) {
-    const bool rgb = t.channels >= 3;
-    const GLenum internal = rgb ? GL_RGB32F : GL_R32F, format = rgb ? GL_RGB : GL_RED;
-    GLuint id = makeTexture(internal, format, t.width, t.height, mapTexels(t, depth).data(),
-                            GL_LINEAR, t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
-    if (!t.mips || t.mips->empty()) return id;
-    for (size_t k = 0; k < t.mips->size(); ++k) {
-        const Texture& level = (*t.mips)[k];
-        glTexImage2D(GL_TEXTURE_2D, GLint(k + 1), GLint(internal), level.width, level.height, 0,
-                     format, GL_FLOAT, mapTexels(level, depth).data());
-    }
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, GLint(t.mips->size()));
-    return id;
-}
-
-// Map textures alive in the process, over every GlMapUploads (for tests).
-size_t gLiveMaps = 0;
 
 // A map the GL cannot hold is bad input, named before any upload, not a GL error that a
 // later call would report.
@@ -115,78 +66,6 @@ void checkMapsFit(const GlslSpec& spec, const MapRefs& maps) {
 }
 
 }  // namespace
-
-unsigned GlMapUploads::texture(const Texture& map, bool depth) {
-    auto key = std::make_pair(&map, depth);
-    auto it = ids_.find(key);
-    if (it != ids_.end()) return it->second;
-    GLuint id = uploadMap(map, depth);
-    ids_[key] = id;
-    ++gLiveMaps;
-    return id;
-}
-
-// The pyramid's levels stacked in one RG32F image as wide as level 0: (lo, hi) per node.
-GLuint uploadPyramid(const MinMaxPyramid& p) {
-    int rows = 0;
-    for (const auto& l : p.levels) rows += l.h;
-    const int w = p.levels[0].w;
-    std::vector<float> data(size_t(w) * rows * 2, 0.0f);
-    int row = 0;
-    for (const auto& l : p.levels) {
-        for (int j = 0; j < l.h; ++j)
-            for (int i = 0; i < l.w; ++i) {
-                const size_t at = (size_t(row + j) * w + i) * 2, from = size_t(j) * l.w + i;
-                data[at] = l.lo[from];
-                data[at + 1] = l.hi[from];
-            }
-        row += l.h;
-    }
-    return makeTexture(GL_RG32F, GL_RG, w, rows, data.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
-}
-
-unsigned GlMapUploads::pyramid(const MinMaxPyramid& p) {
-    auto it = precomputed_.find(&p);
-    if (it != precomputed_.end()) return it->second;
-    GLuint id = uploadPyramid(p);
-    precomputed_[&p] = id;
-    ++gLiveMaps;
-    return id;
-}
-
-unsigned GlMapUploads::cone(const ConeMap& m) {
-    auto it = precomputed_.find(&m);
-    if (it != precomputed_.end()) return it->second;
-    GLuint id = makeTexture(GL_R32F, GL_RED, m.cellsX, m.cellsY, m.ratio.data(), GL_NEAREST,
-                            GL_CLAMP_TO_EDGE);
-    precomputed_[&m] = id;
-    ++gLiveMaps;
-    return id;
-}
-
-GlMapUploads::~GlMapUploads() {
-    if (ids_.empty() && precomputed_.empty()) return;
-    try {
-        onGlThread([this] {
-            std::lock_guard<std::mutex> lock(gMutex);
-            ensureContext();
-            for (const auto& [key, id] : ids_) {
-                GLuint t = id;
-                glDeleteTextures(1, &t);
-                --gLiveMaps;
-            }
-            for (const auto& [key, id] : precomputed_) {
-                GLuint t = id;
-                glDeleteTextures(1, &t);
-                --gLiveMaps;
-            }
-        });
-    } catch (const std::exception&) {
-        // No context any more: the textures went with it.
-    }
-}
-
-size_t GlMapUploads::liveTextures() { return gLiveMaps; }
 
 namespace {
 
@@ -292,10 +171,34 @@ std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<s
     return img;
 }
 
+// A uniform by the name the user knows: GLSL's own; in HLSL a global or cbuffer member, which
+// SPIRV-Cross makes a member of a plain uniform struct ("_12.NAME"), found among the active
+// uniforms by its member name. -1 where none is active.
+GLint uniformLocation(GLuint prog, const GlslSpec& spec, const std::string& name) {
+    GLint u = glGetUniformLocation(prog, name.c_str());
+    if (u >= 0 || !spec.hlsl) return u;
+    GLint count = 0, maxLen = 0;
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORMS, &count);
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLen);
+    std::string buf(size_t(std::max(maxLen, 1)), '\0');
+    const std::string suffix = "." + name;
+    for (GLint i = 0; i < count; ++i) {
+        GLsizei len = 0;
+        GLint size = 0;
+        GLenum type = 0;
+        glGetActiveUniform(prog, GLuint(i), GLsizei(buf.size()), &len, &size, &type, buf.data());
+        const std::string active(buf.data(), size_t(len));
+        if (active.size() > suffix.size() &&
+            active.compare(active.size() - suffix.size(), suffix.size(), suffix) == 0)
+            return glGetUniformLocation(prog, active.c_str());
+    }
+    return -1;
+}
+
 // One user uniform: its value(s), or the case's s or b; a type mismatch names the uniform.
 void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
                 const DrawMaps& maps) {
-    GLint u = glGetUniformLocation(prog, un.name.c_str());
+    GLint u = uniformLocation(prog, spec, un.name);
     if (u < 0)
         throw InputError(spec.path, "uniforms." + un.name, "",
                          "is not an active uniform of the shader (misspelt, or unused by " +
@@ -304,9 +207,15 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
     drainGlErrors();  // only this uniform's own error may be blamed on it
     if (un.bind == "scale") f = {float(maps.scale)};
     if (un.bind == "bias") f = {float(maps.bias)};
-    if (un.isInt)
+    // One number sets a float or an int uniform alike where it is a whole number (32 and
+    // 32.0 both set `float steps` and `int steps`).
+    const bool whole = f.size() == 1 && un.bind.empty() &&
+                       un.values[0] == std::floor(un.values[0]) &&
+                       std::abs(un.values[0]) < 2147483648.0;
+    if (un.isInt || (whole && f.size() == 1)) {
         glUniform1i(u, int(un.values[0]));
-    else if (f.size() == 1)
+        if (glGetError() != GL_NO_ERROR) glUniform1f(u, f[0]);
+    } else if (f.size() == 1)
         glUniform1f(u, f[0]);
     else if (f.size() == 2)
         glUniform2f(u, f[0], f[1]);
@@ -323,7 +232,9 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
 GLuint mapTexture(MapKind k, const GlslSpec& spec, const DrawMaps& maps) {
     switch (k) {
         case MapKind::Height:
-            return maps.store.texture(*maps.height, spec.depthTexture);
+            if (spec.packedNormal())
+                return maps.store.packed(*maps.height, *maps.normal, spec.depthTexture());
+            return maps.store.texture(*maps.height, spec.depthTexture());
         case MapKind::Normal:
             return maps.store.texture(*maps.normal, false);
         case MapKind::Parallax:
@@ -396,6 +307,9 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
     }
     glUniform1i(glGetUniformLocation(prog, "pgt_lod_grad"), maps.lodGrad ? 1 : 0);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
+    // A call's s and b (uniforms of pgt's glue, inactive where the call reads neither).
+    glUniform1f(uniformLocation(prog, spec, "pgt_s"), float(maps.scale));
+    glUniform1f(uniformLocation(prog, spec, "pgt_b"), float(maps.bias));
 }
 
 // Draws `img` once, or times it: one warm-up draw, then draws (each between two glFinish and

@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -47,6 +48,9 @@ class GlMapUploads {
     // The texture of `map` (as depth d = 1 - h when `depth`); uploads it on first use.
     // Called by runGlsl, under the GL lock.
     unsigned texture(const Texture& map, bool depth);
+    // The height map packed as engines ship it (GlslSpec::Layout "normal+height" or
+    // "normal+depth"): RGBA32F, RGB = 0.5 + 0.5 m from `normal`, A = h (1 - h when `depth`).
+    unsigned packed(const Texture& height, const Texture& normal, bool depth);
     // The pyramid as one RG32F texture, level k from row levelRow(k) on (nearest texels).
     unsigned pyramid(const MinMaxPyramid& p);
     // A cone map (conservative or relaxed) as an R32F texture of its ratios (nearest texels).
@@ -58,6 +62,7 @@ class GlMapUploads {
   private:
     std::map<std::pair<const Texture*, bool>, unsigned> ids_;
     std::map<const void*, unsigned> precomputed_;  // pyramids and cone maps
+    std::map<std::tuple<const Texture*, const Texture*, bool>, unsigned> packed_;
 };
 
 // The GL's time for a draw, per fragment: `nsPerPixel` and its quartiles are of the GL's

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/error.h"
+#include "gl/hlsl.h"
 
 namespace pgt::gl {
 
@@ -100,9 +102,11 @@ std::string userLines(const std::string& src) {
 }
 
 // Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with L a line of the
-// whole fragment shader: lines (first, first + count] are the user's file (Mesa does not
+// whole fragment shader: lines (first, first + count] are the user's file, `callLine` the
+// entry's "call" (0: none) (Mesa does not
 // keep #line's source numbers on every message, so lines are mapped by position).
-std::string translateLog(const std::string& log, const std::string& file, int first, int count) {
+std::string translateLog(const std::string& log, const std::string& file, int first, int count,
+                         int callLine) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -140,8 +144,16 @@ std::string translateLog(const std::string& log, const std::string& file, int fi
             continue;
         }
         int n = std::stoi(ln);
-        std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
+        std::string where = n <= first           ? "pgt prelude"
+                            : n <= first + count ? file
+                            : callLine > 0 && n >= callLine - 1 && n <= callLine + 1
+                                ? file + ": call"
+                                : "pgt wrapper";
         if (n > first && n <= first + count) n -= first;
+        if (callLine > 0 && n >= callLine - 1 && n <= callLine + 1) {  // no line: the call's own
+            out << where << ": " << line.substr(i) << "\n";
+            continue;
+        }
         out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
             << "\n";
     }
@@ -171,7 +183,8 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
 // user's file, unless `status` (compile or link) succeeded.
 template <class GetIv, class GetLog, class Delete>
 void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
-                   const std::string& file, const char* verb, int userFirst, int userCount) {
+                   const std::string& file, const char* verb, int userFirst, int userCount,
+                   int callLine) {
     GLint ok = 0;
     getIv(object, status, &ok);
     if (ok) return;
@@ -179,18 +192,18 @@ void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Del
     remove(object);
     throw InputError(file, "glsl", "",
                      std::string("the shader does not ") + verb + ":\n" +
-                         translateLog(log, file, userFirst, userCount));
+                         translateLog(log, file, userFirst, userCount, callLine));
 }
 
 // `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
-               int userCount = 1 << 30) {
+               int userCount = 1 << 30, int callLine = 0) {
     GLuint s = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
     glCompileShader(s);
     requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, file,
-                  "compile", userFirst, userCount);
+                  "compile", userFirst, userCount, callLine);
     return s;
 }
 
@@ -206,6 +219,60 @@ void checkDialect(const GlslSpec& spec) {
                              std::to_string(gl.glslVersion % 100));
 }
 
+// Whether a GLSL source declares `name` as a uniform sampler2D.
+bool declaresSampler(const std::string& src, const std::string& name) {
+    const std::regex decl("uniform\\s+(?:(?:lowp|mediump|highp)\\s+)?sampler2D\\s+" + name + "\\b");
+    return std::regex_search(src, decl);
+}
+
+// The wrapper's parts around kMain: the prelude (pgt's counting functions, the legacy names,
+// the samplers the source leaves to pgt, the entry's #defines), the user's text (HLSL:
+// SPIRV-Cross's GLSL of it), and the glue that calls it.
+struct Pieces {
+    std::string prelude, user, glue, function;
+    int callLineInGlue = 0;  // the call's line, counted from the glue's first line
+};
+
+// "call": the expression on a line of its own (a message on it or on the lines around it names
+// the call), in a function with the names docs/methods.md
+// lists (uv, V, N, s, b).
+constexpr const char* kCallHead = R"(uniform float pgt_s;
+uniform float pgt_b;
+vec2 pgt_call(vec2 uv, vec3 V) {
+    const vec3 N = vec3(0.0, 0.0, 1.0);
+    float s = pgt_s;
+    float b = pgt_b;
+    vec2 pgt_r =
+)";
+constexpr const char* kCallTail = R"(
+    ;
+    return pgt_r;
+}
+)";
+
+Pieces wrapperPieces(const GlslSpec& spec) {
+    Pieces p;
+    p.prelude = std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "");
+    if (spec.hlsl) {  // defines and samplers are the HLSL compiler's
+        p.user = hlslToGlsl(spec);
+        p.function = kHlslCall;
+        return p;
+    }
+    for (const std::string& name : spec.samplers)
+        if (!name.empty() && isIdentifier(name) && !declaresSampler(spec.source, name))
+            p.prelude += "uniform sampler2D " + name + ";  // declared by pgt\n";
+    for (const auto& [name, value] : spec.defines)
+        p.prelude += "#define " + name + " " + value + "\n";
+    p.user = spec.source;
+    p.function = spec.function;
+    if (!spec.call.empty()) {
+        p.glue = std::string(kCallHead) + spec.call + kCallTail;
+        p.callLineInGlue = countLines(kCallHead) + 1;
+        p.function = "pgt_call";
+    }
+    return p;
+}
+
 struct Program {
     GLuint id = 0;
 };
@@ -216,19 +283,25 @@ std::map<std::string, Program> gPrograms;
 }  // namespace
 
 GLuint programFor(const GlslSpec& spec) {
-    std::string key = spec.path + "\n" + spec.function + "\n" + spec.version + "\n" + spec.source;
+    std::string key = spec.path + "\n" + spec.function + "\n" + spec.version + "\n" +
+                      (spec.hlsl ? "hlsl" : "glsl") + "\n" + spec.call + "\n";
+    for (const auto& [name, value] : spec.defines) key += name + "=" + value + "\n";
+    for (const std::string& name : spec.samplers) key += name + "\n";
+    key += spec.source;
     auto it = gPrograms.find(key);
     if (it != gPrograms.end()) return it->second.id;
-    if (!isIdentifier(spec.function))
+    if (!spec.hlsl && spec.call.empty() && !isIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     checkDialect(spec);
-    const std::string prelude =
-        std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "");
-    const std::string user = userLines(spec.source);
+    const Pieces pieces = wrapperPieces(spec);
+    const std::string& prelude = pieces.prelude;
+    const std::string user = userLines(pieces.user);
     const int first = countLines(prelude), count = countLines(user);
-    std::string fs = prelude + user + "#define PGT_FUNCTION " + spec.function + "\n" + kMain;
+    const int callLine = spec.call.empty() || spec.hlsl ? 0 : first + count + pieces.callLineInGlue;
+    std::string fs =
+        prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
-    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count);
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, callLine);
     GLuint prog = glCreateProgram();
     glAttachShader(prog, vs);
     glAttachShader(prog, f);
@@ -236,7 +309,7 @@ GLuint programFor(const GlslSpec& spec) {
     glDeleteShader(vs);
     glDeleteShader(f);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                  spec.path, "link", first, count);
+                  spec.path, "link", first, count, callLine);
     gPrograms[key] = {prog};
     return prog;
 }

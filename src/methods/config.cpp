@@ -52,6 +52,40 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     return out;
 }
 
+// "texture": the names of GlslSpec::Layout, in its order.
+const std::vector<std::string>& layoutNames() {
+    static const std::vector<std::string> names = {"height", "depth", "normal+height",
+                                                   "normal+depth"};
+    return names;
+}
+GlslSpec::Layout layoutNamed(const std::string& name) {
+    const auto& n = layoutNames();
+    return GlslSpec::Layout(std::find(n.begin(), n.end(), name) - n.begin());
+}
+
+// "defines": {NAME: "VALUE" | number}, each an identifier.
+std::vector<std::pair<std::string, std::string>> parseDefines(JsonFields& f) {
+    std::vector<std::pair<std::string, std::string>> out;
+    const Json& d = f.raw("defines");
+    if (!d.is_object()) f.fail("defines", "expected an object of NAME: \"value\"");
+    for (const auto& [name, value] : d.items()) {
+        bool ident = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0]));
+        for (char c : name)
+            ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+        if (!ident) f.fail("defines", "\"" + name + "\" is not a macro name");
+        std::string text;
+        if (value.is_string())
+            text = value.get<std::string>();
+        else if (value.is_number())
+            text = value.dump();
+        else
+            f.fail("defines." + name, "expected a string or a number");
+        if (text.find('\n') != std::string::npos) f.fail("defines." + name, "holds a line break");
+        out.emplace_back(name, text);
+    }
+    return out;
+}
+
 // The GLSL dialects pgt compiles (GlslSpec::version), and how messages list them.
 const std::vector<std::string> kGlslVersions = {"100", "300 es", "310 es", "320 es", "110", "120",
                                                 "130", "140",    "150",    "330",    "400", "410",
@@ -91,8 +125,9 @@ std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
     return "110";
 }
 
-// {"name": "mine", "glsl": FILE, "function": F, "sampler": S, "texture": "height"|"depth",
-//  "uniforms": {...}}: the file is read now, relative to the scene file's folder; "pgt:F"
+// {"name": "mine", "glsl" | "hlsl": FILE, "function": F, "call": EXPR, "defines": {...},
+//  "sampler": S, "texture": LAYOUT, "uniforms": {...}}: the file is read now, relative to the scene
+//  file's folder; "pgt:F"
 // names F among the shipped shaders (share/pgt/shaders, methods/presets.h shaderDir).
 MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     MethodConfig cfg;
@@ -100,7 +135,11 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     cfg.name = f.string("name", "");
     checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
     auto spec = std::make_shared<GlslSpec>();
-    std::string rel = f.string("glsl", "");
+    // "glsl": FILE or "hlsl": FILE (one of them).
+    spec->hlsl = f.has("hlsl");
+    const std::string key = spec->hlsl ? "hlsl" : "glsl";
+    if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+    std::string rel = f.string(key, "");
     std::filesystem::path p(rel);
     if (rel.rfind(kShippedShaderPrefix, 0) == 0) {  // "pgt:NAME.glsl": a shipped shader
         // Inside the shipped shaders only: a relative path with no ".." (the folder's own
@@ -109,25 +148,31 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
         bool inside = !name.empty() && name.is_relative();
         for (const auto& part : name) inside = inside && part != ".." && part != ".";
         if (!inside)
-            f.fail("glsl", "\"" + rel +
-                               "\": pgt: names a shader shipped with pgt, e.g. "
-                               "pgt:presets/godot.glsl (no \"..\", not absolute)");
+            f.fail(key, "\"" + rel +
+                            "\": pgt: names a shader shipped with pgt, e.g. "
+                            "pgt:presets/godot.glsl (no \"..\", not absolute)");
         p = std::filesystem::path(shaderDir()) / name;
     } else if (p.is_relative()) {
         p = std::filesystem::path(file).parent_path() / p;
     }
     spec->path = p.lexically_normal().string();
-    if (rel.empty()) f.fail("glsl", "cannot read the shader file " + spec->path);
+    if (rel.empty()) f.fail(key, "cannot read the shader file " + spec->path);
     // A shader is a few KB; 16 MiB bounds a stray file.
-    spec->source = readTextFile(spec->path, file, f.fieldPath("glsl"), "shader file", 16u << 20);
+    spec->source = readTextFile(spec->path, file, f.fieldPath(key), "shader file", 16u << 20);
     spec->function = f.string("function", "ParallaxMapping");
-    spec->version = glslVersion(f, *spec);
+    if (spec->hlsl && f.has("version"))
+        f.fail("version", "names a GLSL dialect; an HLSL method has none");
+    // HLSL reaches the GL as the GLSL 4.50 that gl/hlsl.h makes of it.
+    spec->version = spec->hlsl ? "450" : glslVersion(f, *spec);
     // The sampler each map kind is bound to (methods/maps.h; docs/methods.md "GLSL methods"):
     // the height map's "depthMap" unless named, the others only where named.
     for (const MapKindInfo& m : kMapKindTable)
         spec->samplers[size_t(m.kind)] =
             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
-    spec->depthTexture = f.choice("texture", {"height", "depth"}, "height") == "depth";
+    spec->layout = layoutNamed(f.choice("texture", layoutNames(), "height"));
+    spec->call = f.string("call", "");
+    if (spec->call.find('\n') != std::string::npos) f.fail("call", "holds a line break");
+    if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     cfg.discardOutside = f.boolean("discard_outside", false);
     // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
@@ -201,7 +246,7 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
         throw InputError(file, path, shortDump(entry), "expected a method name or object");
     if (object.contains("preset")) return parsePreset(object, file, path);
     JsonFields f(object, file, path);
-    if (object.contains("glsl")) return parseGlslMethod(f, file);
+    if (object.contains("glsl") || object.contains("hlsl")) return parseGlslMethod(f, file);
     MethodConfig cfg;
     cfg.name = f.choice("name", methodNames(), "");
     for (const auto& k : methodKinds())
@@ -277,7 +322,10 @@ Json toJson(const MethodConfig& c) {
         for (const MapKindInfo& m : kMapKindTable)
             if (m.kind == MapKind::Height || !c.glsl->sampler(m.kind).empty())
                 j[m.samplerKey] = c.glsl->sampler(m.kind);
-        j["texture"] = c.glsl->depthTexture ? "depth" : "height";
+        j["texture"] = layoutNames()[size_t(c.glsl->layout)];
+        if (c.glsl->hlsl) j["hlsl"] = j["glsl"], j.erase("glsl");
+        if (!c.glsl->call.empty()) j["call"] = c.glsl->call;
+        for (const auto& [name, value] : c.glsl->defines) j["defines"][name] = value;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)
             u[un.name] = !un.bind.empty()        ? Json(un.bind)

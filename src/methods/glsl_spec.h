@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "methods/maps.h"
@@ -30,7 +31,24 @@ struct GlslSpec {
     // "depthMap" unless the entry says otherwise; the others are optional.
     std::array<std::string, kMapKinds> samplers = {"depthMap"};
     const std::string& sampler(MapKind k) const { return samplers[size_t(k)]; }
-    bool depthTexture = false;  // "texture": "depth" -> the height sampler holds d = 1 - h
+    // What the height sampler holds ("texture"; docs/methods.md "Texture layouts"): R = h
+    // ("height"), R = 1 - h ("depth"), or RGBA with RGB = 0.5 + 0.5 m (the surface's unit
+    // normal, 003's normal map at the case's s and b) and A = h ("normal+height") or 1 - h
+    // ("normal+depth"), as engines pack height into a normal map's alpha.
+    enum class Layout { Height, Depth, NormalHeight, NormalDepth };
+    Layout layout = Layout::Height;
+    bool depthTexture() const { return layout == Layout::Depth || layout == Layout::NormalDepth; }
+    bool packedNormal() const {
+        return layout == Layout::NormalHeight || layout == Layout::NormalDepth;
+    }
+    // The source language: GLSL (any dialect above), or HLSL ("hlsl": FILE), which pgt
+    // compiles to SPIR-V and back to GLSL 4.50 (gl/hlsl.h) before the wrapper takes it.
+    bool hlsl = false;
+    // "call": an expression in the source's language giving uv' from uv, V, N = (0, 0, 1), s,
+    // b and the uniforms; empty: the function F(uv, V) is called.
+    std::string call;
+    // "defines": #define NAME VALUE lines put before the source, in the entry's order.
+    std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
     // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
     struct Uniform {

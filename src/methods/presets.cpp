@@ -45,7 +45,7 @@ MethodPreset glslPreset(const char* name, const char* source, const char* file,
     p.config.kind = MethodKind::Glsl;
     p.glsl.function = function;
     p.glsl.samplers[size_t(MapKind::Height)] = sampler;
-    p.glsl.depthTexture = depthTexture;
+    p.glsl.layout = depthTexture ? GlslSpec::Layout::Depth : GlslSpec::Layout::Height;
     p.glsl.uniforms = std::move(uniforms);
     return p;
 }

@@ -272,6 +272,7 @@ MapSet needs(const MethodConfig& cfg) {
         MapSet named;
         for (const MapKindInfo& m : kMapKindTable)
             if (!cfg.glsl->sampler(m.kind).empty()) named.add(m.kind);
+        if (cfg.glsl->packedNormal()) named.add(MapKind::Normal);  // the layout's RGB
         return named;
     }
     const MethodKindInfo* info = kindInfo(cfg.kind);

@@ -1,0 +1,264 @@
+// HLSL to GLSL 4.50 through SPIR-V (gl/hlsl.h): glslang, then SPIRV-Cross's C API.
+#include "gl/hlsl.h"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+#include <spirv_cross/spirv_cross_c.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/json_read.h"
+
+namespace pgt::gl {
+
+namespace {
+
+// The entry point pgt adds after the user's file: it runs the call (or F(uv, V)) with the
+// names a call may use. `pgt_s` and `pgt_b` are the case's s and b (set by
+// gl/glsl_method.cpp like any uniform). The call stands alone on the line after kEntryHead,
+// so that a message about that line names the call.
+constexpr const char* kEntryHead = R"(
+float pgt_s;
+float pgt_b;
+float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1) : SV_Target {
+    float2 uv = pgt_uv;
+    float3 V = pgt_v;
+    const float3 N = float3(0.0, 0.0, 1.0);
+    float s = pgt_s;
+    float b = pgt_b;
+    return float4(
+)";
+constexpr const char* kEntryTail = R"(
+    , 0.0, 0.0);
+}
+)";
+
+int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// #include "F" and <F>: relative to the including file's folder (the user's file's for the
+// first), read with the limits of every shader file. A failure is glslang's own message (an
+// include result with no name).
+class Includer : public glslang::TShader::Includer {
+  public:
+    explicit Includer(std::string top) : top_(std::move(top)) {}
+    IncludeResult* includeLocal(const char* requested, const char* from, size_t) override {
+        return resolve(requested, from);
+    }
+    IncludeResult* includeSystem(const char* requested, const char* from, size_t) override {
+        return resolve(requested, from);
+    }
+    void releaseInclude(IncludeResult* r) override {
+        if (!r) return;
+        delete static_cast<std::string*>(r->userData);
+        delete r;
+    }
+
+  private:
+    IncludeResult* resolve(const char* requested, const char* from) {
+        const std::filesystem::path owner(from && *from ? from : top_);
+        std::string name = (owner.parent_path() / requested).lexically_normal().string();
+        auto* content = new std::string;
+        try {
+            *content = readTextFile(name, owner.string(), "#include", "HLSL include", 16u << 20);
+        } catch (const std::exception& e) {
+            *content = e.what();
+            name.clear();
+        }
+        return new IncludeResult(name, content->c_str(), content->size(), content);
+    }
+    std::string top_;
+};
+
+// glslang's messages "ERROR: FILE:LINE: ..." with the lines pgt added named for what they
+// are: the call's line as "call", the others as pgt's entry point.
+std::string translateMessages(const std::string& log, const std::string& file, int userLines,
+                              int callLine) {
+    std::istringstream in(log);
+    std::ostringstream out;
+    std::string line;
+    const std::string prefix = file + ":";
+    while (std::getline(in, line)) {
+        for (const char* kind : {"ERROR: ", "WARNING: "})
+            if (line.rfind(kind, 0) == 0) line = line.substr(std::string(kind).size());
+        if (line.empty() ||
+            line.find("compilation errors.  No code generated.") != std::string::npos)
+            continue;
+        // "FILE:LINE: ..." or "FILE(LINE): ..."
+        const bool colon = line.rfind(prefix, 0) == 0, paren = line.rfind(file + "(", 0) == 0;
+        if (colon || paren) {
+            size_t end = prefix.size();
+            while (end < line.size() && std::isdigit(static_cast<unsigned char>(line[end]))) ++end;
+            if (end > prefix.size()) {
+                const int n = std::stoi(line.substr(prefix.size(), end - prefix.size()));
+                const std::string rest = line.substr(end + (paren ? 1 : 0));
+                // The call's line and the entry's lines around it, which hold its value.
+                if (n >= callLine - 1 && n <= callLine + 1)
+                    line = "call" + rest;
+                else if (n > userLines)
+                    line = "pgt entry point" + rest;
+                else if (paren)
+                    line = file + ":" + std::to_string(n) + rest;
+            }
+        }
+        out << line << "\n";
+    }
+    return out.str();
+}
+
+std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text, int userLines,
+                                     int callLine) {
+    static const bool initialised = glslang::InitializeProcess();
+    (void)initialised;
+    std::string preamble;
+    for (const auto& [name, value] : spec.defines)
+        preamble += "#define " + name + " " + value + "\n";
+    glslang::TShader shader(EShLangFragment);
+    const char* strings[] = {text.c_str()};
+    const int lengths[] = {int(text.size())};
+    const char* names[] = {spec.path.c_str()};
+    shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+    shader.setPreamble(preamble.c_str());
+    shader.setEntryPoint("pgt_hlsl_entry");
+    shader.setSourceEntryPoint("pgt_hlsl_entry");
+    shader.setEnvInput(glslang::EShSourceHlsl, EShLangFragment, glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_0);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+    shader.setAutoMapBindings(true);
+    shader.setAutoMapLocations(true);
+    const auto messages =
+        EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl | EShMsgHlslLegalization);
+    Includer includer(spec.path);
+    glslang::TProgram program;
+    bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
+    if (ok) {
+        program.addShader(&shader);
+        ok = program.link(messages);
+    }
+    if (!ok)
+        throw InputError(
+            spec.path, "hlsl", "",
+            "the shader does not compile:\n" +
+                translateMessages(std::string(shader.getInfoLog()) + program.getInfoLog(),
+                                  spec.path, userLines, callLine));
+    std::vector<uint32_t> spirv;
+    glslang::SpvOptions options;
+    options.disableOptimizer = false;  // HLSL's legalisation (inlining, textures by value)
+    spv::SpvBuildLogger logger;
+    glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), spirv, &logger, &options);
+    return spirv;
+}
+
+// SPIRV-Cross: a failure here is pgt's (the SPIR-V came from glslang), named as such.
+void check(spvc_result r, spvc_context ctx, const std::string& file) {
+    if (r != SPVC_SUCCESS)
+        throw InputError(file, "hlsl", "",
+                         std::string("SPIRV-Cross cannot turn the compiled shader into GLSL: ") +
+                             spvc_context_get_last_error_string(ctx));
+}
+
+// Each separate texture + sampler pair becomes one sampler2D named after the texture (or
+// TEXTURE_SAMPLER where a texture is used with several samplers).
+void nameCombinedSamplers(spvc_compiler comp) {
+    const spvc_combined_image_sampler* list = nullptr;
+    size_t n = 0;
+    spvc_compiler_get_combined_image_samplers(comp, &list, &n);
+    std::map<std::string, int> uses;
+    for (size_t i = 0; i < n; ++i) ++uses[spvc_compiler_get_name(comp, list[i].image_id)];
+    for (size_t i = 0; i < n; ++i) {
+        std::string name = spvc_compiler_get_name(comp, list[i].image_id);
+        if (uses[name] > 1)
+            name += std::string("_") + spvc_compiler_get_name(comp, list[i].sampler_id);
+        spvc_compiler_set_name(comp, list[i].combined_id, name.c_str());
+    }
+}
+
+// Gives the stage inputs and the output fixed names (by location), so that the wrapper can
+// make them plain globals.
+void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string& file) {
+    spvc_resources res = nullptr;
+    check(spvc_compiler_create_shader_resources(comp, &res), ctx, file);
+    const spvc_reflected_resource* list = nullptr;
+    size_t n = 0;
+    check(spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &n),
+          ctx, file);
+    for (size_t i = 0; i < n; ++i) {
+        const unsigned loc = spvc_compiler_get_decoration(comp, list[i].id, SpvDecorationLocation);
+        spvc_compiler_set_name(comp, list[i].id, loc == 0 ? "pgt_hlsl_uv" : "pgt_hlsl_v");
+    }
+    check(
+        spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &n),
+        ctx, file);
+    for (size_t i = 0; i < n; ++i) spvc_compiler_set_name(comp, list[i].id, "pgt_hlsl_out");
+}
+
+std::string spirvToGlsl(const std::vector<uint32_t>& spirv, const std::string& file) {
+    spvc_context ctx = nullptr;
+    if (spvc_context_create(&ctx) != SPVC_SUCCESS)
+        throw std::runtime_error("SPIRV-Cross: no context");
+    std::unique_ptr<spvc_context_s, decltype(&spvc_context_destroy)> owner(ctx,
+                                                                           spvc_context_destroy);
+    spvc_parsed_ir ir = nullptr;
+    check(spvc_context_parse_spirv(ctx, spirv.data(), spirv.size(), &ir), ctx, file);
+    spvc_compiler comp = nullptr;
+    check(spvc_context_create_compiler(ctx, SPVC_BACKEND_GLSL, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
+                                       &comp),
+          ctx, file);
+    spvc_compiler_options opts = nullptr;
+    check(spvc_compiler_create_compiler_options(comp, &opts), ctx, file);
+    spvc_compiler_options_set_uint(opts, SPVC_COMPILER_OPTION_GLSL_VERSION, 450);
+    spvc_compiler_options_set_bool(opts, SPVC_COMPILER_OPTION_GLSL_ES, SPVC_FALSE);
+    spvc_compiler_options_set_bool(opts, SPVC_COMPILER_OPTION_GLSL_VULKAN_SEMANTICS, SPVC_FALSE);
+    spvc_compiler_options_set_bool(
+        opts, SPVC_COMPILER_OPTION_GLSL_EMIT_UNIFORM_BUFFER_AS_PLAIN_UNIFORMS, SPVC_TRUE);
+    check(spvc_compiler_install_compiler_options(comp, opts), ctx, file);
+    spvc_variable_id dummy = 0;  // for Load/texelFetch of a texture with no sampler
+    check(spvc_compiler_build_dummy_sampler_for_combined_images(comp, &dummy), ctx, file);
+    check(spvc_compiler_build_combined_image_samplers(comp), ctx, file);
+    nameCombinedSamplers(comp);
+    nameStageVariables(comp, ctx, file);
+    const char* out = nullptr;
+    check(spvc_compiler_compile(comp, &out), ctx, file);
+    return out;
+}
+
+// SPIRV-Cross's text as a piece of the wrapper: the stage variables plain globals, main()
+// renamed, and the function the wrapper calls.
+std::string asWrapperPiece(const std::string& glsl) {
+    std::istringstream in(glsl);
+    std::ostringstream out;
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("layout(location", 0) == 0) {
+            for (const char* io : {") in ", ") out "}) {
+                const size_t at = line.find(io);
+                if (at != std::string::npos) line = line.substr(at + std::string(io).size());
+            }
+        }
+        if (line == "void main()") line = "void pgt_hlsl_main()";
+        out << line << "\n";
+    }
+    out << "vec2 " << kHlslCall << "(vec2 uv, vec3 v) {\n"
+        << "    pgt_hlsl_uv = uv;\n    pgt_hlsl_v = v;\n    pgt_hlsl_main();\n"
+        << "    return pgt_hlsl_out.xy;\n}\n";
+    return out.str();
+}
+
+}  // namespace
+
+std::string hlslToGlsl(const GlslSpec& spec) {
+    std::string user = spec.source;
+    if (!user.empty() && user.back() != '\n') user += "\n";
+    const int userLines = countLines(user);
+    const std::string call = spec.call.empty() ? spec.function + "(uv, V)" : spec.call;
+    const std::string text = user + kEntryHead + call + kEntryTail;
+    const int callLine = userLines + countLines(kEntryHead) + 1;
+    return asWrapperPiece(spirvToGlsl(compileToSpirv(spec, text, userLines, callLine), spec.path));
+}
+
+}  // namespace pgt::gl

@@ -1,0 +1,22 @@
+// HLSL methods (docs/methods.md "HLSL"): the user's HLSL, with an entry point pgt adds,
+// compiled to SPIR-V by glslang's HLSL front end (with SPIRV-Tools' legalisation) and turned
+// back into GLSL 4.50 by SPIRV-Cross, in the form the GLSL wrapper (gl/program.cpp) takes:
+// a function pgt_hlsl_call(uv, V) returning uv'. Separate Texture2D and SamplerState objects
+// become one sampler2D named after the texture; globals and cbuffer members become members
+// of plain uniform structs (set by member name, gl/glsl_method.cpp).
+#pragma once
+
+#include <string>
+
+#include "methods/glsl_spec.h"
+
+namespace pgt::gl {
+
+// The function the translated text defines (the wrapper's PGT_FUNCTION).
+inline constexpr const char* kHlslCall = "pgt_hlsl_call";
+
+// The GLSL 4.50 text of the spec's HLSL method. A compile error throws InputError naming the
+// user's file and line (or "call" for the call expression). Runs without a GL context.
+std::string hlslToGlsl(const GlslSpec& spec);
+
+}  // namespace pgt::gl
