@@ -35,7 +35,8 @@ TEST(Fit, ParallaxOnConstantHeightReachesZero) {
     EXPECT_NEAR(sb, 0.06 * 0.4 - 0.03, 2e-3);
 }
 
-// Presets and GLSL methods are fixed configurations: skipped, the others still fitted.
+// Presets are fixed configurations, and so is a GLSL method whose scale does not reach the
+// shader (godot binds none): skipped, the others still fitted.
 TEST(Fit, PresetsAndGlslMethodsAreSkipped) {
     Scene s = fitScene(R"({"procedural": "constant", "value": 0.4, "size": [16, 16]})",
                        R"({"theta": [30], "resolution": [16, 16], "scale_factors": [1],
@@ -59,6 +60,39 @@ TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
     EXPECT_NEAR(best["scale"].get<double>(), 0.06, 0.06 * 0.05) << best.dump();
     EXPECT_NEAR(best["bias"].get<double>(), -0.03, 0.06 * 0.1) << best.dump();
     EXPECT_LE(r.methods[0].bestObjective, r.methods[0].nativeObjective + 1e-9);
+}
+
+// An HLSL method is fitted like a built-in: pgt's pom as HLSL (tests/data/hlsl) with its
+// height_scale and height_bias bound to s and b and max_layers its "steps_uniform" recovers the
+// truth's own (s, b) as the built-in does, and gets the same objective at its best.
+TEST(Fit, HlslMethodIsFittedLikeTheBuiltIn) {
+    const std::string pom = test::testDataDir() + "/hlsl/pom_twin.hlsl";
+    Scene s = fitScene(R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})",
+                       R"({"theta": [30, 50, 65], "resolution": [48, 48], "steps": [64],
+                           "scale_factors": [0.5, 0.75, 1.25, 1.5], "bias_ratios": [-0.75, -0.25],
+                           "refine": 4,
+                           "methods": [{"name": "pom", "layers": 64},
+                                       {"name": "pom_hlsl", "hlsl": ")" +
+                           pom + R"(", "function": "ParallaxOcclusion", "sampler": "heightMap",
+                            "steps_uniform": "max_layers",
+                            "uniforms": {"height_scale": "scale", "height_bias": "bias",
+                                         "min_layers": 64, "max_layers": 8}}]})");
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 2u);
+    const auto& builtIn = r.methods[0];
+    const auto& hlsl = r.methods[1];
+    EXPECT_EQ(hlsl.method, "pom_hlsl");
+    EXPECT_EQ(hlsl.steps, 64);
+    EXPECT_EQ(hlsl.best["uniforms"]["max_layers"], 64) << hlsl.best.dump();
+    EXPECT_NEAR(hlsl.best["scale"].get<double>(), 0.06, 0.06 * 0.05) << hlsl.best.dump();
+    EXPECT_NEAR(hlsl.best["bias"].get<double>(), -0.03, 0.06 * 0.1) << hlsl.best.dump();
+    EXPECT_NEAR(hlsl.bestObjective, builtIn.bestObjective, 1e-3 + 0.05 * builtIn.bestObjective);
+    std::printf(
+        "fit: built-in pom best %.5f at s %.5f b %.5f; HLSL twin best %.5f at s %.5f "
+        "b %.5f\n",
+        builtIn.bestObjective, builtIn.best["scale"].get<double>(),
+        builtIn.best["bias"].get<double>(), hlsl.bestObjective, hlsl.best["scale"].get<double>(),
+        hlsl.best["bias"].get<double>());
 }
 
 TEST(Fit, BadFitBlockNamesTheField) {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "methods/glsl_spec.h"
 #include "study/csv_table.h"
 #include "test_util.h"
 
@@ -192,7 +193,7 @@ TEST(Sweep, BadSweepEntriesNameTheKey) {
         return std::string();
     };
     EXPECT_NE(bad("pom.linear_steps", {4}).find("sweep.pom.linear_steps"), std::string::npos);
-    EXPECT_NE(bad("relief.binary_steps", {4}).find("no built-in method named"), std::string::npos);
+    EXPECT_NE(bad("relief.binary_steps", {4}).find("no method named"), std::string::npos);
     EXPECT_NE(bad("theta", {10, 95}).find("sweep.theta"), std::string::npos);
     EXPECT_NE(bad("thetas", {10}).find("did you mean \"theta\""), std::string::npos);
     EXPECT_NE(bad("bias", {0.0}).find("either"), std::string::npos);
@@ -336,6 +337,74 @@ TEST(Sweep, MeasuredColumnsAreOneListInBothLanguages) {
         EXPECT_NE(std::find(resultColumns().begin(), resultColumns().end(), c),
                   resultColumns().end())
             << c;
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// A GLSL method swept over a uniform ("LABEL.uniforms.NAME"), as built-ins are over their
+// parameters: one configuration per value, labelled with it; LearnOpenGL's ParallaxMapping on
+// a depth map at height_scale = s is the built-in parallax at b = -s, so the configuration
+// whose height_scale equals the case's s agrees with parallax and the other does not. A
+// preset's uniforms are overridden by its entry; unknown labels and uniforms are refused.
+TEST(Sweep, GlslUniformsAreSweptAndPresetsOverridden) {
+    auto dir = test::tempDir("glsl_uniform_sweep");
+    std::ofstream(dir / "mine.glsl")
+        << "#version 330 core\nuniform sampler2D depthMap;\nuniform float height_scale;\n"
+           "vec2 ParallaxMapping(vec2 uv, vec3 V) {\n"
+           "    return uv - V.xy / V.z * (texture(depthMap, uv).r * height_scale);\n}\n";
+    nlohmann::json j = nlohmann::json::parse(kStudyScene);
+    j["methods"] = nlohmann::json::parse(
+        R"(["parallax", {"name": "mine", "glsl": "mine.glsl", "texture": "depth",
+                         "uniforms": {"height_scale": 1.0}},
+            {"preset": "godot", "uniforms": {"heightmap_scale": 2.5}}])");
+    j["sweep"].erase("pom.max_layers");
+    j["sweep"]["scale"] = {0.03};
+    j["sweep"]["bias_ratio"] = {-1};
+    j["sweep"]["mine.uniforms.height_scale"] = {0.03, 0.06};
+    const Scene scene = parseScene(j, (dir / "scene.json").string());
+    const Study study = parseStudy(scene);
+    ASSERT_EQ(study.configs.size(), 4u);
+    EXPECT_EQ(study.configs[1].label, "mine_height_scale0.03");
+    EXPECT_EQ(study.configs[2].label, "mine_height_scale0.06");
+    EXPECT_EQ(study.configs[2].glsl->uniforms.at(0).values, std::vector<double>{0.06});
+    EXPECT_EQ(study.configs[3].glsl->uniforms.at(0).values, std::vector<double>{2.5});
+    SweepOptions opt;
+    opt.outDir = (dir / "out").string();
+    opt.progress = false;
+    ASSERT_TRUE(runSweep(scene, study, opt).finished);
+    std::map<std::string, std::map<std::string, double>> mean;  // case -> label -> mean
+    for (const auto& r : readRecords(dir / "out" / "results.csv"))
+        mean[r.at("case")][r.at("label")] = std::stod(r.at("mean"));
+    for (const auto& [c, m] : mean) {
+        EXPECT_NEAR(m.at("mine_height_scale0.03"), m.at("parallax"), 1e-3) << "case " << c;
+        EXPECT_GT(m.at("mine_height_scale0.06"), m.at("parallax") + 1e-2) << "case " << c;
+    }
+    auto error = [&](const std::string& key, const nlohmann::json& value) {
+        nlohmann::json k = j;
+        k["sweep"][key] = value;
+        try {
+            parseStudy(parseScene(k, (dir / "scene.json").string()));
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(error("nosuch.uniforms.x", {1}).find("no method named"), std::string::npos);
+    EXPECT_NE(error("mine.uniforms.nothere", {1}).find("has no uniform \"nothere\""),
+              std::string::npos);
+    EXPECT_NE(error("mine.min_layers", {8}).find("uniforms.NAME"), std::string::npos);
+    nlohmann::json p = j;
+    p["methods"][2]["uniforms"] = {{"nosuch", 1}};
+    try {
+        parseScene(p, (dir / "scene.json").string());
+        ADD_FAILURE() << "a preset's unknown uniform was taken";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("uniforms.nosuch"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace

@@ -19,6 +19,8 @@ namespace pgt {
 
 namespace {
 
+bool mentions(const std::string& text, const std::string& word);
+
 // A method's own (s, b) in UV units: docs/model.md §3's displacement is at most a few UV units;
 // 1e3 bounds a typo without limiting any real setting.
 constexpr double kMaxOwnDisplacement = 1e3;
@@ -174,6 +176,10 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     if (spec->call.find('\n') != std::string::npos) f.fail("call", "holds a line break");
     if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
+    spec->stepsUniform = f.string("steps_uniform", "");
+    if (!spec->stepsUniform.empty() && !mentions(spec->source, spec->stepsUniform))
+        f.fail("steps_uniform",
+               "the shader " + spec->path + " has no uniform \"" + spec->stepsUniform + "\"");
     cfg.discardOutside = f.boolean("discard_outside", false);
     // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
     // pgt_sample (docs/methods.md "GLSL methods").
@@ -187,7 +193,8 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     return cfg;
 }
 
-// {"preset": NAME, "label": optional}: the preset's configuration, labelled NAME.
+// {"preset": NAME, "label": optional, "scale", "bias", "uniforms": {...}}: the preset's
+// configuration, labelled NAME, with what the entry overrides (setShaderParameter).
 MethodConfig parsePreset(const Json& object, const std::string& file, const std::string& path) {
     JsonFields f(object, file, path);
     std::vector<std::string> names;
@@ -195,11 +202,30 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     std::string name = f.choice("preset", names, "");
     std::string label = f.string("label", name);
     checkLabel(label, file, f.fieldPath("label"));
-    f.finish();
+    MethodConfig cfg;
     for (const auto& p : methodPresets())
-        if (p.name == name) return presetConfig(p, label, file, f.fieldPath("preset"));
-    PGT_CHECK(false);  // choice() accepted only these names
-    return {};
+        if (p.name == name) cfg = presetConfig(p, label, file, f.fieldPath("preset"));
+    for (const char* key : {"scale", "bias"})
+        if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
+    if (f.has("uniforms")) {
+        const Json& u = f.raw("uniforms");
+        if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
+        for (const auto& [uniform, value] : u.items())
+            setShaderParameter(cfg, "uniforms." + uniform, value, file,
+                               f.fieldPath("uniforms") + "." + uniform);
+    }
+    f.finish();
+    return cfg;
+}
+
+// Whether `word` appears in `text` as a whole identifier.
+bool mentions(const std::string& text, const std::string& word) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
+        if ((at == 0 || !identChar(text[at - 1])) &&
+            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
+            return true;
+    return false;
 }
 
 // The parameters of a generated label: the kind's own, then precision, discard and (s, b).
@@ -222,6 +248,55 @@ std::string parameterSuffix(const MethodConfig& c) {
 }
 
 }  // namespace
+
+std::string setShaderParameter(MethodConfig& cfg, const std::string& param, const Json& value,
+                               const std::string& file, const std::string& field) {
+    auto fail = [&](const std::string& message) -> void {
+        throw InputError(file, field, shortDump(value), message);
+    };
+    if (param == "scale" || param == "bias") {
+        if (!value.is_number() || !std::isfinite(value.get<double>()) ||
+            std::abs(value.get<double>()) > kMaxOwnDisplacement)
+            fail("expected a finite number of at most 1e3 in magnitude");
+        (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
+        return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
+    }
+    const std::string prefix = "uniforms.";
+    if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
+        fail("a GLSL/HLSL method or preset varies \"scale\", \"bias\" or \"uniforms.NAME\"");
+    if (!cfg.glsl) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
+    const std::string name = param.substr(prefix.size());
+    GlslSpec::Uniform un{name, {}, false, ""};
+    if (value.is_number()) {
+        un.values = {value.get<double>()};
+        un.isInt = value.is_number_integer();
+    } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
+        for (const auto& x : value) {
+            if (!x.is_number()) fail("expected a number or 2 to 4 numbers");
+            un.values.push_back(x.get<double>());
+        }
+    } else {
+        fail("expected a number or 2 to 4 numbers");
+    }
+    for (double x : un.values)
+        if (!std::isfinite(x)) fail("is not finite");
+    auto spec = std::make_shared<GlslSpec>(*cfg.glsl);  // configurations share no spec
+    auto it = std::find_if(spec->uniforms.begin(), spec->uniforms.end(),
+                           [&](const GlslSpec::Uniform& u) { return u.name == name; });
+    if (it != spec->uniforms.end())
+        *it = un;
+    else if (mentions(spec->source, name))
+        spec->uniforms.push_back(un);
+    else
+        fail("the shader " + spec->path + " has no uniform \"" + name + "\"");
+    cfg.glsl = std::move(spec);
+    std::string part = name;
+    for (size_t k = 0; k < un.values.size(); ++k) {
+        if (k > 0) part += '_';
+        part += formatNumber(un.values[k], 6);
+    }
+    return part;
+}
 
 void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
     if (const MethodKindInfo* info = kindInfo(cfg.kind))
@@ -325,6 +400,7 @@ Json toJson(const MethodConfig& c) {
         j["texture"] = layoutNames()[size_t(c.glsl->layout)];
         if (c.glsl->hlsl) j["hlsl"] = j["glsl"], j.erase("glsl");
         if (!c.glsl->call.empty()) j["call"] = c.glsl->call;
+        if (!c.glsl->stepsUniform.empty()) j["steps_uniform"] = c.glsl->stepsUniform;
         for (const auto& [name, value] : c.glsl->defines) j["defines"][name] = value;
         Json u = Json::object();
         for (const auto& un : c.glsl->uniforms)

@@ -23,6 +23,15 @@ MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
 // discard_outside, precision) over cfg's current values. The caller calls f.finish(), which
 // rejects every other key. A study varies a configuration through this.
 void readMethodParameters(JsonFields& f, MethodConfig& cfg);
+// Sets one parameter of a GLSL/HLSL method or a preset as a study varies it
+// ("LABEL.PARAM": [values]) or a preset entry overrides it: "scale" or "bias" (the method's
+// own s or b), or "uniforms.NAME" (a GLSL/HLSL method's or GLSL preset's uniform: a number or
+// 2 to 4 numbers; NAME must be one of the entry's uniforms or appear in the shader's source).
+// Returns the label part that names the value ("s0.05", "max_layers16"). `field` names the
+// value in messages.
+std::string setShaderParameter(MethodConfig& cfg, const std::string& param,
+                               const nlohmann::json& value, const std::string& file,
+                               const std::string& field);
 // Gives every configuration without a label one (unique, with its parameters when its
 // name is listed twice) and checks that the labels are unique; `path` names the list.
 void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,

@@ -58,6 +58,17 @@ struct GlslSpec {
         std::string bind;  // "", "scale" or "bias"
     };
     std::vector<Uniform> uniforms;
+    // "steps_uniform": the integer uniform that is the method's step count, which `pgt fit`
+    // sets to each of its step counts as it does a built-in's; "" where none.
+    std::string stepsUniform;
+    // Whether the case's (or the method's own) s and b reach the shader, through a uniform
+    // bound to "scale"/"bias" or a call (which may read s and b): what `pgt fit` varies.
+    bool takesScale() const {
+        if (!call.empty()) return true;
+        for (const Uniform& u : uniforms)
+            if (!u.bind.empty()) return true;
+        return false;
+    }
 };
 
 }  // namespace pgt

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "methods/cone.h"
+#include "methods/config.h"
 #include "methods/glsl_spec.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
@@ -290,6 +291,11 @@ void applyKindDefaults(MethodConfig& cfg) {
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {
+    if (cfg.glsl) {  // its "steps_uniform"
+        if (cfg.glsl->stepsUniform.empty()) return false;
+        setShaderParameter(cfg, "uniforms." + cfg.glsl->stepsUniform, steps, "", "steps");
+        return true;
+    }
     const MethodKindInfo* info = kindInfo(cfg.kind);
     if (!info || !info->stepKey) return false;
     for (const IntParameter& p : info->parameters) {

@@ -9,6 +9,7 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
+#include "methods/glsl_spec.h"
 #include "methods/registry.h"
 #include "study/render.h"
 
@@ -193,13 +194,18 @@ FitReport runFit(const Scene& scene, bool progress) {
                          "fitting sweeps the view angle: it needs an orthographic camera");
     FitReport rep;
     const FitPlan plan = readFitPlan(scene, rep);
-    // Presets are fixed configurations (fit the built-in they stand for instead), and a GLSL
-    // method's parameters are its uniforms, which pgt does not vary.
-    auto fixed = [](const MethodConfig& m) { return m.glsl || !m.preset.empty(); };
+    // Presets are fixed configurations (fit the built-in they stand for instead); a GLSL/HLSL
+    // method is fitted where s and b reach it (a uniform bound to them, or a call), at each
+    // step count of its "steps_uniform".
+    auto fixed = [](const MethodConfig& m) {
+        return !m.preset.empty() || (m.glsl && !m.glsl->takesScale());
+    };
     if (std::all_of(plan.methods.begin(), plan.methods.end(), fixed))
         throw InputError(scene.file, scene.fit.contains("methods") ? "fit.methods" : "methods", "",
-                         "nothing to fit: presets and GLSL methods are fixed configurations; "
-                         "list the built-in methods to fit (a preset's is in docs/methods.md)");
+                         "nothing to fit: presets are fixed configurations, and a GLSL/HLSL "
+                         "method is fitted only where its scale reaches the shader (a uniform "
+                         "bound to \"scale\" or a call); list the methods to fit (a preset's "
+                         "built-in is in docs/methods.md)");
     // Every view's truth frame and fragments are kept for the whole search: estimated as one
     // frame as tall as all of them, with one method's images at a time.
     const size_t viewCount = rep.thetas.size() * rep.phis.size();
@@ -211,11 +217,15 @@ FitReport runFit(const Scene& scene, bool progress) {
     for (const MethodConfig& base : plan.methods) {
         if (fixed(base)) {
             if (progress)
-                std::fprintf(stderr, "fit: %s skipped (presets and GLSL methods are fixed)\n",
-                             base.label.c_str());
+                std::fprintf(stderr, "fit: %s skipped (%s)\n", base.label.c_str(),
+                             base.glsl && base.preset.empty()
+                                 ? "its scale does not reach the shader: bind a uniform to "
+                                   "\"scale\" or use s in a call"
+                                 : "presets are fixed");
             continue;
         }
-        const bool hasSteps = kindInfo(base.kind) && kindInfo(base.kind)->stepKey;
+        const bool hasSteps = base.glsl ? !base.glsl->stepsUniform.empty()
+                                        : kindInfo(base.kind) && kindInfo(base.kind)->stepKey;
         for (double stepCount : hasSteps ? plan.steps : std::vector<double>{0}) {
             MethodConfig listed = base;
             if (hasSteps) setStepCount(listed, int(stepCount));

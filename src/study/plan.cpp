@@ -124,14 +124,48 @@ std::vector<std::string> readParameterLists(JsonFields& f, const Scene& scene,
         if (values.empty()) f.failValue(it.key(), it.value(), "no values");
         bool known = false;
         for (const auto& m : scene.methods)
-            known =
-                known || ((m.name == prefix || m.label == prefix) && !m.glsl && m.preset.empty());
+            known = known || (m.name == prefix || m.label == prefix);
         if (!known)
-            f.fail(it.key(), "no built-in method named or labelled \"" + prefix +
-                                 "\" in \"methods\" (presets and GLSL methods are fixed)");
+            f.fail(it.key(), "no method named or labelled \"" + prefix + "\" in \"methods\"");
         lists[prefix].push_back({param, values});
     }
     return dotted;
+}
+
+// A GLSL/HLSL method's or preset's configurations: the product of the lists under its label
+// (or name), each varying "scale", "bias" or "uniforms.NAME" (setShaderParameter); a varied
+// configuration's label is its own with each value appended ("pom_hlsl_max_layers16").
+std::vector<MethodConfig> expandShaderConfig(JsonFields& f, const MethodConfig& m,
+                                             const ParameterLists& lists) {
+    const std::string base = m.label.empty() ? m.name : m.label;
+    std::vector<std::pair<MethodConfig, std::string>> configs = {{m, base}};
+    std::vector<std::string> prefixes = {base};
+    if (m.name != base) prefixes.push_back(m.name);
+    for (const std::string& prefix : prefixes) {
+        if (!lists.count(prefix)) continue;
+        for (const auto& [param, values] : lists.at(prefix)) {
+            if (double(configs.size()) * double(values.size()) > double(kMaxStudyConfigs))
+                f.fail(prefix + "." + param, "the lists of \"" + prefix + "\" make more than " +
+                                                 std::to_string(kMaxStudyConfigs) +
+                                                 " configurations");
+            std::vector<std::pair<MethodConfig, std::string>> next;
+            for (const auto& [c, label] : configs)
+                for (const Json& v : values) {
+                    MethodConfig one = c;
+                    const std::string part = setShaderParameter(one, param, v, f.file(),
+                                                                f.fieldPath(prefix + "." + param));
+                    next.push_back({std::move(one), label + "_" + part});
+                }
+            configs = std::move(next);
+        }
+        break;  // the label's lists, else the name's
+    }
+    std::vector<MethodConfig> out;
+    for (auto& [c, label] : configs) {
+        if (configs.size() > 1) c.label = label;
+        out.push_back(std::move(c));
+    }
+    return out;
 }
 
 // The configurations of a study: each built-in method times the product of its lists
@@ -141,6 +175,10 @@ std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
                                         const ParameterLists& lists) {
     std::vector<MethodConfig> out;
     for (const MethodConfig& m : scene.methods) {
+        if (m.glsl || !m.preset.empty()) {
+            for (MethodConfig& c : expandShaderConfig(f, m, lists)) out.push_back(std::move(c));
+            continue;
+        }
         std::vector<MethodConfig> configs = {m};
         bool varied = false;
         for (const std::string& prefix : {m.name, m.label}) {
