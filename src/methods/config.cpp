@@ -127,20 +127,9 @@ std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
     return "110";
 }
 
-// {"name": "mine", "glsl" | "hlsl": FILE, "function": F, "call": EXPR, "defines": {...},
-//  "sampler": S, "texture": LAYOUT, "uniforms": {...}}: the file is read now, relative to the scene
-//  file's folder; "pgt:F"
-// names F among the shipped shaders (share/pgt/shaders, methods/presets.h shaderDir).
-MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
-    MethodConfig cfg;
-    cfg.kind = MethodKind::Glsl;
-    cfg.name = f.string("name", "");
-    checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
-    auto spec = std::make_shared<GlslSpec>();
-    // "glsl": FILE or "hlsl": FILE (one of them).
-    spec->hlsl = f.has("hlsl");
-    const std::string key = spec->hlsl ? "hlsl" : "glsl";
-    if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+// The shader file an entry's `key` names: relative to the scene file's folder, or
+// "pgt:NAME" among the shipped shaders.
+std::string shaderPath(JsonFields& f, const std::string& key, const std::string& file) {
     std::string rel = f.string(key, "");
     std::filesystem::path p(rel);
     if (rel.rfind(kShippedShaderPrefix, 0) == 0) {  // "pgt:NAME.glsl": a shipped shader
@@ -157,8 +146,25 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     } else if (p.is_relative()) {
         p = std::filesystem::path(file).parent_path() / p;
     }
-    spec->path = p.lexically_normal().string();
-    if (rel.empty()) f.fail(key, "cannot read the shader file " + spec->path);
+    const std::string path = p.lexically_normal().string();
+    if (rel.empty()) f.fail(key, "cannot read the shader file " + path);
+    return path;
+}
+
+// {"name": "mine", "glsl" | "hlsl": FILE, "function": F, "call": EXPR, "defines": {...},
+//  "sampler": S, "texture": LAYOUT, "uniforms": {...}, "steps_uniform": U}: the file is read
+//  now (shaderPath).
+MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
+    MethodConfig cfg;
+    cfg.kind = MethodKind::Glsl;
+    cfg.name = f.string("name", "");
+    checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
+    auto spec = std::make_shared<GlslSpec>();
+    // "glsl": FILE or "hlsl": FILE (one of them).
+    spec->hlsl = f.has("hlsl");
+    const std::string key = spec->hlsl ? "hlsl" : "glsl";
+    if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+    spec->path = shaderPath(f, key, file);
     // A shader is a few KB; 16 MiB bounds a stray file.
     spec->source = readTextFile(spec->path, file, f.fieldPath(key), "shader file", 16u << 20);
     spec->function = f.string("function", "ParallaxMapping");
