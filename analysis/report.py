@@ -13,7 +13,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
-from common import representative_labels, save_figure, write_text  # noqa: E402
+from common import save_figure, write_text  # noqa: E402
+from report_configs import common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402
 
 
 def pareto_front(points):
@@ -25,37 +26,6 @@ def pareto_front(points):
             front.append(i)
             best = points[i][1]
     return front
-
-
-def fig_error_vs_theta(df, reps, figdir):
-    out = []
-    ratios = sorted(df["bias_ratio"].dropna().unique())
-    for scale in sorted(df["scale"].unique()):
-        sub = df[df["scale"] == scale]
-        # The bias ratio closest to Welsh's -1/2, so every method is seen on one surface.
-        ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
-        if ratios:
-            sub = sub[np.isclose(sub["bias_ratio"], ratio)]
-        fig, ax = plt.subplots(figsize=(8, 5))
-        for name, label in reps.items():
-            rows = sub[sub["label"] == label].groupby("theta")[["mean", "p50", "p90"]].mean()
-            if rows.empty:
-                continue
-            line, = ax.plot(rows.index, rows["mean"], marker="o", ms=3, label=label)
-            ax.fill_between(rows.index, rows["p50"].clip(lower=1e-5), rows["p90"].clip(lower=1e-5),
-                            color=line.get_color(), alpha=0.15)
-        ax.set_yscale("log")
-        ax.set_xlabel("view angle theta [degrees]")
-        ax.set_ylabel("UV error [texels] (line: mean; band: p50..p90)")
-        ax.axhline(1.0, color="k", lw=0.8, ls="--")
-        ax.set_title(f"error against view angle, s = {scale:g}, b/s = {ratio:g}")
-        ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
-        name = f"error_vs_theta_s{scale:g}.png"
-        save_figure(fig, os.path.join(figdir, name), dpi=110)
-        plt.close(fig)
-        out.append((scale, ratio, name))
-    return out
 
 
 def mark_precomputed(ax, agg, pts):
@@ -76,7 +46,7 @@ def fig_pareto(df, figdir):
     agg = df.groupby(["label", "method"]).agg(
         mean=("mean", "mean"), p90=("p90", "mean"), ns=("ns_per_px", "mean"),
         fetches=("fetches_mean", "mean"), backend=("timing_backend", "first"),
-        precompute=("precompute_ms", "max")).reset_index()
+        precompute=("precompute_ms", "max"), cases=("case", "nunique")).reset_index()
     gl = agg["backend"].astype(str) != "cpu"
     files = {}
     fronts = {}
@@ -127,15 +97,18 @@ def fig_pareto(df, figdir):
     return agg, files, fronts
 
 
-def defaults_table(df, reps):
+def defaults_table(df):
+    """Per configuration and scale: the bias ratio with the lowest mean and p90 over the view
+    angles, beside the ratio the source documents use for its method (where one does)."""
     rows = []
-    for name, label in reps.items():
+    for label in df["label"].drop_duplicates():
         sub = df[df["label"] == label]
-        if sub["bias_ratio"].isna().all():
+        if sub["bias_ratio"].isna().all() or sub["bias_ratio"].nunique() < 2:
             continue
+        name = sub["method"].iloc[0]
         for scale in sorted(sub["scale"].unique()):
             s = sub[sub["scale"] == scale].groupby("bias_ratio")[["mean", "p90"]].mean()
-            if s.empty:
+            if s.empty or not np.isfinite(s["mean"]).any():
                 continue
             best_mean, best_p90 = s["mean"].idxmin(), s["p90"].idxmin()
             doc = DOCUMENT_BIAS_RATIO.get(name)
@@ -150,36 +123,6 @@ def defaults_table(df, reps):
                          "doc_ratio": doc[0] if doc else float("nan"),
                          "doc_source": doc[1] if doc else "", "mean_at_doc": doc_err})
     return pd.DataFrame(rows)
-
-
-def fig_heatmaps(df, reps, figdir):
-    files = []
-    for name, label in reps.items():
-        sub = df[df["label"] == label]
-        if sub["bias_ratio"].isna().all() or sub["scale"].nunique() * sub["bias_ratio"].nunique() < 2:
-            continue
-        grid = sub.groupby(["scale", "bias_ratio"])["mean"].mean().unstack("bias_ratio")
-        fig, ax = plt.subplots(figsize=(6.5, 3.8))
-        data = np.log10(grid.values.clip(min=1e-5))
-        im = ax.imshow(data, aspect="auto", origin="lower", cmap="viridis")
-        ax.set_xticks(range(grid.shape[1]), [f"{c:g}" for c in grid.columns])
-        ax.set_yticks(range(grid.shape[0]), [f"{r:g}" for r in grid.index])
-        ax.set_xlabel("bias ratio b/s")
-        ax.set_ylabel("scale s")
-        for r in range(grid.shape[0]):
-            c = int(np.nanargmin(grid.values[r]))
-            ax.plot(c, r, marker="*", color="red", ms=14)
-            for k in range(grid.shape[1]):
-                ax.text(k, r, nice(grid.values[r, k], 2), ha="center", va="center", fontsize=7,
-                        color="w")
-        fig.colorbar(im, ax=ax, label="log10 mean error [texels]")
-        ax.set_title(f"{label}: mean error over view angles (star: minimum per scale)", fontsize=9)
-        fig.tight_layout()
-        fname = f"heatmap_{label}.png"
-        save_figure(fig, os.path.join(figdir, fname), dpi=110)
-        plt.close(fig)
-        files.append(fname)
-    return files
 
 
 def header_lines(df, study):
@@ -210,7 +153,19 @@ def header_lines(df, study):
     return lines
 
 
-def runtime_lines(theta_figs, agg, pareto_files, fronts):
+def ranking_note(n_common, n_total, flagged):
+    """Which cases the figures and tables average over, and who had non-finite uv'."""
+    lines = [f"Every figure, ranking and table below is over the {n_common} of {n_total} cases "
+             "that every configuration finished with a finite mean error; a configuration's "
+             "error is averaged over those same cases."]
+    if flagged:
+        lines += ["", "Configurations marked ⚠ had pixels with a non-finite uv' (counted, never "
+                  "averaged: see \"Stiff cases counted\") in some cases: "
+                  + ", ".join(f"`{l}` ({n} cases)" for l, n in sorted(flagged.items())) + "."]
+    return lines + [""]
+
+
+def runtime_lines(theta_figs, agg, pareto_files, fronts, flagged):
     """Error against view angle and against run time, with the Pareto fronts and the table."""
     lines = ["## Error against view angle", ""]
     for scale, ratio, fname in theta_figs:
@@ -227,30 +182,36 @@ def runtime_lines(theta_figs, agg, pareto_files, fronts):
                   + ", ".join(f"`{l}`" for l in fronts["gl"]) + ".", ""]
     lines += ["Circled points are precomputed methods: their ns/px leaves out the build of "
               "their maps, made once per height map and given beside them (precompute ms).", "",
-              "| configuration | mean error | p90 | ns/px | fetches/px | precompute ms |",
-              "|---|---|---|---|---|---|"]
-    for _, r in agg.sort_values("mean").iterrows():
+              "| rank | configuration | cases | mean error | p90 | ns/px | fetches/px | "
+              "precompute ms |",
+              "|---|---|---|---|---|---|---|---|"]
+    for rank, (_, r) in enumerate(agg.sort_values("mean").iterrows(), 1):
         gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
         pre = nice(r["precompute"], 3) if r["precompute"] > 0 else "—"
-        lines.append(f"| {r['label']} | {nice(r['mean'])} | {nice(r['p90'])} | "
-                     f"{nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} | {pre} |")
+        flag = " ⚠" if r["label"] in flagged else ""
+        lines.append(f"| {rank} | {r['label']}{flag} | {int(r['cases'])} | {nice(r['mean'])} | "
+                     f"{nice(r['p90'])} | {nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} "
+                     f"| {pre} |")
     return lines
 
 
 def defaults_lines(table, table80, heat):
     """The scale and bias defaults, over all angles and up to 80 degrees, and the heat maps."""
     lines = ["", "## Scale and bias defaults", "",
-             "For each method (its configuration as the scene lists it) and scale: the bias "
-             "ratio b/s with the lowest error averaged over the study's view angles, by mean "
-             "and by p90, beside the ratio the source documents use.", "",
+             "For each configuration and scale: the bias ratio b/s with the lowest error "
+             "averaged over the study's view angles, by mean and by p90, beside the ratio the "
+             "source documents use for its method (— where none does).", "",
              "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
              "documents' b/s | mean there | spread of the mean over b/s |",
              "|---|---|---|---|---|---|---|---|---|"]
     for _, r in table.iterrows():
+        doc = f"{nice(r['doc_ratio'])} ({r['doc_source']})" if r["doc_source"] else "—"
         lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
                      f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} | "
-                     f"{nice(r['doc_ratio'])} ({r['doc_source']}) | {nice(r['mean_at_doc'])} | "
+                     f"{doc} | {nice(r['mean_at_doc']) if r['doc_source'] else '—'} | "
                      f"{r['spread']:.1%} |")
+    if table.empty:
+        lines += ["(No configuration was run at two or more bias ratios: nothing to choose.)"]
     lines += ["", "A small spread means the bias hardly matters for that method (steep, pom and "
               "relief are translation-covariant in b on an infinite plane: what is left is the "
               "noise of the estimate), so the 'best' ratio there is not a recommendation."]
@@ -291,6 +252,14 @@ def frame_and_stiff_lines(df):
             lines.append(f"| {label} | {int(r['nonfinite'])} | {int(r['zero_divide'])} | "
                          f"{int(r['step_limit'])} |")
         lines.append("")
+    if "warnings" in df.columns and df["warnings"].notna().any():
+        lines += ["## Warnings", "", "Silent mistakes the frames showed (docs/outputs.md "
+                  "\"Warnings\"): configuration, kind, cases.", "",
+                  "| configuration | warning | cases |", "|---|---|---|"]
+        w = df[df["warnings"].notna()]
+        for (label, kinds), grp in w.groupby(["label", "warnings"]):
+            lines.append(f"| {label} | {kinds} | {grp['case'].nunique()} |")
+        lines.append("")
     return lines
 
 
@@ -300,27 +269,32 @@ def main():
     args = ap.parse_args()
     df = read_results(os.path.join(args.dir, "results.csv"))
     study = read_study(args.dir)
-    reps = representative_labels(df, study)
     figdir = os.path.join(args.dir, "figures")
     os.makedirs(figdir, exist_ok=True)
+    # Rankings and averages over the cases every configuration finished (a killed or partial
+    # study has cases some configurations lack; a mean of different cases ranks nothing).
+    common, n_common, n_total, flagged = common_cases(df)
+    if common.empty:
+        sys.exit(f"{args.dir}: no case that every configuration finished with a finite error")
 
     # The heat maps draw in a forked worker while this process draws the rest (matplotlib
     # drawing is most of the report's time; two cores halve it).
     pool = multiprocessing.get_context("fork").Pool(1)
-    heat_job = pool.apply_async(fig_heatmaps, (df, reps, figdir))
-    theta_figs = fig_error_vs_theta(df, reps, figdir)
-    agg, pareto_files, fronts = fig_pareto(df, figdir)
-    table = defaults_table(df, reps)
+    heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
+    theta_figs = fig_error_vs_theta(common, figdir)
+    agg, pareto_files, fronts = fig_pareto(common, figdir)
+    table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
     # Grazing views (the last few degrees) dominate means over all angles; the same table
     # over theta <= 80 shows the defaults for the views most frames contain.
-    typical = df[df["theta"] <= 80]
-    table80 = defaults_table(typical, reps) if len(typical) and typical["theta"].nunique() < df["theta"].nunique() else None
+    typical = common[common["theta"] <= 80]
+    table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
     heat = heat_job.get()
     pool.close()
     pool.join()
 
-    lines = (header_lines(df, study) + runtime_lines(theta_figs, agg, pareto_files, fronts)
+    lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
+             + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
              + defaults_lines(table, table80, heat) + frame_and_stiff_lines(df))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))
     print(f"wrote {os.path.join(args.dir, 'report.md')}")

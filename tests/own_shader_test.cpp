@@ -7,9 +7,11 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "core/error.h"
 #include "gl_agree.h"
+#include "study/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -184,6 +186,48 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
     e = errorOf({{"name", "v"}, {"hlsl", bad}, {"version", "300 es"}});
     EXPECT_NE(e.find("version"), std::string::npos) << e;
     std::filesystem::remove_all(dir);
+}
+
+// The silent mistakes of docs/outputs.md "Warnings", each made on purpose: a shader that
+// gives uv back, one that reads the (always 1) alpha of the height layout, one with V's sign
+// flipped on a relief below the polygon, one that normalises V.xy (NaN head-on); the
+// built-ins, right on the same frames, get none.
+TEST(OwnShader, SilentMistakesAreWarned) {
+    const auto dir = test::tempDir("own_shader_warnings");
+    const std::string head =
+        "#version 330\nuniform sampler2D depthMap;\nvec2 F(vec2 uv, vec3 V) {\n";
+    const std::map<std::string, std::string> bodies = {
+        {"same", "    return uv - V.xy / V.z * 0.05 * texture(depthMap, uv).g;\n}\n"},
+        {"alpha", "    return uv - V.xy / V.z * 0.05 * texture(depthMap, uv).a;\n}\n"},
+        {"flipped", "    return uv + V.xy / V.z * 0.05 * (1.0 - texture(depthMap, uv).r);\n}\n"},
+        {"headon", "    return uv - normalize(V.xy) * 0.01 * texture(depthMap, uv).r;\n}\n"}};
+    nlohmann::json entries = {"none", "parallax", "pom"};
+    for (const auto& [name, body] : bodies) {
+        std::ofstream(dir / (name + ".glsl")) << head << body;
+        entries.push_back(
+            {{"name", name}, {"glsl", (dir / (name + ".glsl")).string()}, {"function", "F"}});
+    }
+    const std::vector<MethodConfig> methods = parseMethods(entries, "test", "methods");
+    auto kinds = [&](double theta) {
+        // The relief below the polygon: s 0.05, b -0.05.
+        Scene sc =
+            test::planeScene(test::smoothTexture(32, 32), 0.05, -0.05, theta, 30, 48, methods);
+        sc.truth.uncertainty = false;
+        const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+        std::map<std::string, std::string> out;
+        for (const MethodFrame& m : r.methods) out[m.config.name] = warningKinds(m.warnings);
+        return out;
+    };
+    const auto oblique = kinds(40);
+    EXPECT_EQ(oblique.at("same"), "no_offset");
+    EXPECT_EQ(oblique.at("alpha"), "constant_offset");
+    EXPECT_EQ(oblique.at("flipped"), "toward_eye");
+    EXPECT_EQ(oblique.at("headon"), "");
+    for (const char* fine : {"none", "parallax", "pom"}) EXPECT_EQ(oblique.at(fine), "") << fine;
+    const auto headOn = kinds(0);
+    EXPECT_EQ(headOn.at("headon"), "nonfinite_head_on");
+    for (const char* fine : {"none", "parallax", "pom", "same", "alpha", "flipped"})
+        EXPECT_EQ(headOn.at(fine), "") << fine;  // nothing to see without V.xy
 }
 
 }  // namespace

@@ -42,6 +42,9 @@ void printSummary(const pgt::RenderResult& r) {
             "truth traced in %d blocks, each over the part of the plane it sees "
             "(truth.memory_mb)\n",
             r.truthBlocks);
+    for (const auto& m : r.methods)
+        for (const auto& w : m.warnings)
+            std::fprintf(stderr, "pgt: warning: %s: %s\n", m.config.label.c_str(), w.text.c_str());
 }
 
 // `pgt render`: checks the memory estimate and --out before any work.

@@ -154,6 +154,9 @@ Json methodJson(const MethodFrame& m) {
     j["timing_fragments"] = m.timing.fragments;
     j["precompute_ms"] = m.precomputeMs;
     j["timing_backend"] = m.timingBackend;
+    j["warnings"] = Json::array();
+    for (const MethodWarning& w : m.warnings)
+        j["warnings"].push_back({{"kind", w.kind}, {"text", w.text}});
     return j;
 }
 

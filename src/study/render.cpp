@@ -42,11 +42,29 @@ struct TruthInput {
     }
 };
 
+// What the warnings' checks need to know of a case (compare/warnings.h): the (s, b) the
+// method is given, where the true relief lies, whether the map varies.
+CheckContext checkContext(const Texture& map, const MethodConfig& cfg, const Displacement& d) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t k = 0; k < map.texels.size(); k += size_t(map.channels))
+        lo = std::min(lo, map.texels[k]), hi = std::max(hi, map.texels[k]);
+    const double s = std::isfinite(cfg.scale) ? cfg.scale : d.scale;
+    const double b = std::isfinite(cfg.bias) ? cfg.bias : d.bias;
+    CheckContext c;
+    c.displaced = s != 0 || b != 0;
+    c.below =
+        (d.scale != 0 || d.bias != 0) && d.scale * lo + d.bias <= 0 && d.scale * hi + d.bias <= 0;
+    c.mapVaries = hi > lo;
+    c.skipNoOffset = cfg.kind == MethodKind::None;
+    return c;
+}
+
 // One configuration across the bands: its maps, its tallies, the band's images.
 struct MethodRun {
     const MethodConfig* config = nullptr;
     const MethodTextures* textures = nullptr;
     ErrorTally tally, tallyExact;
+    MethodChecks checks;
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
 };
@@ -78,6 +96,7 @@ class BandPipeline {
             m.config = &cfg;
             if (inPlace) m.tally = ErrorTally(r.camera.width(), r.camera.height());
             m.textures = &textures.get(cfg, r.view.displacement);
+            m.checks = MethodChecks(checkContext(scene.height, cfg, r.view.displacement));
             runs_.push_back(std::move(m));
         }
     }
@@ -205,6 +224,7 @@ class BandPipeline {
             auto t0 = Clock::now();
             if (!gl) m.pixels = evaluate(m, false);
             r_.timingsMs["methods_eval"] += msSince(t0);
+            m.checks.add(*frags_, frags_->view, m.pixels);
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
             if (framesCanDiffer(scene_.base) && !frags_->pixel.empty())
@@ -248,6 +268,7 @@ class BandPipeline {
             MethodFrame& mf = r_.methods[i];
             mf.stats = m.tally.finish();
             mf.coded = m.tally.takeCoded();
+            mf.warnings = m.checks.finish();
             if (framesCanDiffer(scene_.base)) {
                 mf.statsExactFrame = m.tallyExact.finish();
                 mf.haveExactFrame = true;

@@ -14,6 +14,7 @@
 
 #include "compare/compare.h"
 #include "compare/uncertainty.h"
+#include "compare/warnings.h"
 #include "core/image.h"
 #include "heightfield/heightfield.h"
 #include "raster/fragment_list.h"
@@ -48,6 +49,8 @@ struct MethodFrame {
     // "cpu", or for GLSL methods "gl timer query: RENDERER" or "gl wall clock: RENDERER
     // (software renderer, not a GPU time)" (study/evaluate.h timingBackend).
     std::string timingBackend;
+    // Silent mistakes its output shows on this frame (compare/warnings.h).
+    std::vector<MethodWarning> warnings;
 };
 
 struct RenderResult {

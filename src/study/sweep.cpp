@@ -123,6 +123,7 @@ const CsvTable<ResultRow>& resultTable() {
             [](const ResultRow& x) {
                 return integer(x.m.timingCase >= 0 ? x.m.timingCase : x.c.index);
             }},
+        Col{"warnings", [](const ResultRow& x) { return warningKinds(x.m.warnings); }},
     });
     return table;
 }
@@ -245,9 +246,16 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     progress.show(todo.empty());
     if (opt.maxCases >= 0 && todo.size() > size_t(opt.maxCases)) todo.resize(size_t(opt.maxCases));
     // Each finished case's rows, in case order: one write, never half a case.
+    // Warnings to stderr: each (label, kind) the first time, with its case; counts at the end.
+    std::map<std::string, int> warned;
     auto append = [&](const StudyCase& c, const RenderResult& r) {
         appendAll(fd, csvRows(c, r), csvPath);
         ++sum.done;
+        for (const MethodFrame& m : r.methods)
+            for (const MethodWarning& w : m.warnings)
+                if (warned[m.config.label + " " + w.kind]++ == 0)
+                    std::fprintf(stderr, "pgt: warning: %s (case %d: theta %g, phi %g): %s\n",
+                                 m.config.label.c_str(), c.index, c.theta, c.phi, w.text.c_str());
         progress.show(false);
     };
     try {
@@ -263,6 +271,9 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     // one machine and a merge write it.
     if (sum.finished && !todo.empty()) sortByCase(csvPath);
     if (!todo.empty()) progress.show(true);
+    for (const auto& [key, n] : warned)
+        std::fprintf(stderr, "pgt: warning: %s in %d of %zu cases (results.csv: warnings)\n",
+                     key.c_str(), n, todo.size());
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
         sum.reportPath = opt.report(opt.outDir, &sum.reportWhy);

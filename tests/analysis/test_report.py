@@ -2,6 +2,7 @@
 """ctest: a small real sweep through pgt, then analysis/report.py and plot_summary.py must
 produce non-empty figures and a report that embeds them. Arguments: PGT_BINARY SOURCE_DIR.
 Exits 77 (skipped) only where matplotlib is missing."""
+import csv
 import json
 import os
 import subprocess
@@ -50,6 +51,29 @@ with tempfile.TemporaryDirectory() as d:
         failures.append("no heat map for pom")
     if "| pom_4_16 |" not in text or "Welsh 2004" not in text:
         failures.append("defaults table missing rows or the documents' advice")
+    # Every configuration in the ranking and the defaults table, each over the same cases;
+    # no row without a document's advice reads "n/a".
+    for label in ("parallax", "pom_4_8", "pom_4_16", "relief"):
+        if not any(l.startswith("| ") and f"| {label} | 18 |" in l for l in text.splitlines()):
+            failures.append(f"ranking lacks {label} over 18 cases")
+        if f"| {label} | 0.03 |" not in text:
+            failures.append(f"defaults table lacks {label}")
+    if "over the 18 of 18 cases" not in text or "n/a" in text:
+        failures.append("report does not say its 18 common cases, or has an n/a row")
+    # A partial study (one configuration missing a case): every ranking over the 17 cases
+    # all of them have, and said so.
+    rows = list(csv.DictReader(open(os.path.join(out, "results.csv"))))
+    partial = os.path.join(d, "partial")
+    os.makedirs(partial)
+    with open(os.path.join(partial, "results.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(r for r in rows if not (r["label"] == "relief" and r["case"] == "5"))
+    r = subprocess.run(["/usr/bin/python3", os.path.join(source, "analysis", "report.py"),
+                        partial], capture_output=True, text=True)
+    ptext = open(os.path.join(partial, "report.md")).read() if r.returncode == 0 else r.stderr
+    if "over the 17 of 18 cases" not in ptext or "| pom_4_16 | 17 |" not in ptext:
+        failures.append(f"partial study not ranked over its 17 common cases: {ptext[:400]}")
     # plot_summary.py on one render of the same scene
     r = subprocess.run([pgt, "render", path, "--out", os.path.join(d, "frame")],
                        capture_output=True, text=True)
@@ -80,4 +104,4 @@ with tempfile.TemporaryDirectory() as d:
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("3 passed, 0 failed")
+print("5 passed, 0 failed")

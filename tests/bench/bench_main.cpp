@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "gl/glsl_method.h"
+#include "gl/hlsl.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
 #include "methods/registry.h"
@@ -243,6 +244,27 @@ BENCHMARK(BM_GlslDraw)
     ->Args({9216, 3})
     ->Args({147456, 0})
     ->Unit(benchmark::kMillisecond);
+
+// An HLSL method's way to the GL (gl/hlsl.h): glslang's HLSL front end with legalisation to
+// SPIR-V, then SPIRV-Cross to GLSL 4.50, without the GL's own compile (range(0): 0 = pgt's
+// pom as HLSL, 1 = the engine-style POM with its #include and a call).
+void BM_HlslToGlsl(benchmark::State& state) {
+    const std::string data = std::string(PGT_TEST_SOURCE_DIR) + "/data/";
+    const nlohmann::json entry =
+        state.range(0) == 0
+            ? nlohmann::json{{"name", "h"},
+                             {"hlsl", data + "hlsl/pom_twin.hlsl"},
+                             {"function", "ParallaxOcclusion"}}
+            : nlohmann::json{{"name", "h"},
+                             {"hlsl", data + "hlsl/engine_pom.hlsl"},
+                             {"call", "uv + ParallaxOcclusionOffset(-V, s, b, uv)"}};
+    const MethodConfig cfg = parseMethod(entry, "bench", "m");
+    for (auto _ : state) {
+        std::string glsl = gl::hlslToGlsl(*cfg.glsl);
+        benchmark::DoNotOptimize(glsl.data());
+    }
+}
+BENCHMARK(BM_HlslToGlsl)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -1,0 +1,158 @@
+"""The report's view of every configuration (docs/outputs.md "report.md"): configurations in
+families (results.csv's `method`: a built-in's name, a GLSL/HLSL method's or preset's own),
+the cases every configuration finished (rankings are over those only), and the figures drawn
+as small multiples, one panel per family, so that no axes holds twenty lines and identical
+curves stay visible."""
+import math
+import os
+
+from common import np, plt, save_figure
+
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
+STYLES = ["-", "--", "-.", ":"]
+
+
+def families(df):
+    """{family: [labels in the order results.csv lists them]}."""
+    out = {}
+    for method, label in df[["method", "label"]].drop_duplicates("label").itertuples(index=False):
+        out.setdefault(method, []).append(label)
+    return out
+
+
+def common_cases(df):
+    """The rows of the cases every configuration finished with a finite mean, the number of
+    those cases and of all cases, and {label: cases with non-finite uv'}."""
+    keys = ["theta", "phi", "scale", "bias"]
+    labels = df["label"].nunique()
+    finite = df[np.isfinite(df["mean"])]
+    per_case = finite.groupby(keys)["label"].nunique()
+    good = per_case[per_case == labels].index
+    rows = df.set_index(keys).loc[good].reset_index() if len(good) else df.iloc[0:0]
+    total = len(df[keys].drop_duplicates())
+    flagged = df[df["nonfinite"] > 0].groupby("label")["case"].nunique().to_dict()
+    return rows, len(good), total, flagged
+
+
+def _grid(n):
+    cols = min(3, n)
+    return int(math.ceil(n / cols)), cols
+
+
+def _duplicates(series):
+    """{label: the earlier label whose curve equals it} among (label, values) pairs."""
+    same = {}
+    for i, (label, values) in enumerate(series):
+        for earlier, other in series[:i]:
+            if len(values) == len(other) and np.allclose(values, other, rtol=1e-9, atol=0,
+                                                          equal_nan=True):
+                same[label] = same.get(earlier, earlier)
+                break
+    return same
+
+
+def _angle_panel(ax, sub, family, labels):
+    series = []
+    for label in labels:
+        rows = sub[sub["label"] == label].groupby("theta")[["mean", "p50", "p90"]].mean()
+        if not rows.empty:
+            series.append((label, rows))
+    same = _duplicates([(l, r["mean"].values) for l, r in series])
+    for i, (label, rows) in enumerate(series):
+        # Earlier lines wider and under later ones: a curve equal to another still shows.
+        name = label + (f" (= {same[label]})" if label in same else "")
+        line, = ax.plot(rows.index, rows["mean"], marker=MARKERS[i % len(MARKERS)], ms=3,
+                        ls=STYLES[i // len(MARKERS) % len(STYLES)],
+                        lw=max(0.8, 3.0 - 0.35 * i), zorder=2 + i, label=name)
+        if len(series) <= 4:
+            ax.fill_between(rows.index, rows["p50"].clip(lower=1e-5),
+                            rows["p90"].clip(lower=1e-5), color=line.get_color(), alpha=0.12)
+    ax.set_yscale("log")
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    ax.set_title(family, fontsize=9)
+    ax.tick_params(labelsize=7)
+    ax.legend(fontsize=6)
+
+
+def fig_error_vs_theta(df, figdir):
+    """One figure per scale (at the bias ratio nearest -1/2): a panel per family with every
+    configuration of it; mean error, and the p50..p90 band where a panel has few lines."""
+    out = []
+    ratios = sorted(df["bias_ratio"].dropna().unique())
+    fams = families(df)
+    for scale in sorted(df["scale"].unique()):
+        sub = df[df["scale"] == scale]
+        ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
+        if ratios:
+            sub = sub[np.isclose(sub["bias_ratio"], ratio)]
+        rows, cols = _grid(len(fams))
+        fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.1 * rows), sharex=True,
+                                 sharey=True, squeeze=False)
+        for ax, (family, labels) in zip(axes.flat, fams.items()):
+            _angle_panel(ax, sub, family, labels)
+        for ax in list(axes.flat)[len(fams):]:
+            ax.set_visible(False)
+        for i, ax in enumerate(list(axes.flat)[:len(fams)]):
+            if i + cols >= len(fams):  # the lowest panel of its column
+                ax.set_xlabel("view angle theta [degrees]", fontsize=8)
+                ax.tick_params(labelbottom=True)
+        for ax in axes[:, 0]:
+            ax.set_ylabel("UV error [texels]", fontsize=8)
+        fig.suptitle(f"mean error against view angle, s = {scale:g}, b/s = {ratio:g} "
+                     "(band: p50..p90; '(= X)': the same curve as X)", fontsize=10)
+        fig.tight_layout()
+        name = f"error_vs_theta_s{scale:g}.png"
+        save_figure(fig, os.path.join(figdir, name), dpi=90)
+        plt.close(fig)
+        out.append((scale, ratio, name))
+    return out
+
+
+def _heat_grid(sub):
+    return sub.groupby(["scale", "bias_ratio"])["mean"].mean().unstack("bias_ratio")
+
+
+def _heat_panel(ax, sub, label, limits):
+    grid = _heat_grid(sub)
+    data = np.log10(grid.values.clip(min=1e-5))
+    im = ax.imshow(data, aspect="auto", origin="lower", cmap="viridis", vmin=limits[0],
+                   vmax=limits[1])
+    ax.set_xticks(range(grid.shape[1]), [f"{c:g}" for c in grid.columns], fontsize=6)
+    ax.set_yticks(range(grid.shape[0]), [f"{r:g}" for r in grid.index], fontsize=6)
+    for r in range(grid.shape[0]):
+        if np.isfinite(grid.values[r]).any():
+            ax.plot(int(np.nanargmin(grid.values[r])), r, marker="*", color="red", ms=10)
+    ax.set_title(label, fontsize=8)
+    return im
+
+
+def fig_heatmaps(df, figdir):
+    """Per family: a panel per configuration, its mean error over the view angles on the
+    scale x bias-ratio grid (star: the minimum per scale)."""
+    files = []
+    for family, labels in families(df).items():
+        subs = [(l, df[df["label"] == l]) for l in labels]
+        subs = [(l, s) for l, s in subs if not s["bias_ratio"].isna().all()
+                and s["scale"].nunique() * s["bias_ratio"].nunique() >= 2]
+        if not subs:
+            continue
+        # One colour scale for the family's panels.
+        logs = np.concatenate([np.log10(_heat_grid(s).values.clip(min=1e-5)).ravel()
+                               for _, s in subs])
+        limits = (np.nanmin(logs), np.nanmax(logs)) if np.isfinite(logs).any() else (None, None)
+        rows, cols = _grid(len(subs))
+        fig, axes = plt.subplots(rows, cols, figsize=(4.0 * cols, 2.8 * rows), squeeze=False)
+        for ax, (label, sub) in zip(axes.flat, subs):
+            im = _heat_panel(ax, sub, label, limits)
+            ax.set_xlabel("bias ratio b/s", fontsize=7)
+            ax.set_ylabel("scale s", fontsize=7)
+        for ax in list(axes.flat)[len(subs):]:
+            ax.set_visible(False)
+        fig.colorbar(im, ax=axes, label="log10 mean error [texels]", shrink=0.8)
+        fig.suptitle(f"{family}: mean error over view angles (star: minimum per scale)",
+                     fontsize=9)
+        fname = f"heatmap_{family}.png"
+        save_figure(fig, os.path.join(figdir, fname), dpi=90)
+        plt.close(fig)
+        files.append(fname)
+    return files

@@ -1,0 +1,52 @@
+// Silent mistakes a method's output shows on one frame (docs/outputs.md "Warnings"): a
+// shader that gives uv0 back everywhere, one whose offset does not depend on the map, one
+// whose offsets point toward the eye where the relief lies below the polygon (the sign of V),
+// and non-finite uv' at an exactly head-on view. Warnings never fail a run: they go to
+// stderr, summary.json and results.csv beside the statistics.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "core/samples.h"
+#include "raster/fragment_list.h"
+
+namespace pgt {
+
+struct MethodWarning {
+    std::string kind;  // "no_offset", "constant_offset", "toward_eye", "nonfinite_head_on"
+    std::string text;  // one line, without the method's label
+};
+
+// What a frame says of the case it is checked against.
+struct CheckContext {
+    bool displaced = false;     // the (s, b) the method is given moves the surface
+    bool below = false;         // the true relief lies under the polygon: s h + b <= 0 for all h
+    bool mapVaries = false;     // the height map is not constant
+    bool skipNoOffset = false;  // "none": gives uv0 back by definition (no offset checks)
+};
+
+// Fed band by band with the fragments and the method's pixels (V as the method got it).
+class MethodChecks {
+  public:
+    explicit MethodChecks(CheckContext c = {}) : c_(c) {}
+    void add(const FragmentList& frags, const std::vector<Vec3d>& view,
+             const Image2D<MethodPixel>& pixels);
+    std::vector<MethodWarning> finish() const;
+
+  private:
+    CheckContext c_;
+    int64_t oblique_ = 0;    // covered, finite, |V.xy| > 1e-3
+    int64_t unchanged_ = 0;  // of those, uv' = uv0 (to float rounding)
+    double alongV_ = 0;      // sum of (uv' - uv0) . V.xy / |V.xy| over them
+    int64_t headOn_ = 0, headOnNonfinite_ = 0;
+    bool oneView_ = true, haveView_ = false, haveOffset_ = false;
+    Vec3d view0_{0};
+    Vec2d offMin_{0}, offMax_{0};
+};
+
+// "no_offset;toward_eye": the kinds as results.csv's `warnings` column holds them.
+std::string warningKinds(const std::vector<MethodWarning>& w);
+
+}  // namespace pgt
