@@ -170,6 +170,27 @@ Json shardIdentity(const Study& study, int index, int count) {
 
 namespace {
 
+// A study's warnings on stderr: each (label, kind) the first time, with its case, and how
+// many cases showed it at the end (results.csv's warnings column has every case's).
+class WarningLog {
+  public:
+    void note(const StudyCase& c, const RenderResult& r) {
+        for (const MethodFrame& m : r.methods)
+            for (const MethodWarning& w : m.warnings)
+                if (seen_[m.config.label + " " + w.kind]++ == 0)
+                    std::fprintf(stderr, "pgt: warning: %s (case %d: theta %g, phi %g): %s\n",
+                                 m.config.label.c_str(), c.index, c.theta, c.phi, w.text.c_str());
+    }
+    void counts(size_t cases) const {
+        for (const auto& [key, n] : seen_)
+            std::fprintf(stderr, "pgt: warning: %s in %d of %zu cases (results.csv: warnings)\n",
+                         key.c_str(), n, cases);
+    }
+
+  private:
+    std::map<std::string, int> seen_;
+};
+
 void appendAll(int fd, const std::string& text, const std::string& path) {
     size_t off = 0;
     while (off < text.size()) {
@@ -246,16 +267,11 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     progress.show(todo.empty());
     if (opt.maxCases >= 0 && todo.size() > size_t(opt.maxCases)) todo.resize(size_t(opt.maxCases));
     // Each finished case's rows, in case order: one write, never half a case.
-    // Warnings to stderr: each (label, kind) the first time, with its case; counts at the end.
-    std::map<std::string, int> warned;
+    WarningLog warned;
     auto append = [&](const StudyCase& c, const RenderResult& r) {
         appendAll(fd, csvRows(c, r), csvPath);
         ++sum.done;
-        for (const MethodFrame& m : r.methods)
-            for (const MethodWarning& w : m.warnings)
-                if (warned[m.config.label + " " + w.kind]++ == 0)
-                    std::fprintf(stderr, "pgt: warning: %s (case %d: theta %g, phi %g): %s\n",
-                                 m.config.label.c_str(), c.index, c.theta, c.phi, w.text.c_str());
+        warned.note(c, r);
         progress.show(false);
     };
     try {
@@ -271,9 +287,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     // one machine and a merge write it.
     if (sum.finished && !todo.empty()) sortByCase(csvPath);
     if (!todo.empty()) progress.show(true);
-    for (const auto& [key, n] : warned)
-        std::fprintf(stderr, "pgt: warning: %s in %d of %zu cases (results.csv: warnings)\n",
-                     key.c_str(), n, todo.size());
+    warned.counts(todo.size());
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
         sum.reportPath = opt.report(opt.outDir, &sum.reportWhy);
