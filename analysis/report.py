@@ -277,11 +277,11 @@ def main():
     if common.empty:
         sys.exit(f"{args.dir}: no case that every configuration finished with a finite error")
 
-    # The heat maps draw in a forked worker while this process draws the rest (matplotlib
-    # drawing is most of the report's time; two cores halve it).
-    pool = multiprocessing.get_context("fork").Pool(1)
+    # The heat maps and the angle figures draw in two forked workers while this process
+    # draws the rest (matplotlib drawing is most of the report's time).
+    pool = multiprocessing.get_context("fork").Pool(2)
     heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
-    theta_figs = fig_error_vs_theta(common, figdir)
+    theta_job = pool.apply_async(fig_error_vs_theta, (common, figdir))
     agg, pareto_files, fronts = fig_pareto(common, figdir)
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
@@ -290,6 +290,7 @@ def main():
     typical = common[common["theta"] <= 80]
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
     heat = heat_job.get()
+    theta_figs = theta_job.get()
     pool.close()
     pool.join()
 

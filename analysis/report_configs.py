@@ -6,7 +6,7 @@ curves stay visible."""
 import math
 import os
 
-from common import np, plt, save_figure
+from common import nice, np, plt, save_figure
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
 STYLES = ["-", "--", "-.", ":"]
@@ -98,9 +98,14 @@ def fig_error_vs_theta(df, figdir):
                 ax.tick_params(labelbottom=True)
         for ax in axes[:, 0]:
             ax.set_ylabel("UV error [texels]", fontsize=8)
+        # Fixed margins (tight_layout over many panels costs seconds): 0.5 in below for the
+        # axis label, 0.7 in above for the title and the panels' titles.
+        height = 3.1 * rows
         fig.suptitle(f"mean error against view angle, s = {scale:g}, b/s = {ratio:g} "
-                     "(band: p50..p90; '(= X)': the same curve as X)", fontsize=10)
-        fig.tight_layout()
+                     "(band: p50..p90; '(= X)': the same curve as X)", fontsize=10,
+                     y=1 - 0.15 / height)
+        fig.subplots_adjust(left=0.07, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
+                            hspace=0.3, wspace=0.08)
         name = f"error_vs_theta_s{scale:g}.png"
         save_figure(fig, os.path.join(figdir, name), dpi=90)
         plt.close(fig)
@@ -122,6 +127,9 @@ def _heat_panel(ax, sub, label, limits):
     for r in range(grid.shape[0]):
         if np.isfinite(grid.values[r]).any():
             ax.plot(int(np.nanargmin(grid.values[r])), r, marker="*", color="red", ms=10)
+        for k in range(grid.shape[1]):
+            ax.text(k, r, nice(grid.values[r, k], 2), ha="center", va="center", fontsize=6,
+                    color="w")
     ax.set_title(label, fontsize=8)
     return im
 
@@ -148,9 +156,13 @@ def fig_heatmaps(df, figdir):
             ax.set_ylabel("scale s", fontsize=7)
         for ax in list(axes.flat)[len(subs):]:
             ax.set_visible(False)
-        fig.colorbar(im, ax=axes, label="log10 mean error [texels]", shrink=0.8)
+        height = 2.8 * rows
+        fig.subplots_adjust(left=0.08, right=0.86, bottom=0.55 / height, top=1 - 0.6 / height,
+                            hspace=0.6, wspace=0.3)
+        fig.colorbar(im, cax=fig.add_axes([0.89, 0.15, 0.02, 0.7]),
+                     label="log10 mean error [texels]")
         fig.suptitle(f"{family}: mean error over view angles (star: minimum per scale)",
-                     fontsize=9)
+                     fontsize=9, y=1 - 0.15 / height)
         fname = f"heatmap_{family}.png"
         save_figure(fig, os.path.join(figdir, fname), dpi=90)
         plt.close(fig)

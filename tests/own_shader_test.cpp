@@ -42,6 +42,10 @@ struct PomCheck {
 };
 
 std::string data(const std::string& rel) { return test::testDataDir() + "/" + rel; }
+// The shaders scenes/own_shader.json ships.
+std::string scene(const std::string& file) {
+    return test::testSourceDir() + "/../scenes/own_shader/" + file;
+}
 
 TEST(OwnShader, HlslTwinOfPomEqualsTheBuiltIn) {
     PomCheck pom;
@@ -63,7 +67,7 @@ TEST(OwnShader, HlslTwinOfPomEqualsTheBuiltIn) {
 TEST(OwnShader, EngineStyleHlslRunsVerbatimThroughACall) {
     PomCheck pom;
     nlohmann::json entry = {{"name", "engine"},
-                            {"hlsl", data("hlsl/engine_pom.hlsl")},
+                            {"hlsl", scene("engine_pom.hlsl")},
                             {"sampler", "_HeightMap"},
                             {"call", "uv + ParallaxOcclusionOffset(-V, s, b, uv)"},
                             {"uniforms", {{"_MinSteps", 8.0}, {"_MaxSteps", 32.0}}}};
@@ -78,7 +82,7 @@ TEST(OwnShader, EngineStyleHlslRunsVerbatimThroughACall) {
 TEST(OwnShader, Es100HeightInTheNormalMapsAlphaEqualsPom) {
     PomCheck pom;
     nlohmann::json entry = {{"name", "alpha"},
-                            {"glsl", data("glsl/pom_alpha_es100.glsl")},
+                            {"glsl", scene("pom_alpha_es100.glsl")},
                             {"texture", "normal+height"},
                             {"sampler", "bumpSampler"},
                             {"call", "uv + occlusionOffset(-V, N, uv, s, b)"},

@@ -399,6 +399,16 @@ TEST(Sweep, GlslUniformsAreSweptAndPresetsOverridden) {
     EXPECT_NE(error("mine.uniforms.nothere", {1}).find("has no uniform \"nothere\""),
               std::string::npos);
     EXPECT_NE(error("mine.min_layers", {8}).find("uniforms.NAME"), std::string::npos);
+    // A built-in preset stays one configuration beside its built-in's lists
+    // (learnopengl_pom's name is "pom", whose max_layers the study varies).
+    nlohmann::json q = nlohmann::json::parse(kStudyScene);
+    q["methods"].push_back({{"preset", "learnopengl_pom"}});
+    const Study withPreset = parseStudy(parseScene(q, (dir / "scene.json").string()));
+    EXPECT_EQ(std::count_if(withPreset.configs.begin(), withPreset.configs.end(),
+                            [](const MethodConfig& c) { return c.preset == "learnopengl_pom"; }),
+              1);
+    // godot's height scale is its uniform: its own "scale" would reach nothing.
+    EXPECT_NE(error("godot.scale", {0.05}).find("would not reach"), std::string::npos);
     nlohmann::json p = j;
     p["methods"][2]["uniforms"] = {{"nosuch", 1}};
     try {

@@ -43,7 +43,8 @@ std::vector<MethodWarning> MethodChecks::finish() const {
         out.push_back({"no_offset", "uv' equals uv0 on all " + std::to_string(oblique_) +
                                         " covered pixels seen obliquely (V.xy != 0): it shows "
                                         "no parallax (a constant or wrong channel, an unused "
-                                        "sampler, a zero scale?)"});
+                                        "sampler, a zero scale, or a march that never meets "
+                                        "the relief?)"});
     const Vec2d spread = offMax_ - offMin_;
     if (!noOffset && !c_.skipNoOffset && c_.displaced && c_.mapVaries && oneView_ && haveOffset_ &&
         oblique_ > 1 && std::max(spread.x, spread.y) <= 1e-7)

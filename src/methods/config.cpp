@@ -261,6 +261,11 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         throw InputError(file, field, shortDump(value), message);
     };
     if (param == "scale" || param == "bias") {
+        if (cfg.glsl && !cfg.glsl->takesScale())
+            fail("the method's own " + param + " would not reach " + cfg.glsl->path +
+                 ": no uniform is bound to \"scale\"/\"bias\" and there is no call (a "
+                 "preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
+                 "docs/methods.md)");
         if (!value.is_number() || !std::isfinite(value.get<double>()) ||
             std::abs(value.get<double>()) > kMaxOwnDisplacement)
             fail("expected a finite number of at most 1e3 in magnitude");

@@ -124,7 +124,7 @@ std::vector<std::string> readParameterLists(JsonFields& f, const Scene& scene,
         if (values.empty()) f.failValue(it.key(), it.value(), "no values");
         bool known = false;
         for (const auto& m : scene.methods)
-            known = known || (m.name == prefix || m.label == prefix);
+            known = known || m.name == prefix || m.label == prefix || m.preset == prefix;
         if (!known)
             f.fail(it.key(), "no method named or labelled \"" + prefix + "\" in \"methods\"");
         lists[prefix].push_back({param, values});
@@ -139,8 +139,11 @@ std::vector<MethodConfig> expandShaderConfig(JsonFields& f, const MethodConfig& 
                                              const ParameterLists& lists) {
     const std::string base = m.label.empty() ? m.name : m.label;
     std::vector<std::pair<MethodConfig, std::string>> configs = {{m, base}};
+    // By its label, else by the preset's or GLSL method's own name (a built-in preset's
+    // `name` is its built-in's, whose lists are the built-in's own).
     std::vector<std::string> prefixes = {base};
-    if (m.name != base) prefixes.push_back(m.name);
+    const std::string own = m.preset.empty() ? m.name : m.preset;
+    if (own != base) prefixes.push_back(own);
     for (const std::string& prefix : prefixes) {
         if (!lists.count(prefix)) continue;
         for (const auto& [param, values] : lists.at(prefix)) {

@@ -1,7 +1,8 @@
 // A parallax occlusion function in the style of a D3D engine's shader library: typedefs and
 // a height callback from an include, a cbuffer, a view vector pointing from the eye to the
-// surface, and an offset returned instead of a uv. Written for tests/own_shader_test.cpp; it
-// marches the same layers as pgt's pom and is run through a scene's "call".
+// surface, and an offset returned instead of a uv. pgt's own code, the example of
+// scenes/own_shader.json; it marches the same layers as pgt's pom, to which
+// tests/own_shader_test.cpp holds it through a scene's "call".
 #include "engine_common.hlsli"
 
 cbuffer ParallaxParams {
