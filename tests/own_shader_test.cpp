@@ -187,6 +187,14 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
                               "return uv; }\n";
     e = errorOf({{"name", "i"}, {"hlsl", include}, {"function", "F"}});
     EXPECT_NE(e.find("missing.hlsli"), std::string::npos) << e;
+    // glslang 12 crashes on this; pgt compiles in a child process and names the file.
+    const std::string crash = (dir / "crash.hlsl").string();
+    std::ofstream(crash) << "Texture2D T;\nSamplerState S;\n"
+                            "float G(float2 uv) { return 1.0 -- T.SampleLevel(S, uv, 0).r; }\n"
+                            "float2 F(float2 uv, float3 V) { return uv + V.xy * G(uv); }\n";
+    e = errorOf({{"name", "c"}, {"hlsl", crash}, {"function", "F"}, {"sampler", "T"}});
+    EXPECT_NE(e.find(crash + ": hlsl: glslang, the HLSL compiler, crashed"), std::string::npos)
+        << e;
     e = errorOf({{"name", "v"}, {"hlsl", bad}, {"version", "300 es"}});
     EXPECT_NE(e.find("version"), std::string::npos) << e;
     std::filesystem::remove_all(dir);

@@ -202,7 +202,7 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
     if (u < 0)
         throw InputError(spec.path, "uniforms." + un.name, "",
                          "is not an active uniform of the shader (misspelt, or unused by " +
-                             spec.function + ")");
+                             spec.entryName() + ")");
     std::vector<float> f(un.values.begin(), un.values.end());
     drainGlErrors();  // only this uniform's own error may be blamed on it
     if (un.bind == "scale") f = {float(maps.scale)};
@@ -282,7 +282,7 @@ void bindMaps(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
             throw InputError(spec.path, m.samplerKey, name,
                              "is not an active sampler2D uniform of the shader (declare it and "
                              "sample it in " +
-                                 spec.function + ")");
+                                 spec.entryName() + ")");
         PGT_CHECK(maps.has(m.kind));
         glActiveTexture(GLenum(GL_TEXTURE0 + m.glUnit));
         glBindTexture(GL_TEXTURE_2D, mapTexture(m.kind, spec, maps));

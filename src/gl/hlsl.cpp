@@ -5,8 +5,12 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 #include <spirv_cross/spirv_cross_c.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -83,6 +87,7 @@ std::string translateMessages(const std::string& log, const std::string& file, i
     std::ostringstream out;
     std::string line;
     const std::string prefix = file + ":";
+    bool aboutCall = false;
     while (std::getline(in, line)) {
         for (const char* kind : {"ERROR: ", "WARNING: "})
             if (line.rfind(kind, 0) == 0) line = line.substr(std::string(kind).size());
@@ -98,9 +103,10 @@ std::string translateMessages(const std::string& log, const std::string& file, i
                 const int n = std::stoi(line.substr(prefix.size(), end - prefix.size()));
                 const std::string rest = line.substr(end + (paren ? 1 : 0));
                 // The call's line and the entry's lines around it, which hold its value.
-                if (n >= callLine - 1 && n <= callLine + 1)
-                    line = "call" + rest;
-                else if (n > userLines)
+                if (n >= callLine - 1 && n <= callLine + 1) {
+                    line = file + std::string(": call").append(rest);
+                    aboutCall = true;
+                } else if (n > userLines)
                     line = "pgt entry point" + rest;
                 else if (paren)
                     line = file + ":" + std::to_string(n) + rest;
@@ -108,11 +114,15 @@ std::string translateMessages(const std::string& log, const std::string& file, i
         }
         out << line << "\n";
     }
+    if (aboutCall)
+        out << file
+            << ": call: it must give uv' as a float2, from uv, V, N, s, b and the "
+               "shader's own names\n";
     return out.str();
 }
 
-std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text, int userLines,
-                                     int callLine) {
+std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& text, int userLines,
+                                       int callLine) {
     static const bool initialised = glslang::InitializeProcess();
     (void)initialised;
     std::string preamble;
@@ -152,6 +162,70 @@ std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& te
     spv::SpvBuildLogger logger;
     glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), spirv, &logger, &options);
     return spirv;
+}
+
+// glslang in a child process: glslang 12's HLSL front end crashes on some malformed input
+// (`1.0 -- x`), which must be an error naming the file, not a crash of pgt. The child writes
+// 'S' and the SPIR-V words, or 'E' and the error message, to a pipe and exits.
+std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text, int userLines,
+                                     int callLine) {
+    int fds[2];
+    if (::pipe(fds) != 0) return compileInProcess(spec, text, userLines, callLine);
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return compileInProcess(spec, text, userLines, callLine);
+    }
+    if (pid == 0) {  // the child: no exception, no return, no atexit handlers
+        ::close(fds[0]);
+        std::string out;
+        try {
+            const std::vector<uint32_t> words = compileInProcess(spec, text, userLines, callLine);
+            out.assign(1, 'S');
+            out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+        } catch (const std::exception& e) {
+            out.assign(1, 'E');
+            out.append(e.what());
+        }
+        for (size_t off = 0; off < out.size();) {
+            const ssize_t n = ::write(fds[1], out.data() + off, out.size() - off);
+            if (n <= 0) ::_exit(1);
+            off += size_t(n);
+        }
+        ::_exit(0);
+    }
+    ::close(fds[1]);
+    std::string in;
+    char buf[65536];
+    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) != 0;) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) break;
+        in.append(buf, size_t(n));
+    }
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (!in.empty() && in[0] == 'S' && (in.size() - 1) % 4 == 0) {
+        std::vector<uint32_t> words((in.size() - 1) / 4);
+        std::memcpy(words.data(), in.data() + 1, in.size() - 1);
+        return words;
+    }
+    if (!in.empty() && in[0] == 'E') {
+        // The child's InputError, rebuilt with its message (the file and field lead it).
+        const std::string prefix = spec.path + ": hlsl: ";
+        std::string message = in.substr(1);
+        if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
+        throw InputError(spec.path, "hlsl", "", message);
+    }
+    throw InputError(
+        spec.path, "hlsl", "",
+        "glslang, the HLSL compiler, crashed on this file" +
+            std::string(WIFSIGNALED(status) ? " (signal " + std::to_string(WTERMSIG(status)) + ")"
+                                            : "") +
+            ": a construct it cannot parse (glslang 12 crashes on some malformed "
+            "expressions, such as 1.0 -- x); check the syntax");
 }
 
 // SPIRV-Cross: a failure here is pgt's (the SPIR-V came from glslang), named as such.

@@ -101,62 +101,77 @@ std::string userLines(const std::string& src) {
     return out.str();
 }
 
-// Driver messages "S:L(C): error: ..." (Mesa) or "S(L) : error ..." with L a line of the
-// whole fragment shader: lines (first, first + count] are the user's file, `callLine` the
-// entry's "call" (0: none) (Mesa does not
-// keep #line's source numbers on every message, so lines are mapped by position).
+std::string digitsAt(const std::string& t, size_t& i) {
+    size_t start = i;
+    while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
+    return t.substr(start, i - start);
+}
+
+// A driver message's line and column: "S:L(C): rest" (Mesa) or "S(L) : rest"; `rest` is
+// where the message text starts. False for any other line.
+bool driverLine(const std::string& line, std::string& ln, std::string& col, size_t& rest) {
+    size_t i = 0;
+    const std::string src = digitsAt(line, i);
+    bool ok = !src.empty() && i < line.size();
+    if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
+        ++i;
+        ln = digitsAt(line, i);
+        ok = !ln.empty() && i < line.size() && line[i] == '(';
+        if (ok) {
+            ++i;
+            col = digitsAt(line, i);
+            ok = i + 2 < line.size() && line.compare(i, 3, "): ") == 0;
+            i += 3;
+        }
+    } else if (ok && line[i] == '(') {  // S(L) : rest
+        ++i;
+        ln = digitsAt(line, i);
+        ok = !ln.empty() && line.compare(i, 1, ")") == 0;
+        ++i;
+        while (ok && i < line.size() && (line[i] == ' ' || line[i] == ':')) ++i;
+    } else {
+        ok = false;
+    }
+    rest = i;
+    return ok;
+}
+
+// Driver messages with L a line of the whole fragment shader: lines (first, first + count]
+// are the user's file, `callLine` the entry's "call" (0: none) (Mesa does not keep #line's
+// source numbers on every message, so lines are mapped by position).
 std::string translateLog(const std::string& log, const std::string& file, int first, int count,
                          int callLine) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
-    auto digitsAt = [](const std::string& t, size_t& i) {
-        size_t start = i;
-        while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
-        return t.substr(start, i - start);
-    };
+    bool aboutCall = false;
     while (std::getline(in, line)) {
+        std::string ln, col;
         size_t i = 0;
-        std::string src = digitsAt(line, i), ln, col;
-        (void)src;
-        bool ok = !src.empty() && i < line.size();
-        if (ok && line[i] == ':') {  // Mesa: S:L(C): rest
-            ++i;
-            ln = digitsAt(line, i);
-            ok = !ln.empty() && i < line.size() && line[i] == '(';
-            if (ok) {
-                ++i;
-                col = digitsAt(line, i);
-                ok = i + 2 < line.size() && line.compare(i, 3, "): ") == 0;
-                i += 3;
-            }
-        } else if (ok && line[i] == '(') {  // S(L) : rest
-            ++i;
-            ln = digitsAt(line, i);
-            ok = !ln.empty() && line.compare(i, 1, ")") == 0;
-            ++i;
-            while (ok && i < line.size() && (line[i] == ' ' || line[i] == ':')) ++i;
-        } else {
-            ok = false;
-        }
-        if (!ok) {
+        if (!driverLine(line, ln, col, i)) {
             if (!line.empty()) out << line << "\n";
             continue;
         }
         int n = std::stoi(ln);
-        std::string where = n <= first           ? "pgt prelude"
-                            : n <= first + count ? file
-                            : callLine > 0 && n >= callLine - 1 && n <= callLine + 1
-                                ? file + ": call"
-                                : "pgt wrapper";
-        if (n > first && n <= first + count) n -= first;
-        if (callLine > 0 && n >= callLine - 1 && n <= callLine + 1) {  // no line: the call's own
-            out << where << ": " << line.substr(i) << "\n";
+        const bool call = callLine > 0 && n >= callLine - 1 && n <= callLine + 1;
+        if (call) {  // no line: the call's own
+            out << file << ": call: " << line.substr(i) << "\n";
+            aboutCall = true;
             continue;
         }
+        const std::string where = n <= first           ? "pgt prelude"
+                                  : n <= first + count ? file
+                                                       : "pgt wrapper";
+        if (where == "pgt wrapper" && line.find("warning") != std::string::npos)
+            continue;  // e.g. an uninitialised result after a call that did not compile
+        if (n > first && n <= first + count) n -= first;
         out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
             << "\n";
     }
+    if (aboutCall)
+        out << file
+            << ": call: it must give uv' as a vec2, from uv, V, N, s, b and the "
+               "shader's own names\n";
     return out.str();
 }
 

@@ -402,8 +402,9 @@ Json toJson(const MethodConfig& c) {
     if (!c.preset.empty()) j["preset"] = c.preset;
     if (c.glsl) {
         j["glsl"] = c.glsl->path;
-        j["function"] = c.glsl->function;
-        if (c.glsl->version != "110") j["version"] = c.glsl->version;  // 110: none named
+        if (c.glsl->call.empty()) j["function"] = c.glsl->function;
+        // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
+        if (!c.glsl->hlsl && c.glsl->version != "110") j["version"] = c.glsl->version;
         // Every sampler it names (the height map's always: "" says it reads none).
         for (const MapKindInfo& m : kMapKindTable)
             if (m.kind == MapKind::Height || !c.glsl->sampler(m.kind).empty())

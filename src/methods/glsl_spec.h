@@ -47,6 +47,8 @@ struct GlslSpec {
     // "call": an expression in the source's language giving uv' from uv, V, N = (0, 0, 1), s,
     // b and the uniforms; empty: the function F(uv, V) is called.
     std::string call;
+    // What runs, for messages: the function, or the call.
+    std::string entryName() const { return call.empty() ? function : "the call " + call; }
     // "defines": #define NAME VALUE lines put before the source, in the entry's order.
     std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
