@@ -256,7 +256,7 @@ void BM_HlslToGlsl(benchmark::State& state) {
                              {"hlsl", data + "hlsl/pom_twin.hlsl"},
                              {"function", "ParallaxOcclusion"}}
             : nlohmann::json{{"name", "h"},
-                             {"hlsl", data + "../scenes/own_shader/engine_pom.hlsl"},
+                             {"hlsl", data + "../../scenes/own_shader/engine_pom.hlsl"},
                              {"call", "uv + ParallaxOcclusionOffset(-V, s, b, uv)"}};
     const MethodConfig cfg = parseMethod(entry, "bench", "m");
     for (auto _ : state) {
