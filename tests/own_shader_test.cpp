@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "gl_agree.h"
+#include "heightfield/mipmaps.h"
 #include "study/render.h"
 #include "test_util.h"
 
@@ -139,6 +140,57 @@ TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
         }
     }
     std::filesystem::remove_all(dir);
+}
+
+// The packed layouts' mipmaps: with the height map's levels on, level 1 read at its texel
+// centres holds A = the height map's level 1 and RGB = the 2x2 box of level 0's encoded
+// normal.
+TEST(OwnShader, PackedLayoutsHaveMipmaps) {
+    const auto dir = test::tempDir("own_shader_mips");
+    const std::string file = (dir / "level1.glsl").string();
+    std::ofstream(file) << "#version 330\nuniform sampler2D map;\nuniform int pair;\n"
+                           "vec2 F(vec2 uv, vec3 V) {\n"
+                           "    vec4 t = textureLod(map, uv, 1.0);\n"
+                           "    return pair == 0 ? t.xy : t.zw;\n}\n";
+    Texture t = test::bricks(32);
+    addMipmaps(t);
+    ASSERT_TRUE(t.mips && !t.mips->empty());
+    const Texture& level1 = (*t.mips)[0];
+    ASSERT_EQ(level1.width, 16);
+    DerivedMaps dm = makeDerivedMaps(t, 0.07, -0.03);
+    test::Fragments in = test::randomFragments(256, 4);
+    for (size_t k = 0; k < in.uv0.size(); ++k)
+        in.uv0[k] = Vec2f((float(k % 16) + 0.5f) / 16, (float(k / 16 % 16) + 0.5f) / 16);
+    float got[2][256][2];
+    for (int pair = 0; pair < 2; ++pair) {
+        const MethodConfig m = method({{"name", "mips"},
+                                       {"glsl", file},
+                                       {"function", "F"},
+                                       {"sampler", "map"},
+                                       {"texture", "normal+depth"},
+                                       {"uniforms", {{"pair", pair}}}});
+        const GlslRun run = runGlsl(*m.glsl, MapRefs{.height = &t, .normal = &dm.normal}, 0.07,
+                                    -0.03, in.uv0, in.view);
+        for (size_t k = 0; k < in.uv0.size(); ++k)
+            got[pair][k][0] = run.uv[k].x, got[pair][k][1] = run.uv[k].y;
+    }
+    for (size_t k = 0; k < in.uv0.size(); ++k) {
+        const int x = int(k % 16), y = int(k / 16 % 16);
+        float box[3] = {0, 0, 0};
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx)
+                for (int c = 0; c < 3; ++c)
+                    box[c] +=
+                        0.25f *
+                        (0.5f +
+                         0.5f *
+                             dm.normal.texels[(size_t(2 * y + dy) * 32 + size_t(2 * x + dx)) * 3 +
+                                              size_t(c)]);
+        EXPECT_NEAR(got[0][k][0], box[0], 1e-6) << k;
+        EXPECT_NEAR(got[0][k][1], box[1], 1e-6) << k;
+        EXPECT_NEAR(got[1][k][0], box[2], 1e-6) << k;
+        EXPECT_NEAR(got[1][k][1], 1.0f - level1.texels[size_t(y) * 16 + size_t(x)], 1e-6) << k;
+    }
 }
 
 // Bad input: exit-2 errors naming the file, the field and the user's line.

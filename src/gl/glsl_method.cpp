@@ -447,6 +447,14 @@ void withMaps(const GlslSpec& spec, const GlslMaps& maps, Job job) {
 
 }  // namespace
 
+void compileGlsl(const GlslSpec& spec) {
+    onGlThread([&] {
+        std::lock_guard<std::mutex> lock(gMutex);
+        ensureContext();
+        programFor(spec);
+    });
+}
+
 GlslRun runGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& in,
                 int timingRepeats) {
     checkInputs(in);

@@ -107,6 +107,11 @@ struct GlslInputs {
     int frameWidth = 0, frameHeight = 0;
 };
 
+// Compiles and links the spec's shader (cached, as runGlsl does) without drawing: a study
+// calls it for each GLSL/HLSL method before it writes anything, so that a shader that does
+// not compile leaves no output behind. Throws InputError as runGlsl does.
+void compileGlsl(const GlslSpec& spec);
+
 // Compiles the spec's shader (cached per source, function and sampler) and runs it over the
 // fragments. Compile and link errors throw InputError naming the user's file and line.
 // `timingRepeats` > 0 also times the draw with GL timer queries (each repeat one draw of

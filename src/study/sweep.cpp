@@ -30,6 +30,7 @@
 #include "core/interrupt.h"
 #include "core/json_read.h"
 #include "core/process.h"
+#include "gl/glsl_method.h"
 #include "methods/config.h"
 #include "study/csv_table.h"
 #include "study/outputs.h"
@@ -241,6 +242,9 @@ class SweepProgress {
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
     auto start = Clock::now();
+    // Every shader compiles before anything of this study is written, DIR included.
+    for (const MethodConfig& cfg : study.configs)
+        if (cfg.glsl) compileGlsl(*cfg.glsl);
     prepareOutputDir(opt.outDir);
     // One run per directory at a time: two runs would both append every case.
     StudyLock lock(opt.outDir);

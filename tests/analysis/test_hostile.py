@@ -473,7 +473,8 @@ def stale_temporaries(d):
 def no_litter(d):
     """A failed render or fit removes the --out directory it created, and only that: every
     GLSL compile, sampler and uniform error comes after --out is made; a directory that was
-    there before stays, with what was in it."""
+    there before stays, with what was in it. A sweep compiles its shaders before it makes
+    its DIR."""
     bad = write(d, "bad.glsl", "vec2 F(vec2 uv, vec3 V) { return uv +; }\n")
     good = write(d, "good.glsl", "uniform sampler2D h;\nuniform float k;\n"
                  "vec2 F(vec2 uv, vec3 V) { return uv + k * texture(h, uv).r * V.xy; }\n")
@@ -492,6 +493,12 @@ def no_litter(d):
         check(f"{name}: exit 2", r.returncode == 2, r.stderr)
         check(f"{name}: created parents removed too", not os.path.exists(os.path.join(d, "new")),
               str(os.listdir(d)))
+        if name == "compile error":  # a study's shaders compile before DIR is made
+            scene["sweep"] = {"theta": [0, 40], "resolution": [16, 16]}
+            spath = write(d, "study.json", json.dumps(scene))
+            r = run(["sweep", spath, "--out", out])
+            check("sweep with a compile error: exit 2, no DIR",
+                  r.returncode == 2 and not os.path.exists(os.path.join(d, "new")), r.stderr)
         kept = os.path.join(d, "kept")
         os.makedirs(kept, exist_ok=True)
         write(kept, "mine.txt", "x")
