@@ -29,13 +29,30 @@ def pareto_front(points):
 
 
 def mark_precomputed(ax, agg, pts):
-    """Circles precomputed methods: their per-pixel cost leaves out a build made once per map."""
+    """Circles precomputed methods: their per-pixel cost leaves out a build made once per map
+    (its ms are in the ranking table)."""
     for i in np.flatnonzero(agg["precompute"].values > 0):
         ax.scatter([max(pts[i][0], 1e-2)], [pts[i][1]], s=90, facecolors="none",
                    edgecolors="k", lw=0.8)
-        ax.annotate(f"+{nice(agg['precompute'].iloc[i], 3)} ms precompute",
-                    (max(pts[i][0], 1e-2), pts[i][1]), fontsize=6, color="0.3",
-                    textcoords="offset points", xytext=(4, -10))
+
+
+def place_labels(ax, items, fontsize=7, color="k"):
+    """Writes (text, x, y) beside their points, each moved down in steps of a line until it
+    clears the labels placed before it (in display pixels), so that none overlaps another."""
+    ax.figure.canvas.draw()  # the transforms of the final axes limits
+    placed = []
+    line = fontsize * 1.4
+    for text, x, y in sorted(items, key=lambda t: (t[1], -t[2])):
+        px, py = ax.transData.transform((max(x, 1e-2), y))
+        width = 0.62 * fontsize * len(text)
+        dy = 4.0
+        while any(abs((px + 4) - qx) < max(width, qw) and abs(py + dy - qy) < line
+                  for qx, qy, qw in placed):
+            dy -= line
+        placed.append((px + 4, py + dy, width))
+        ax.annotate(text, (max(x, 1e-2), y), fontsize=fontsize, color=color,
+                    textcoords="offset points", xytext=(4, dy * 72 / ax.figure.dpi),
+                    arrowprops=dict(arrowstyle="-", color="0.6", lw=0.4) if dy < 0 else None)
 
 
 def fig_pareto(df, figdir):
@@ -58,14 +75,11 @@ def fig_pareto(df, figdir):
         candidates = [i for i in range(len(pts)) if xkey != "ns" or not gl.iloc[i]]
         front = [candidates[i] for i in pareto_front([pts[i] for i in candidates])]
         fig, ax = plt.subplots(figsize=(8, 5.5))
-        for method, grp in agg.groupby("method"):
+        colours = plt.get_cmap("tab20")
+        for k, (method, grp) in enumerate(agg.groupby("method")):
             g = gl.loc[grp.index]
             ax.scatter(grp[xkey].clip(lower=1e-2), grp["mean"], label=method, s=22,
-                       marker="x" if g.all() else "o")
-        if xkey == "ns":
-            for i in np.flatnonzero(gl.values):
-                ax.annotate(agg["label"].iloc[i] + " [GL]", (max(pts[i][0], 1e-2), pts[i][1]),
-                            fontsize=6, textcoords="offset points", xytext=(4, -8), color="0.4")
+                       marker="x" if g.all() else "o", color=colours(k % 20))
         fx = [pts[i][0] for i in front]
         fy = [pts[i][1] for i in front]
         ax.step([max(x, 1e-2) for x in fx], fy, where="post", color="k", lw=1,
@@ -78,16 +92,20 @@ def fig_pareto(df, figdir):
             ax.step([max(pts[i][0], 1e-2) for i in gl_front], [pts[i][1] for i in gl_front],
                     where="post", color="0.45", lw=1, ls="--", label="Pareto front (GL)")
             fronts["gl"] = [agg["label"].iloc[i] for i in gl_front]
-        for i in front:
-            ax.annotate(agg["label"].iloc[i], (max(pts[i][0], 1e-2), pts[i][1]), fontsize=7,
-                        textcoords="offset points", xytext=(4, 4))
         mark_precomputed(ax, agg, pts)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        # The fronts' points are named (the GL front's in grey); every point is in the table.
+        named = [(agg["label"].iloc[i], pts[i][0], pts[i][1]) for i in front]
+        if xkey == "ns" and "gl" in fronts:
+            named += [(l + " [GL]", pts[i][0], pts[i][1]) for i, l in
+                      zip(agg.index[agg["label"].isin(fronts["gl"])],
+                          agg["label"][agg["label"].isin(fronts["gl"])])]
+        place_labels(ax, named)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("mean UV error over all cases [texels]")
         ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches"))
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()
         name = f"pareto_{xkey}.png"
         save_figure(fig, os.path.join(figdir, name), dpi=110)
@@ -181,7 +199,8 @@ def runtime_lines(theta_figs, agg, pareto_files, fronts, flagged):
                   + "; ".join(backends) + "): "
                   + ", ".join(f"`{l}`" for l in fronts["gl"]) + ".", ""]
     lines += ["Circled points are precomputed methods: their ns/px leaves out the build of "
-              "their maps, made once per height map and given beside them (precompute ms).", "",
+              "their maps, made once per height map (precompute ms in the table). The fronts' "
+              "points are named in the figures; every configuration is in the table.", "",
               "| rank | configuration | cases | mean error | p90 | ns/px | fetches/px | "
               "precompute ms |",
               "|---|---|---|---|---|---|---|---|"]
