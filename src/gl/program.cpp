@@ -175,13 +175,6 @@ std::string translateLog(const std::string& log, const std::string& file, int fi
     return out.str();
 }
 
-bool isIdentifier(const std::string& s) {
-    if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
-    for (char c : s)
-        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_')) return false;
-    return true;
-}
-
 int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
 // A shader's or program's info log (glGet{Shader,Program}iv + ...InfoLog).
@@ -274,7 +267,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
         return p;
     }
     for (const std::string& name : spec.samplers)
-        if (!name.empty() && isIdentifier(name) && !declaresSampler(spec.source, name))
+        if (!name.empty() && isShaderIdentifier(name) && !declaresSampler(spec.source, name))
             p.prelude += "uniform sampler2D " + name + ";  // declared by pgt\n";
     for (const auto& [name, value] : spec.defines)
         p.prelude += "#define " + name + " " + value + "\n";
@@ -305,7 +298,7 @@ GLuint programFor(const GlslSpec& spec) {
     key += spec.source;
     auto it = gPrograms.find(key);
     if (it != gPrograms.end()) return it->second.id;
-    if (!spec.hlsl && spec.call.empty() && !isIdentifier(spec.function))
+    if (!spec.hlsl && spec.call.empty() && !isShaderIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     checkDialect(spec);
     const Pieces pieces = wrapperPieces(spec);

@@ -19,39 +19,54 @@ namespace pgt {
 
 namespace {
 
-bool mentions(const std::string& text, const std::string& word);
-
 // A method's own (s, b) in UV units: docs/model.md §3's displacement is at most a few UV units;
 // 1e3 bounds a typo without limiting any real setting.
 constexpr double kMaxOwnDisplacement = 1e3;
+
+// One uniform's value as an entry writes it: a number (int when written as an integer), 2 to
+// 4 numbers, or, where `binds`, "scale" / "bias" (the case's s / b). `fail(message)` throws.
+template <class Fail>
+GlslSpec::Uniform uniformValue(const std::string& name, const Json& value, bool binds, Fail fail) {
+    GlslSpec::Uniform un{name, {}, false, ""};
+    if (binds && value.is_string() && (value == "scale" || value == "bias")) {
+        un.bind = value.get<std::string>();
+    } else if (value.is_number()) {
+        un.values.push_back(value.get<double>());
+        un.isInt = value.is_number_integer();
+    } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
+        for (const auto& x : value) {
+            if (!x.is_number()) fail("expected numbers");
+            un.values.push_back(x.get<double>());
+        }
+    } else {
+        fail(binds ? "expected a number, an array of 2 to 4 numbers, \"scale\" or \"bias\""
+                   : "expected a number or 2 to 4 numbers");
+    }
+    for (double x : un.values)
+        if (!std::isfinite(x)) fail("is not finite");
+    return un;
+}
 
 // "uniforms": {name: number | [2..4 numbers] | "scale" | "bias"}.
 std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     std::vector<GlslSpec::Uniform> out;
     const Json& u = f.raw("uniforms");
     if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
-    for (const auto& [name, value] : u.items()) {
-        GlslSpec::Uniform un;
-        un.name = name;
-        if (value.is_string() && (value == "scale" || value == "bias")) {
-            un.bind = value.get<std::string>();
-        } else if (value.is_number()) {
-            un.values.push_back(value.get<double>());
-            un.isInt = value.is_number_integer();
-        } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
-            for (const auto& x : value) {
-                if (!x.is_number()) f.fail("uniforms." + name, "expected numbers");
-                un.values.push_back(x.get<double>());
-            }
-        } else {
-            f.fail("uniforms." + name,
-                   "expected a number, an array of 2 to 4 numbers, \"scale\" or \"bias\"");
-        }
-        for (double x : un.values)
-            if (!std::isfinite(x)) f.fail("uniforms." + name, "is not finite");
-        out.push_back(un);
-    }
+    for (const auto& [name, value] : u.items())
+        out.push_back(uniformValue(name, value, true, [&](const std::string& message) {
+            f.fail("uniforms." + name, message);
+        }));
     return out;
+}
+
+// Whether `word` appears in `text` as a whole identifier.
+bool mentions(const std::string& text, const std::string& word) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
+        if ((at == 0 || !identChar(text[at - 1])) &&
+            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
+            return true;
+    return false;
 }
 
 // "texture": the names of GlslSpec::Layout, in its order.
@@ -71,10 +86,7 @@ std::vector<std::pair<std::string, std::string>> parseDefines(JsonFields& f) {
     const Json& d = f.raw("defines");
     if (!d.is_object()) f.fail("defines", "expected an object of NAME: \"value\"");
     for (const auto& [name, value] : d.items()) {
-        bool ident = !name.empty() && !std::isdigit(static_cast<unsigned char>(name[0]));
-        for (char c : name)
-            ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
-        if (!ident) f.fail("defines", "\"" + name + "\" is not a macro name");
+        if (!isShaderIdentifier(name)) f.fail("defines", "\"" + name + "\" is not a macro name");
         std::string text;
         if (value.is_string())
             text = value.get<std::string>();
@@ -224,16 +236,6 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     return cfg;
 }
 
-// Whether `word` appears in `text` as a whole identifier.
-bool mentions(const std::string& text, const std::string& word) {
-    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
-        if ((at == 0 || !identChar(text[at - 1])) &&
-            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
-            return true;
-    return false;
-}
-
 // The parameters of a generated label: the kind's own, then precision, discard and (s, b).
 std::string parameterSuffix(const MethodConfig& c) {
     const MethodKindInfo* info = kindInfo(c.kind);
@@ -277,20 +279,7 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         fail("a GLSL/HLSL method or preset varies \"scale\", \"bias\" or \"uniforms.NAME\"");
     if (!cfg.glsl) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
     const std::string name = param.substr(prefix.size());
-    GlslSpec::Uniform un{name, {}, false, ""};
-    if (value.is_number()) {
-        un.values = {value.get<double>()};
-        un.isInt = value.is_number_integer();
-    } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
-        for (const auto& x : value) {
-            if (!x.is_number()) fail("expected a number or 2 to 4 numbers");
-            un.values.push_back(x.get<double>());
-        }
-    } else {
-        fail("expected a number or 2 to 4 numbers");
-    }
-    for (double x : un.values)
-        if (!std::isfinite(x)) fail("is not finite");
+    const GlslSpec::Uniform un = uniformValue(name, value, false, fail);
     auto spec = std::make_shared<GlslSpec>(*cfg.glsl);  // configurations share no spec
     auto it = std::find_if(spec->uniforms.begin(), spec->uniforms.end(),
                            [&](const GlslSpec::Uniform& u) { return u.name == name; });

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cctype>
 #include <string>
 #include <utility>
 #include <vector>
@@ -11,6 +12,16 @@
 #include "methods/maps.h"
 
 namespace pgt {
+
+// A GLSL/HLSL identifier: a letter or '_', then letters, digits and '_' (function, sampler
+// and macro names).
+inline bool isShaderIdentifier(const std::string& s) {
+    auto letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+    if (s.empty() || !letter(s[0])) return false;
+    for (char c : s)
+        if (!(letter(c) || std::isdigit(static_cast<unsigned char>(c)))) return false;
+    return true;
+}
 
 struct GlslSpec {
     std::string path;    // as resolved from the scene file's folder

@@ -42,12 +42,18 @@ struct TruthInput {
     }
 };
 
-// What the warnings' checks need to know of a case (compare/warnings.h): the (s, b) the
-// method is given, where the true relief lies, whether the map varies.
-CheckContext checkContext(const Texture& map, const MethodConfig& cfg, const Displacement& d) {
+// The height map's lowest and highest h.
+std::pair<float, float> heightRange(const Texture& map) {
     float lo = INFINITY, hi = -INFINITY;
     for (size_t k = 0; k < map.texels.size(); k += size_t(map.channels))
         lo = std::min(lo, map.texels[k]), hi = std::max(hi, map.texels[k]);
+    return {lo, hi};
+}
+
+// What the warnings' checks need to know of a case (compare/warnings.h): the (s, b) the
+// method is given, where the true relief lies (the map's range [lo, hi]), whether the map
+// varies.
+CheckContext checkContext(float lo, float hi, const MethodConfig& cfg, const Displacement& d) {
     const double s = std::isfinite(cfg.scale) ? cfg.scale : d.scale;
     const double b = std::isfinite(cfg.bias) ? cfg.bias : d.bias;
     CheckContext c;
@@ -91,12 +97,13 @@ class BandPipeline {
           r_(r),
           sampler_(timing.maxFragments, timing.seed) {
         const bool inPlace = options.keepImages || options.keepCodedErrors;
+        const auto [lo, hi] = heightRange(scene.height);  // once a frame, for every method
         for (const MethodConfig& cfg : configs) {
             MethodRun m;
             m.config = &cfg;
             if (inPlace) m.tally = ErrorTally(r.camera.width(), r.camera.height());
             m.textures = &textures.get(cfg, r.view.displacement);
-            m.checks = MethodChecks(checkContext(scene.height, cfg, r.view.displacement));
+            m.checks = MethodChecks(checkContext(lo, hi, cfg, r.view.displacement));
             runs_.push_back(std::move(m));
         }
     }
