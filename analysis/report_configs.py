@@ -126,7 +126,9 @@ def _heat_panel(ax, sub, label, limits):
     ax.set_yticks(range(grid.shape[0]), [f"{r:g}" for r in grid.index], fontsize=6)
     for r in range(grid.shape[0]):
         if np.isfinite(grid.values[r]).any():
-            ax.plot(int(np.nanargmin(grid.values[r])), r, marker="*", color="red", ms=10)
+            # In the cell's corner, clear of its number.
+            ax.plot(int(np.nanargmin(grid.values[r])) + 0.32, r + 0.28, marker="*",
+                    color="red", ms=8)
         for k in range(grid.shape[1]):
             ax.text(k, r, nice(grid.values[r, k], 2), ha="center", va="center", fontsize=6,
                     color="w")
