@@ -52,10 +52,11 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     std::vector<GlslSpec::Uniform> out;
     const Json& u = f.raw("uniforms");
     if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
-    for (const auto& [name, value] : u.items())
-        out.push_back(uniformValue(name, value, true, [&](const std::string& message) {
-            f.fail("uniforms." + name, message);
-        }));
+    for (const auto& [key, value] : u.items()) {
+        const std::string field = "uniforms." + key;  // clang 14 captures no structured binding
+        out.push_back(uniformValue(key, value, true,
+                                   [&](const std::string& message) { f.fail(field, message); }));
+    }
     return out;
 }
 
