@@ -143,6 +143,18 @@ def defaults_table(df):
     return pd.DataFrame(rows)
 
 
+def base_lines(base):
+    """Which base surface, and for meshes which tangent frames and truth, the study used."""
+    if base.get("type") == "gltf":
+        return [f"Base: glTF asset `{base['source']}` ({base.get('part', '')}), drawn with "
+                f"`{base.get('frames')}` tangent frames; truth `{base.get('truth_surface')}`."]
+    if base.get("type") == "mesh":
+        return [f"Base: mesh `{base['source']}` ({base.get('scheme')}, refine "
+                f"{base.get('refine')}), drawn with pgt's Listing 7.4 tangent frames; truth "
+                f"`{base.get('truth_surface')}`."]
+    return []
+
+
 def header_lines(df, study):
     """The report's title, the study's scene, cases and the units."""
     cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
@@ -152,6 +164,7 @@ def header_lines(df, study):
         lines.append(f"Scene: `{hm['source']}` height map {hm['size'][0]}x{hm['size'][1]}, "
                      f"address `{study['scene']['address']}`, resolution "
                      f"{study['resolution'][0]}x{study['resolution'][1]}.")
+        lines += base_lines(study["scene"].get("base", {}))
     lines += [
         f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
         f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "

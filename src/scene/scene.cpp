@@ -12,6 +12,7 @@
 #include "core/overloaded.h"
 #include "heightfield/heightfield.h"
 #include "heightfield/mipmaps.h"
+#include "mesh/gltf_mesh.h"
 #include "methods/config.h"
 
 namespace pgt {
@@ -127,13 +128,61 @@ void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
     }
 }
 
-// "base": a plane (size, tiling, centre, infinite) or a mesh; the UV extent and culling.
+// A glTF base: the primitive as the asset draws it (docs/scenes.md "glTF assets").
+void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
+    m.gltf = true;
+    m.source = f.string("file");
+    const fs::path p = fs::path(m.source).is_absolute()
+                           ? fs::path(m.source)
+                           : fs::path(s.file).parent_path() / m.source;
+    GltfSelection which;
+    if (f.has("mesh")) {
+        const Json& mesh = f.raw("mesh");
+        if (mesh.is_string())
+            which.meshName = mesh.get<std::string>();
+        else
+            which.mesh = f.integer("mesh", 0, 0, 1 << 30);
+    }
+    which.primitive = f.integer("primitive", 0, 0, 1 << 30);
+    which.uvSet = f.integer("uv", 0, 0, 1 << 20);
+    which.node = f.integer("node", -1, -1, 1 << 30);
+    const std::string frames = f.choice("frames", {"asset", "mikktspace", "pgt"}, "asset");
+    const MeshFrames kind = frames == "pgt"          ? MeshFrames::Pgt
+                            : frames == "mikktspace" ? MeshFrames::MikkTSpace
+                                                     : MeshFrames::Asset;
+    std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "loop");
+    m.scheme = scheme == "bilinear" ? Scheme::Bilinear
+               : scheme == "loop"   ? Scheme::Loop
+                                    : Scheme::Catmark;
+    m.refine = 0;  // drawn as the asset has it
+    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal") == "limit"
+                         ? MeshTruth::Limit
+                         : MeshTruth::Polygonal;
+    GltfMesh asset = loadGltfMesh(p.string(), which, kind, s.file, "base.file");
+    constexpr double kBytesPerDrawnFace = 1200;  // as parseMeshBase measured
+    const double faces = double(asset.drawn.mesh.indices.size() / 3);
+    checkMemory(faces * kBytesPerDrawnFace, s.file, "base.file", m.source,
+                "a glTF primitive of " + std::to_string(int64_t(faces)) + " triangles");
+    m.part = asset.description;
+    m.frames = asset.framesUsed;
+    try {
+        m.worldPerUv = f.has("world_per_uv") ? f.number("world_per_uv", 1e-9, 1e9)
+                                             : worldPerUvFromAreas(asset.cage);
+    } catch (const std::invalid_argument& e) {
+        f.fail("file", e.what());
+    }
+    m.drawn = std::make_shared<RefinedMesh>(std::move(asset.drawn));
+    m.cage = std::make_shared<ControlMesh>(std::move(asset.cage));
+}
+
+// "base": a plane (size, tiling, centre, infinite), a mesh or a glTF asset; the UV extent
+// and culling.
 void parseBase(Scene& s, JsonFields& root) {
     JsonFields f(root.raw("base"), s.file, "base");
-    std::string type = f.choice("type", {"plane", "mesh"}, "plane");
-    if (type == "mesh") {
+    std::string type = f.choice("type", {"plane", "mesh", "gltf"}, "plane");
+    if (type == "mesh" || type == "gltf") {
         MeshBase m;
-        parseMeshBase(s, f, m);
+        type == "mesh" ? parseMeshBase(s, f, m) : parseGltfBase(s, f, m);
         s.base = std::move(m);
     } else {
         PlaneBase p;
@@ -346,7 +395,7 @@ Json baseJson(const Scene& s) {
                                                  {"infinite", p.infinite}};
                                  },
                                  [&](const MeshBase& m) {
-                                     return Json{{"type", "mesh"},
+                                     Json j{{"type", m.gltf ? "gltf" : "mesh"},
                                                  {"source", m.source},
                                                  {"sha1", m.cage->sourceSha1},
                                                  {"given", givenBlock(s, "base")},
@@ -355,6 +404,8 @@ Json baseJson(const Scene& s) {
                                                  {"truth_surface", toString(m.truthSurface)},
                                                  {"world_per_uv", m.worldPerUv},
                                                  {"cull_back_faces", s.cullBackFaces}};
+                                     if (m.gltf) j["part"] = m.part, j["frames"] = m.frames;
+                                     return j;
                                  }},
                       s.base);
 }

@@ -74,9 +74,13 @@ struct PlaneLattice {
 // asset as meant: adds faceting and frame error).
 enum class MeshTruth { Polygonal, Limit };
 
-// A curved base: a control mesh refined by OpenSubdiv.
+// A curved base: a control mesh refined by OpenSubdiv, or a glTF primitive drawn as the
+// asset has it (its triangles are the cage of its limit truth).
 struct MeshBase {
-    std::string source;  // "cube", "cylinder", "torus" or the OBJ path
+    std::string source;  // "cube", "cylinder", "torus", the OBJ or the glTF path
+    bool gltf = false;
+    std::string part;            // glTF: which mesh and primitive (mesh 0 "Sphere" primitive 0)
+    std::string frames = "pgt";  // the drawn frames: "asset", "mikktspace" or "pgt"
     Scheme scheme = Scheme::Catmark;
     int refine = 2;  // levels for the mesh the rasteriser draws
     MeshTruth truthSurface = MeshTruth::Polygonal;

@@ -291,6 +291,55 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
     return out;
 }
 
+namespace {
+
+// A drawn mesh's segment counts for its polygonal truth: every edge rate x its UV length in
+// texels, every triangle its longest edge's count, all lowered by one factor for the whole
+// mesh where the vertex count would pass maxVertices.
+class DrawnSegments {
+  public:
+    using EdgeKey = std::pair<uint32_t, uint32_t>;
+    DrawnSegments(const BaseMesh& drawn, const Texture& height, int rate, int64_t maxVertices)
+        : drawn_(drawn), rate_(rate) {
+        const size_t nTri = drawn.indices.size() / 3;
+        for (size_t t = 0; t < nTri; ++t)
+            for (int e = 0; e < 3; ++e) {
+                const EdgeKey k = key(t, e);
+                texels_[k] = glm::length((drawn.vertices[k.second].uv - drawn.vertices[k.first].uv) *
+                                         Vec2d(height.width, height.height));
+            }
+        for (;;) {
+            double verts = 0;
+            for (size_t t = 0; t < nTri; ++t) {
+                const double n = triangle(t);
+                verts += (n + 1) * (n + 2) / 2;
+            }
+            if (verts <= double(maxVertices) || factor_ < 1e-6) break;
+            factor_ *= 0.9;
+        }
+    }
+    EdgeKey key(size_t t, int e) const {
+        const uint32_t a = drawn_.indices[3 * t + size_t(e)];
+        const uint32_t b = drawn_.indices[3 * t + size_t((e + 1) % 3)];
+        return EdgeKey(std::min(a, b), std::max(a, b));
+    }
+    int edge(const EdgeKey& k) const {
+        const double n = std::ceil(factor_ * rate_ * texels_.at(k) - 1e-9);
+        return std::max(1, int(std::min(n, double(1 << 15))));
+    }
+    int triangle(size_t t) const {
+        return std::max({edge(key(t, 0)), edge(key(t, 1)), edge(key(t, 2))});
+    }
+
+  private:
+    const BaseMesh& drawn_;
+    int rate_;
+    double factor_ = 1;
+    std::map<EdgeKey, double> texels_;
+};
+
+}  // namespace
+
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,
                                                             double worldPerUv, int rate,
@@ -305,20 +354,13 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
     for (const auto& v : drawn.vertices)
         lo = glm::min(lo, v.position), hi = glm::max(hi, v.position);
     m.origin = (lo + hi) * 0.5;
-    // One subdivision count n for every triangle: rate samples per texel along the longest
-    // UV edge of the mesh.
-    double longest = 0;
-    for (size_t t = 0; t < nTri; ++t)
-        for (int e = 0; e < 3; ++e) {
-            Vec2d a = drawn.vertices[drawn.indices[3 * t + e]].uv;
-            Vec2d b = drawn.vertices[drawn.indices[3 * t + (e + 1) % 3]].uv;
-            longest = std::max(longest, glm::length((b - a) * Vec2d(height.width, height.height)));
-        }
-    int n = std::max(1, int(std::min(std::ceil(rate * longest - 1e-9), double(1 << 15))));
-    // Vertices: corners V, edge points E*(n-1), interior T*(n-1)(n-2)/2 <= T*(n+1)(n+2)/2.
-    while (n > 1 && double(nTri) * (n + 1) * (n + 2) / 2 > double(maxVertices)) --n;
-
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeStart;  // first of n-1 edge points
+    const DrawnSegments seg(drawn, height, rate, maxVertices);
+    using EdgeKey = DrawnSegments::EdgeKey;
+    struct EdgePoints {
+        uint32_t first = 0;  // the first of n - 1 points, from the key's first vertex
+        int n = 1;
+    };
+    std::map<EdgeKey, EdgePoints> edges;
     auto addVertex = [&](const BaseVertex& a, const BaseVertex& b, const BaseVertex& c, double wa,
                          double wb, double wc) {
         Vec3d p = a.position * wa + b.position * wb + c.position * wc;
@@ -340,25 +382,36 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
                                 drawn.indices[3 * t + 2]};
         const BaseVertex* v[3] = {&drawn.vertices[id[0]], &drawn.vertices[id[1]],
                                   &drawn.vertices[id[2]]};
-        // Lattice point (i, j), i + j <= n, barycentric (1 - (i+j)/n, i/n, j/n).
+        // Lattice point (i, j), i + j <= n, barycentric (1 - (i+j)/n, i/n, j/n); n from the
+        // triangle's longest edge.
+        const int n = seg.triangle(t);
         local.assign(size_t(n + 1) * (n + 1), 0);
         auto at = [&](int i, int j) -> uint32_t& { return local[size_t(j) * (n + 1) + i]; };
         at(0, 0) = id[0], at(n, 0) = id[1], at(0, n) = id[2];
-        // Edge points, shared through the pair of drawn vertex indices (canonical order).
+        // Edge points, made once per edge at its own count and shared through the pair of
+        // drawn vertex indices. A lattice boundary point k of n snaps to the edge's nearest
+        // point (k x edge count / n, rounded): the sheet stays watertight where a longer
+        // neighbour's lattice is finer, at the cost of zero-area strip triangles there.
         auto edge = [&](int ea, int eb, auto point) {
-            uint32_t a = id[ea], b = id[eb];
-            bool flip = a > b;
-            auto key = std::make_pair(std::min(a, b), std::max(a, b));
-            auto it = edgeStart.find(key);
-            if (it == edgeStart.end()) {
-                uint32_t first = uint32_t(m.sheet.position.size());
+            const EdgeKey key(std::min(id[ea], id[eb]), std::max(id[ea], id[eb]));
+            const bool flip = id[ea] > id[eb];
+            auto it = edges.find(key);
+            if (it == edges.end()) {
+                EdgePoints e{uint32_t(m.sheet.position.size()), seg.edge(key)};
                 const BaseVertex& lo0 = drawn.vertices[key.first];
                 const BaseVertex& hi0 = drawn.vertices[key.second];
-                for (int k = 1; k < n; ++k)
-                    addVertex(lo0, hi0, hi0, 1.0 - double(k) / n, double(k) / n, 0.0);
-                it = edgeStart.emplace(key, first).first;
+                for (int k = 1; k < e.n; ++k)
+                    addVertex(lo0, hi0, hi0, 1.0 - double(k) / e.n, double(k) / e.n, 0.0);
+                it = edges.emplace(key, e).first;
             }
-            for (int k = 1; k < n; ++k) point(k) = it->second + uint32_t(flip ? n - 1 - k : k - 1);
+            const EdgePoints& e = it->second;
+            for (int k = 1; k < n; ++k) {
+                const int fromA = int(std::lround(double(k) * e.n / n));  // from id[ea]
+                const int fromLo = flip ? e.n - fromA : fromA;
+                point(k) = fromLo == 0     ? key.first
+                           : fromLo == e.n ? key.second
+                                           : e.first + uint32_t(fromLo - 1);
+            }
         };
         edge(0, 1, [&](int k) -> uint32_t& { return at(k, 0); });
         edge(0, 2, [&](int k) -> uint32_t& { return at(0, k); });
@@ -367,13 +420,13 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
             for (int i = 1; i + j < n; ++i)
                 at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n, double(i) / n,
                                      double(j) / n);
+        auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+            if (a != b && b != c && a != c) m.sheet.triangles.insert(m.sheet.triangles.end(), {a, b, c});
+        };
         for (int j = 0; j < n; ++j)
             for (int i = 0; i + j < n; ++i) {
-                m.sheet.triangles.insert(m.sheet.triangles.end(),
-                                         {at(i, j), at(i + 1, j), at(i, j + 1)});
-                if (i + j + 1 < n)
-                    m.sheet.triangles.insert(m.sheet.triangles.end(),
-                                             {at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+                emit(at(i, j), at(i + 1, j), at(i, j + 1));
+                if (i + j + 1 < n) emit(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
             }
     }
     m.tessellateMs = msSince(t0);

@@ -121,12 +121,13 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
                                                                Scheme scheme, double worldPerUv,
                                                                int rate);
 
-// The `polygonal` truth of a mesh: the very triangles the rasteriser draws, each
-// split uniformly into n^2 sub-triangles (n from the largest UV edge in texels x rate, one n
-// for the whole mesh so shared edges get the same points), displaced along the interpolated
-// vertex normal. Vertices on an edge shared by two drawn triangles are shared, so the sheet
-// is watertight wherever the UVs are continuous (it opens at UV seams, as the real
-// displaced asset does). `maxVertices` bounds the tessellation (n is lowered to fit).
+// The `polygonal` truth of a mesh: the very triangles the rasteriser draws, each split
+// uniformly into n^2 sub-triangles (n = rate x its longest UV edge in texels), displaced along
+// the interpolated vertex normal. Every edge gets rate x its own length in points, made once
+// and shared by the drawn triangles on it (a finer lattice's boundary snaps to them), so the
+// sheet is watertight wherever the UVs are continuous (it opens at UV seams, as the real
+// displaced asset does). `maxVertices` bounds the tessellation (all counts are lowered by one
+// factor to fit).
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,
                                                             double worldPerUv, int rate,
