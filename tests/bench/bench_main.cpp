@@ -5,10 +5,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
+#include "core/error.h"
 #include "gl/glsl_method.h"
 #include "gl/hlsl.h"
 #include "heightfield/heightfield.h"
+#include "mesh/gltf_mesh.h"
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "scene/scene.h"
@@ -265,6 +268,31 @@ void BM_HlslToGlsl(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_HlslToGlsl)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// Reading a glTF primitive (mesh/gltf_mesh.h): tinygltf's parse, every check, the node
+// transform and the frames. range(0): 0 = the bundled torus (243 vertices, Blender's
+// TANGENT), 1 = assimp-testmodels' ClearCoatTest mesh 0 (1,113 vertices, 2,060 triangles, no
+// TANGENT: MikkTSpace), 2 = its 2CylinderEngine.glb (1.8 MB, the largest; read and checked
+// until it is refused for having no TEXCOORD_0).
+void BM_GltfLoad(benchmark::State& state) {
+    const std::string models = "/usr/share/assimp/models/glTF2/";
+    const std::string file =
+        state.range(0) == 0   ? std::string(PGT_TEST_SOURCE_DIR) + "/data/gltf/torus_mirrored.gltf"
+        : state.range(0) == 1 ? models + "ClearCoat-glTF/ClearCoatTest.gltf"
+                              : models + "2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    if (!std::filesystem::exists(file)) {
+        state.SkipWithError("assimp-testmodels is not installed");
+        return;
+    }
+    for (auto _ : state) {
+        try {
+            GltfMesh m = loadGltfMesh(file, {}, MeshFrames::Asset, "bench", "base.file");
+            benchmark::DoNotOptimize(m.drawn.mesh.vertices.data());
+        } catch (const InputError&) {
+        }
+    }
+}
+BENCHMARK(BM_GltfLoad)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
