@@ -260,15 +260,21 @@ def defaults_lines(table, table80, heat):
     return lines
 
 
-def frame_and_stiff_lines(df):
-    """The tangent frame's share of the error (meshes) and the stiff cases counted."""
+FRAME_NAMES = {"asset": "the asset's TANGENT", "mikktspace": "MikkTSpace",
+               "pgt": "Listing 7.4/7.8"}
+
+
+def frame_and_stiff_lines(df, frames="pgt"):
+    """The tangent frame's share of the error (meshes; `frames`: which per-vertex frames the
+    base was drawn with) and the stiff cases counted."""
     lines = []
     if "mean_exact_frame" in df.columns and df["mean_exact_frame"].notna().any():
         fr = df.groupby("label")[["mean", "mean_exact_frame"]].mean()
         lines += ["## Method error and tangent-frame error", "",
                   "Each method also ran with the exact frame of the drawn surface (T along dS/du, "
                   "B along dS/dv, N the normal the truth displaces along). Its error is the "
-                  "method's own; the rest is what the per-vertex (Listing 7.4/7.8) frame adds.", "",
+                  f"method's own; the rest is what the per-vertex frame ({FRAME_NAMES.get(frames, frames)}) "
+                  "adds.", "",
                   "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
         for label, r in fr.iterrows():
             share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
@@ -328,7 +334,9 @@ def main():
 
     lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
              + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
-             + defaults_lines(table, table80, heat) + frame_and_stiff_lines(df))
+             + defaults_lines(table, table80, heat)
+             + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
+                                          .get("frames", "pgt"))))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))
     print(f"wrote {os.path.join(args.dir, 'report.md')}")
 
