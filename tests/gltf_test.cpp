@@ -28,15 +28,18 @@ struct GltfVertex {
 // TANGENT, uint16 indices) and `node` as the node's JSON.
 void writeGltf(const fs::path& dir, const std::string& stem, const std::vector<GltfVertex>& v,
                const std::vector<uint16_t>& idx, const std::string& node = R"({"mesh": 0})",
-               const std::string& uri = "") {
-    const size_t nv = v.size(), vb = nv * 48, ib = idx.size() * 2;
+               int indexBytes = 2) {
+    const size_t nv = v.size(), vb = nv * 48, ib = idx.size() * size_t(indexBytes);
     std::ofstream bin(dir / (stem + ".bin"), std::ios::binary);
     for (int a = 0; a < 4; ++a)  // attribute a of every vertex, one block each
         for (const auto& x : v) {
             const float* src = a == 0 ? x.p : a == 1 ? x.n : a == 2 ? x.uv : x.t;
             bin.write(reinterpret_cast<const char*>(src), a == 2 ? 8 : a == 3 ? 16 : 12);
         }
-    bin.write(reinterpret_cast<const char*>(idx.data()), std::streamsize(ib));
+    for (uint16_t i : idx) {  // little-endian, 1, 2 or 4 bytes
+        const uint32_t wide = i;
+        bin.write(reinterpret_cast<const char*>(&wide), indexBytes);
+    }
     bin.close();
     const size_t off[5] = {0, nv * 12, nv * 24, nv * 32, vb};
     std::ofstream g(dir / (stem + ".gltf"));
@@ -44,7 +47,7 @@ void writeGltf(const fs::path& dir, const std::string& stem, const std::vector<G
       "nodes": [)" << node << R"(],
       "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2,
                   "TANGENT": 3}, "indices": 4}]}],
-      "buffers": [{"uri": ")" << (uri.empty() ? stem + ".bin" : uri) << R"(", "byteLength": )"
+      "buffers": [{"uri": ")" << stem + ".bin" << R"(", "byteLength": )"
       << vb + ib << R"(}],
       "bufferViews": [)";
     const size_t len[5] = {nv * 12, nv * 12, nv * 8, nv * 16, ib};
@@ -56,19 +59,22 @@ void writeGltf(const fs::path& dir, const std::string& stem, const std::vector<G
       {"bufferView": 1, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC3"},
       {"bufferView": 2, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC2"},
       {"bufferView": 3, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC4"},
-      {"bufferView": 4, "componentType": 5123, "count": )" << idx.size() << R"(, "type": "SCALAR"}]})";
+      {"bufferView": 4, "componentType": )"
+      << (indexBytes == 1 ? 5121 : indexBytes == 2 ? 5123 : 5125) << R"(, "count": )" << idx.size()
+      << R"(, "type": "SCALAR"}]})";
 }
 
 // pgt's unit plane (docs/model.md §2) as glTF stores it: pgt (x, y, z) is glTF (x, z, -y),
 // pgt's v is 1 - glTF's v; facing glTF's +Y, tangent +X with handedness w.
-void writePlane(const fs::path& dir, const std::string& stem, float w) {
+void writePlane(const fs::path& dir, const std::string& stem, float w,
+                const std::string& node = R"({"mesh": 0})", int indexBytes = 2) {
     std::vector<GltfVertex> v;
     for (int k = 0; k < 4; ++k) {
         const float x = (k & 1) ? 0.5f : -0.5f, y = (k & 2) ? 0.5f : -0.5f;
         v.push_back({{x, 0, -y}, {0, 1, 0}, {x + 0.5f, 1 - (y + 0.5f)}, {1, 0, 0, w}});
     }
     // Counter-clockwise seen from glTF's +Y (pgt's +Z).
-    writeGltf(dir, stem, v, {0, 1, 3, 0, 3, 2});
+    writeGltf(dir, stem, v, {0, 1, 3, 0, 3, 2}, node, indexBytes);
 }
 
 const std::string kCommon = R"("heightmap": {"procedural": "sine", "size": [32, 32]},
@@ -169,6 +175,47 @@ TEST(Gltf, MikkTSpaceMatchesBlendersTangents) {
         }
         EXPECT_EQ(mikk.drawn.frames.fallbackTangents, 0);
     }
+}
+
+// The frame convention on every asset: T along dS/du and B = w cross(N, T) along dS/dv of each
+// drawn triangle (pgt's u and v), and front faces counter-clockwise around N, on Blender's
+// exports (node transform with non-uniform scale; mirrored UVs) and on planes under a
+// mirroring node and with indices of every width.
+TEST(Gltf, FramesFollowTheSurfacesUAndV) {
+    auto dir = test::tempDir("gltf_frames");
+    writePlane(dir, "mirror", 1, R"({"mesh": 0, "scale": [-1, 1, 1]})");
+    writePlane(dir, "u8", 1, R"({"mesh": 0})", 1);
+    writePlane(dir, "u32", 1, R"({"mesh": 0, "translation": [0, 2, 0]})", 4);
+    for (const std::string& file :
+         {data("sphere.gltf"), data("torus_mirrored.gltf"), data("cylinder.gltf"),
+          (dir / "mirror.gltf").string(), (dir / "u8.gltf").string(), (dir / "u32.gltf").string()}) {
+        const GltfMesh g = loadGltfMesh(file, {}, MeshFrames::Asset, "t", "base.file");
+        const BaseMesh& m = g.drawn.mesh;
+        int checked = 0, wrong = 0;
+        for (size_t t = 0; t < m.indices.size(); t += 3) {
+            const BaseVertex* v[3] = {&m.vertices[m.indices[t]], &m.vertices[m.indices[t + 1]],
+                                      &m.vertices[m.indices[t + 2]]};
+            const Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
+            const Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
+            const double det = d1.x * d2.y - d2.x * d1.y;
+            if (std::fabs(det) < 1e-9) continue;
+            const Vec3d dSdu = (e1 * d2.y - e2 * d1.y) / det, dSdv = (e2 * d1.x - e1 * d2.x) / det;
+            const Vec3d face = glm::cross(e1, e2);
+            for (const BaseVertex* c : v) {
+                ++checked;
+                wrong += glm::dot(c->tangent, dSdu) <= 0 || glm::dot(c->bitangent, dSdv) <= 0 ||
+                         glm::dot(face, c->normal) <= 0;
+            }
+        }
+        EXPECT_GT(checked, 5) << file;
+        EXPECT_EQ(wrong, 0) << file;
+    }
+    const GltfMesh mirror =
+        loadGltfMesh((dir / "mirror.gltf").string(), {}, MeshFrames::Asset, "t", "base.file");
+    EXPECT_EQ(mirror.drawn.frames.mirroredVertices, 4);  // w = 1 under a mirroring node: -1
+    const GltfMesh moved = loadGltfMesh((dir / "u32.gltf").string(), {}, MeshFrames::Asset, "t", "f");
+    EXPECT_EQ(moved.drawn.mesh.vertices[0].position.z, 2.0);  // glTF's +Y is pgt's +Z
+    fs::remove_all(dir);
 }
 
 // Blender wrote the sphere twice: glTF with its node transform, OBJ with the transformed
@@ -392,6 +439,8 @@ TEST(GltfAssets, BadSelectionsAreClearErrors) {
     EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "uv": 1})").find("no TEXCOORD_1"), std::string::npos);
     EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "refine": 2})").find("refine"), std::string::npos);
     EXPECT_NE(error(R"({"type": "gltf", "file": "nothing.gltf"})").find("nothing.gltf"), std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "node": 4})").find("node 4 of 1"), std::string::npos);
+    EXPECT_EQ(error(R"({"type": "gltf", "file": "sphere.gltf", "node": 0})"), "");
     EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "frames": "mikk"})").find("mikktspace"), std::string::npos);
 }
 
