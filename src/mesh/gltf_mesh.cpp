@@ -53,7 +53,11 @@ struct FsGuard {
     std::string refused;  // the first uri refused, for the error message
 };
 
-bool fileExists(const std::string& path, void*) { return fs::is_regular_file(path); }
+// tinygltf calls these from C: they must not throw (a uri too long for a path is just absent).
+bool fileExists(const std::string& path, void*) {
+    std::error_code ec;
+    return fs::is_regular_file(path, ec);
+}
 std::string expandNothing(const std::string& path, void*) { return path; }  // no ~ or $VAR
 
 bool readGuarded(std::vector<unsigned char>* out, std::string* err, const std::string& path,
