@@ -406,7 +406,8 @@ TEST(GltfAssets, UriCannotLeaveTheAssetsFolder) {
     // tinygltf joins them), where it is not.
     for (const auto& [uri, expected] : std::vector<std::pair<std::string, std::string>>{
              {"../outside.bin", "a uri leaves the asset's folder: ../outside.bin"},
-             {(dir / "outside.bin").string(), "File not found"}}) {
+             {(dir / "outside.bin").string(), "File not found"},
+             {std::string(5000, 'a') + ".bin", "File not found"}}) {  // longer than a path may be
         // The same plane whose buffer uri points out of its folder.
         std::ifstream in(dir / "asset" / "plane.gltf");
         std::string text((std::istreambuf_iterator<char>(in)), {});
