@@ -62,6 +62,24 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
     }
 }
 
+// Refining, the drawn mesh's frames, its truth sheet and Embree's build took 1.1 KB per drawn
+// face (measured: a 256 x 256-quad OBJ at refine 2, 2^20 faces, 1.14 GB above the process's
+// base); 1200 bytes a face estimates it before anything is refined or built.
+constexpr double kBytesPerDrawnFace = 1200;
+
+Scheme schemeField(JsonFields& f, const std::string& fallback) {
+    const std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, fallback);
+    return scheme == "bilinear" ? Scheme::Bilinear
+           : scheme == "loop"   ? Scheme::Loop
+                                : Scheme::Catmark;
+}
+
+MeshTruth truthSurfaceField(JsonFields& f) {
+    return f.choice("truth_surface", {"polygonal", "limit"}, "polygonal") == "limit"
+               ? MeshTruth::Limit
+               : MeshTruth::Polygonal;
+}
+
 // The control mesh of a mesh base: a built-in cage or an OBJ file beside the scene.
 ControlMesh readCage(const Scene& s, JsonFields& f, MeshBase& m) {
     if (f.has("cage") == f.has("file"))
@@ -96,10 +114,7 @@ void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
     // fuzzed torus at refine 6 took 12 s to parse); 2^24 faces is far beyond any study.
     if (cage.numFaces() > (1 << 20))
         f.fail(f.has("file") ? "file" : "segments", "the control mesh has more than 2^20 faces");
-    std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "catmark");
-    m.scheme = scheme == "bilinear" ? Scheme::Bilinear
-               : scheme == "loop"   ? Scheme::Loop
-                                    : Scheme::Catmark;
+    m.scheme = schemeField(f, "catmark");
     m.refine = f.integer("refine", 2, 0, 6);
     int maxFaceSize = *std::max_element(cage.faceSizes.begin(), cage.faceSizes.end());
     double refinedFaces = double(cage.numFaces()) * (m.refine > 0 ? maxFaceSize : 1) *
@@ -107,17 +122,11 @@ void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
     if (refinedFaces > double(1 << 24))
         f.fail("refine", "would draw about " + std::to_string(int64_t(refinedFaces)) +
                              " faces (more than 2^24): lower refine or the cage's segments");
-    // Refining, the drawn mesh's frames, its truth sheet and Embree's build took 1.1 KB per
-    // drawn face (measured: a 256 x 256-quad OBJ at refine 2, 2^20 faces, 1.14 GB above the
-    // process's base); 1200 bytes a face estimates it before anything is refined.
-    constexpr double kBytesPerDrawnFace = 1200;
     checkMemory(refinedFaces * kBytesPerDrawnFace, s.file, "base.refine", std::to_string(m.refine),
                 "a mesh of " + std::to_string(cage.numFaces()) + " faces refined " +
                     std::to_string(m.refine) + " times (about " +
                     std::to_string(int64_t(refinedFaces)) + " drawn faces)");
-    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal") == "limit"
-                         ? MeshTruth::Limit
-                         : MeshTruth::Polygonal;
+    m.truthSurface = truthSurfaceField(f);
     try {
         m.drawn = std::make_shared<RefinedMesh>(refineToTriangles(cage, m.scheme, m.refine));
         m.cage = std::make_shared<ControlMesh>(cage);
@@ -150,16 +159,10 @@ void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
     const MeshFrames kind = frames == "pgt"          ? MeshFrames::Pgt
                             : frames == "mikktspace" ? MeshFrames::MikkTSpace
                                                      : MeshFrames::Asset;
-    std::string scheme = f.choice("scheme", {"bilinear", "catmark", "loop"}, "loop");
-    m.scheme = scheme == "bilinear" ? Scheme::Bilinear
-               : scheme == "loop"   ? Scheme::Loop
-                                    : Scheme::Catmark;
+    m.scheme = schemeField(f, "loop");
     m.refine = 0;  // drawn as the asset has it
-    m.truthSurface = f.choice("truth_surface", {"polygonal", "limit"}, "polygonal") == "limit"
-                         ? MeshTruth::Limit
-                         : MeshTruth::Polygonal;
+    m.truthSurface = truthSurfaceField(f);
     GltfMesh asset = loadGltfMesh(p.string(), which, kind, s.file, "base.file");
-    constexpr double kBytesPerDrawnFace = 1200;  // as parseMeshBase measured
     const double faces = double(asset.drawn.mesh.indices.size() / 3);
     checkMemory(faces * kBytesPerDrawnFace, s.file, "base.file", m.source,
                 "a glTF primitive of " + std::to_string(int64_t(faces)) + " triangles");
