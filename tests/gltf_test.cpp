@@ -12,8 +12,8 @@
 #include "core/error.h"
 #include "mesh/gltf_mesh.h"
 #include "study/render.h"
-#include "truth/tessellation.h"
 #include "test_util.h"
+#include "truth/tessellation.h"
 
 namespace pgt {
 namespace {
@@ -44,24 +44,32 @@ void writeGltf(const fs::path& dir, const std::string& stem, const std::vector<G
     const size_t off[5] = {0, nv * 12, nv * 24, nv * 32, vb};
     std::ofstream g(dir / (stem + ".gltf"));
     g << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-      "nodes": [)" << node << R"(],
+      "nodes": [)"
+      << node << R"(],
       "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2,
                   "TANGENT": 3}, "indices": 4}]}],
-      "buffers": [{"uri": ")" << stem + ".bin" << R"(", "byteLength": )"
-      << vb + ib << R"(}],
+      "buffers": [{"uri": ")"
+      << stem + ".bin"
+      << R"(", "byteLength": )" << vb + ib << R"(}],
       "bufferViews": [)";
     const size_t len[5] = {nv * 12, nv * 12, nv * 8, nv * 16, ib};
     for (int k = 0; k < 5; ++k)
         g << (k ? "," : "") << R"({"buffer": 0, "byteOffset": )" << off[k] << R"(, "byteLength": )"
           << len[k] << "}";
     g << R"(], "accessors": [
-      {"bufferView": 0, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC3"},
-      {"bufferView": 1, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC3"},
-      {"bufferView": 2, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC2"},
-      {"bufferView": 3, "componentType": 5126, "count": )" << nv << R"(, "type": "VEC4"},
+      {"bufferView": 0, "componentType": 5126, "count": )"
+      << nv << R"(, "type": "VEC3"},
+      {"bufferView": 1, "componentType": 5126, "count": )"
+      << nv << R"(, "type": "VEC3"},
+      {"bufferView": 2, "componentType": 5126, "count": )"
+      << nv << R"(, "type": "VEC2"},
+      {"bufferView": 3, "componentType": 5126, "count": )"
+      << nv << R"(, "type": "VEC4"},
       {"bufferView": 4, "componentType": )"
-      << (indexBytes == 1 ? 5121 : indexBytes == 2 ? 5123 : 5125) << R"(, "count": )" << idx.size()
-      << R"(, "type": "SCALAR"}]})";
+      << (indexBytes == 1   ? 5121
+          : indexBytes == 2 ? 5123
+                            : 5125)
+      << R"(, "count": )" << idx.size() << R"(, "type": "SCALAR"}]})";
 }
 
 // pgt's unit plane (docs/model.md §2) as glTF stores it: pgt (x, y, z) is glTF (x, z, -y),
@@ -95,8 +103,8 @@ TEST(Gltf, PlaneEqualsThePlaneBasePixelForPixel) {
     auto dir = test::tempDir("gltf_plane");
     writePlane(dir, "plane", 1);
     RenderResult a = renderFrame(scene(dir, R"({"type": "plane"})"), {.timingRepeats = 1});
-    RenderResult b = renderFrame(scene(dir, R"({"type": "gltf", "file": "plane.gltf"})"),
-                                 {.timingRepeats = 1});
+    RenderResult b =
+        renderFrame(scene(dir, R"({"type": "gltf", "file": "plane.gltf"})"), {.timingRepeats = 1});
     ASSERT_EQ(a.raster.covered, b.raster.covered);
     int64_t compared = 0;
     for (int y = 0; y < 64; ++y)
@@ -109,7 +117,8 @@ TEST(Gltf, PlaneEqualsThePlaneBasePixelForPixel) {
             EXPECT_NEAR(fa.uv0.y, fb.uv0.y, 1e-9);
             for (int c = 0; c < 3; ++c) EXPECT_NEAR(fa.viewTangent[c], fb.viewTangent[c], 1e-9);
             for (size_t m = 0; m < a.methods.size(); ++m) {
-                const Vec2d ua = a.methods[m].pixels.at(x, y).uv, ub = b.methods[m].pixels.at(x, y).uv;
+                const Vec2d ua = a.methods[m].pixels.at(x, y).uv,
+                            ub = b.methods[m].pixels.at(x, y).uv;
                 EXPECT_NEAR(ua.x, ub.x, 1e-6);
                 EXPECT_NEAR(ua.y, ub.y, 1e-6);
             }
@@ -126,8 +135,10 @@ TEST(Gltf, FlippedTangentWMirrorsTheOffsets) {
     auto dir = test::tempDir("gltf_w");
     writePlane(dir, "right", 1);
     writePlane(dir, "left", -1);
-    RenderResult a = renderFrame(scene(dir, R"({"type": "gltf", "file": "right.gltf"})"), {.timingRepeats = 1});
-    RenderResult b = renderFrame(scene(dir, R"({"type": "gltf", "file": "left.gltf"})"), {.timingRepeats = 1});
+    RenderResult a =
+        renderFrame(scene(dir, R"({"type": "gltf", "file": "right.gltf"})"), {.timingRepeats = 1});
+    RenderResult b =
+        renderFrame(scene(dir, R"({"type": "gltf", "file": "left.gltf"})"), {.timingRepeats = 1});
     int64_t compared = 0;
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
@@ -153,7 +164,8 @@ std::string data(const std::string& rel) { return test::testDataDir() + "/gltf/"
 TEST(Gltf, MikkTSpaceMatchesBlendersTangents) {
     for (const char* file : {"sphere.gltf", "torus_mirrored.gltf", "cylinder.gltf"}) {
         const GltfMesh asset = loadGltfMesh(data(file), {}, MeshFrames::Asset, "t", "base.file");
-        const GltfMesh mikk = loadGltfMesh(data(file), {}, MeshFrames::MikkTSpace, "t", "base.file");
+        const GltfMesh mikk =
+            loadGltfMesh(data(file), {}, MeshFrames::MikkTSpace, "t", "base.file");
         ASSERT_EQ(asset.framesUsed, "asset");
         ASSERT_EQ(mikk.framesUsed, "mikktspace");
         const auto& ia = asset.drawn.mesh.indices;
@@ -186,9 +198,9 @@ TEST(Gltf, FramesFollowTheSurfacesUAndV) {
     writePlane(dir, "mirror", 1, R"({"mesh": 0, "scale": [-1, 1, 1]})");
     writePlane(dir, "u8", 1, R"({"mesh": 0})", 1);
     writePlane(dir, "u32", 1, R"({"mesh": 0, "translation": [0, 2, 0]})", 4);
-    for (const std::string& file :
-         {data("sphere.gltf"), data("torus_mirrored.gltf"), data("cylinder.gltf"),
-          (dir / "mirror.gltf").string(), (dir / "u8.gltf").string(), (dir / "u32.gltf").string()}) {
+    for (const std::string& file : {data("sphere.gltf"), data("torus_mirrored.gltf"),
+                                    data("cylinder.gltf"), (dir / "mirror.gltf").string(),
+                                    (dir / "u8.gltf").string(), (dir / "u32.gltf").string()}) {
         const GltfMesh g = loadGltfMesh(file, {}, MeshFrames::Asset, "t", "base.file");
         const BaseMesh& m = g.drawn.mesh;
         int checked = 0, wrong = 0;
@@ -213,7 +225,8 @@ TEST(Gltf, FramesFollowTheSurfacesUAndV) {
     const GltfMesh mirror =
         loadGltfMesh((dir / "mirror.gltf").string(), {}, MeshFrames::Asset, "t", "base.file");
     EXPECT_EQ(mirror.drawn.frames.mirroredVertices, 4);  // w = 1 under a mirroring node: -1
-    const GltfMesh moved = loadGltfMesh((dir / "u32.gltf").string(), {}, MeshFrames::Asset, "t", "f");
+    const GltfMesh moved =
+        loadGltfMesh((dir / "u32.gltf").string(), {}, MeshFrames::Asset, "t", "f");
     EXPECT_EQ(moved.drawn.mesh.vertices[0].position.z, 2.0);  // glTF's +Y is pgt's +Z
     fs::remove_all(dir);
 }
@@ -244,19 +257,20 @@ PixelDiff comparePixels(const Image2D<T>& a, const Image2D<T>& b, Hit hit, Uv uv
 
 TEST(Gltf, SameMeshAsObjAndGltfGivesTheSameTruth) {
     const std::string dir = test::testDataDir() + "/gltf";
-    const std::string limit = R"(, "truth_surface": "limit", "scheme": "loop", "world_per_uv": 1.5})";
+    const std::string limit =
+        R"(, "truth_surface": "limit", "scheme": "loop", "world_per_uv": 1.5})";
     RenderResult a = renderFrame(scene(dir, R"({"type": "gltf", "file": "sphere.gltf")" + limit),
                                  {.timingRepeats = 1});
-    RenderResult b = renderFrame(
-        scene(dir, R"({"type": "mesh", "file": "sphere.obj", "refine": 0)" + limit),
-        {.timingRepeats = 1});
+    RenderResult b =
+        renderFrame(scene(dir, R"({"type": "mesh", "file": "sphere.obj", "refine": 0)" + limit),
+                    {.timingRepeats = 1});
     const PixelDiff truth = comparePixels(
         a.truth, b.truth, [](const TruthSample& t) { return t.hit; },
         [](const TruthSample& t) { return t.uv; });
     EXPECT_GT(truth.both, 1000);
-    EXPECT_LE(truth.differ, 8);     // silhouette pixels
-    EXPECT_LT(truth.mean, 1e-4);    // texels
-    EXPECT_LT(truth.worst, 0.05);   // where the eye ray grazes the relief
+    EXPECT_LE(truth.differ, 8);    // silhouette pixels
+    EXPECT_LT(truth.mean, 1e-4);   // texels
+    EXPECT_LT(truth.worst, 0.05);  // where the eye ray grazes the relief
     // The drawn triangles: the OBJ unrefined and unmoved (bilinear) against the asset's.
     RenderResult c = renderFrame(
         scene(dir, R"({"type": "mesh", "file": "sphere.obj", "refine": 0, "scheme": "bilinear",
@@ -284,7 +298,8 @@ TEST(Gltf, MixedTriangleSizesKeepThePolygonalTruthWatertight) {
     std::vector<uint16_t> idx;
     uint16_t grid[9][9];
     for (int j = 0; j <= 8; ++j)
-        for (int i = 0; i <= 8; ++i) grid[j][i] = vertex(-0.5f + float(i) / 16, -0.5f + float(j) / 8);
+        for (int i = 0; i <= 8; ++i)
+            grid[j][i] = vertex(-0.5f + float(i) / 16, -0.5f + float(j) / 8);
     for (int j = 0; j < 8; ++j)
         for (int i = 0; i < 8; ++i)
             idx.insert(idx.end(), {grid[j][i], grid[j][i + 1], grid[j + 1][i + 1], grid[j][i],
@@ -295,8 +310,8 @@ TEST(Gltf, MixedTriangleSizesKeepThePolygonalTruthWatertight) {
     for (int j = 4; j < 8; ++j) idx.insert(idx.end(), {grid[j][8], c, grid[j + 1][8]});
     writeGltf(dir, "fan", v, idx);
     RenderResult a = renderFrame(scene(dir, R"({"type": "plane"})"), {.timingRepeats = 1});
-    RenderResult m = renderFrame(scene(dir, R"({"type": "gltf", "file": "fan.gltf"})"),
-                                 {.timingRepeats = 1});
+    RenderResult m =
+        renderFrame(scene(dir, R"({"type": "gltf", "file": "fan.gltf"})"), {.timingRepeats = 1});
     const PixelDiff truth = comparePixels(
         a.truth, m.truth, [](const TruthSample& t) { return t.hit; },
         [](const TruthSample& t) { return t.uv; });
@@ -342,8 +357,9 @@ TEST(GltfAssets, RealAssetsLoad) {
         GTEST_SKIP() << "assimp-testmodels is not installed";
     }
     size_t triangles = 0;
-    for (const char* f : {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
-                          "BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
+    for (const char* f :
+         {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb",
+          "BoxTextured-glTF-Embedded/BoxTextured.gltf"}) {
         const GltfMesh m = loadGltfMesh(kModels + f, {}, MeshFrames::Asset, "s", "base.file");
         EXPECT_EQ(m.framesUsed, "mikktspace") << f;  // BoxTextured has no TANGENT
         if (triangles) {
@@ -365,10 +381,14 @@ TEST(GltfAssets, BrokenAssetsNameWhatIsWrong) {
         GTEST_SKIP() << "assimp-testmodels is not installed";
     }
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {"IndexOutOfRange/IndexOutOfRange.gltf", "accessor 0 (indices) element 0 is index 255; the primitive has 24 vertices"},
-        {"IndexOutOfRange/AllIndicesOutOfRange.gltf", "is index 65535; the primitive has 24 vertices"},
-        {"BoxBadNormals-glTF-Binary/BoxBadNormals.glb", "accessor 1 (NORMAL) element 0 has length 0"},
-        {"BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "accessor 2 (POSITION) element 0 is not finite (-inf)"},
+        {"IndexOutOfRange/IndexOutOfRange.gltf",
+         "accessor 0 (indices) element 0 is index 255; the primitive has 24 vertices"},
+        {"IndexOutOfRange/AllIndicesOutOfRange.gltf",
+         "is index 65535; the primitive has 24 vertices"},
+        {"BoxBadNormals-glTF-Binary/BoxBadNormals.glb",
+         "accessor 1 (NORMAL) element 0 has length 0"},
+        {"BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb",
+         "accessor 2 (POSITION) element 0 is not finite (-inf)"},
         {"SchemaFailures/sceneWrongType.gltf", "File not found : BoxTextured0.bin"},
         {"MissingBin/BoxTextured.gltf", "File not found : BoxTextured0.bin"},
         {"RecursiveNodes/RecursiveNodes.gltf", "is its own ancestor (a cycle in \"children\")"},
@@ -377,23 +397,28 @@ TEST(GltfAssets, BrokenAssetsNameWhatIsWrong) {
         {"IncorrectVertexArrays/Cube.gltf", "the primitive has no TEXCOORD_0"},
         {"2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "the primitive has no TEXCOORD_0"},
         {"draco/2CylinderEngine.gltf", "accessor[0] invalid bufferView"},
-        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf", "has mode 0; pgt reads triangles (mode 4)"},
+        {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf",
+         "has mode 0; pgt reads triangles (mode 4)"},
     };
     for (const auto& [file, expected] : cases) {
         const std::string message = loadError(kModels + file);
         EXPECT_NE(message.find(expected), std::string::npos) << file << ": " << message;
         EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-        EXPECT_EQ(message.rfind("scene.json: base.file = " + kModels + file + ": ", 0), 0u) << message;
+        EXPECT_EQ(message.rfind("scene.json: base.file = " + kModels + file + ": ", 0), 0u)
+            << message;
     }
     // A primitive by mesh name: the truncated one of IncorrectVertexArrays.
     GltfSelection truncated;
     truncated.meshName = "TruncatedCube";
     try {
-        loadGltfMesh(kModels + "IncorrectVertexArrays/Cube.gltf", truncated, MeshFrames::Asset, "s", "f");
+        loadGltfMesh(kModels + "IncorrectVertexArrays/Cube.gltf", truncated, MeshFrames::Asset, "s",
+                     "f");
         ADD_FAILURE() << "TruncatedCube loaded";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("35 vertices and no indices, not a whole number of triangles"),
-                  std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(
+                      "35 vertices and no indices, not a whole number of triangles"),
+                  std::string::npos)
+            << e.what();
     }
 }
 
@@ -434,15 +459,26 @@ TEST(GltfAssets, BadSelectionsAreClearErrors) {
         }
         return std::string();
     };
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": 3})").find("mesh 3 of 1"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": "Cube"})").find("no mesh is named \"Cube\""), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "primitive": 1})").find("primitive 1 of mesh 0, which has 1"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "uv": 1})").find("no TEXCOORD_1"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "refine": 2})").find("refine"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "nothing.gltf"})").find("nothing.gltf"), std::string::npos);
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "node": 4})").find("node 4 of 1"), std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": 3})").find("mesh 3 of 1"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": "Cube"})")
+                  .find("no mesh is named \"Cube\""),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "primitive": 1})")
+                  .find("primitive 1 of mesh 0, which has 1"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "uv": 1})").find("no TEXCOORD_1"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "refine": 2})").find("refine"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "nothing.gltf"})").find("nothing.gltf"),
+              std::string::npos);
+    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "node": 4})").find("node 4 of 1"),
+              std::string::npos);
     EXPECT_EQ(error(R"({"type": "gltf", "file": "sphere.gltf", "node": 0})"), "");
-    EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "frames": "mikk"})").find("mikktspace"), std::string::npos);
+    EXPECT_NE(
+        error(R"({"type": "gltf", "file": "sphere.gltf", "frames": "mikk"})").find("mikktspace"),
+        std::string::npos);
 }
 
 }  // namespace

@@ -7,12 +7,14 @@
 
 #include <array>
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <map>
+#include <set>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/json_read.h"
@@ -115,26 +117,57 @@ tinygltf::Model parseFile(const std::string& path, const Fail& fail) {
     return model;
 }
 
+// A number as a message shows it: 0, 1, -0.5, 1e-07 (not 0.000000).
+std::string shortNumber(double x) {
+    std::ostringstream os;
+    os << x;
+    return os.str();
+}
+
 std::string accessorName(int index, const std::string& attribute) {
     return "accessor " + std::to_string(index) + " (" + attribute + ")";
 }
 
 // An accessor's elements as doubles (normalized integers mapped as glTF says), after
 // checking that every byte it reads lies in its buffer view and buffer.
-std::vector<double> readAccessor(const tinygltf::Model& model, int index,
-                                 const std::string& attribute, int components,
-                                 const Fail& fail) {
-    const std::string name = accessorName(index, attribute);
-    if (index < 0 || size_t(index) >= model.accessors.size())
-        fail(attribute + " names accessor " + std::to_string(index) + " of " +
-             std::to_string(model.accessors.size()));
-    const tinygltf::Accessor& a = model.accessors[size_t(index)];
-    if (a.sparse.isSparse) fail(name + " is sparse; pgt reads plain accessors");
-    if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != components)
-        fail(name + " has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(a.type))) +
-             " components; " + attribute + " has " + std::to_string(components));
+// One component at p as glTF defines it (normalized integers map to [0, 1] or [-1, 1]).
+double component(const unsigned char* p, int type, bool normalized) {
+    auto load = [p](auto v) {
+        std::memcpy(&v, p, sizeof v);
+        return double(v);
+    };
+    switch (type) {
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return load(float());
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return normalized ? *p / 255.0 : *p;
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            return normalized ? std::max(int8_t(*p) / 127.0, -1.0) : int8_t(*p);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return normalized ? load(uint16_t()) / 65535.0 : load(uint16_t());
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return normalized ? std::max(load(int16_t()) / 32767.0, -1.0) : load(int16_t());
+        default:
+            return load(uint32_t());  // TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT
+    }
+}
+
+// Where an accessor's elements are, after checking that every byte it reads lies in its
+// buffer view and buffer, and that its type is one glTF allows for vertex data.
+struct AccessorBytes {
+    const unsigned char* base = nullptr;
+    size_t stride = 0, componentBytes = 0;
+};
+AccessorBytes locate(const tinygltf::Model& model, const tinygltf::Accessor& a,
+                     const std::string& name, int components, const Fail& fail) {
+    static const std::set<int> kTypes = {
+        TINYGLTF_COMPONENT_TYPE_BYTE,  TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+        TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+        TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT};
+    if (!kTypes.count(a.componentType))
+        fail(name + " has component type " + std::to_string(a.componentType) +
+             ", which glTF does not allow here");
     const int size = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
-    if (size <= 0) fail(name + " has component type " + std::to_string(a.componentType));
     if (a.bufferView < 0 || size_t(a.bufferView) >= model.bufferViews.size())
         fail(name + " has no buffer view (bufferView " + std::to_string(a.bufferView) + ")");
     const tinygltf::BufferView& view = model.bufferViews[size_t(a.bufferView)];
@@ -152,26 +185,32 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index,
              " bytes of buffer view " + std::to_string(a.bufferView) + ", which has " +
              std::to_string(view.byteLength) + " (buffer " + std::to_string(view.buffer) + ": " +
              std::to_string(bufferBytes) + " bytes)");
-    const unsigned char* base =
-        model.buffers[size_t(view.buffer)].data.data() + view.byteOffset + a.byteOffset;
+    return {model.buffers[size_t(view.buffer)].data.data() + view.byteOffset + a.byteOffset,
+            size_t(stride), size_t(size)};
+}
+
+// An accessor's elements as doubles, every one checked finite.
+std::vector<double> readAccessor(const tinygltf::Model& model, int index,
+                                 const std::string& attribute, int components, const Fail& fail) {
+    const std::string name = accessorName(index, attribute);
+    if (index < 0 || size_t(index) >= model.accessors.size())
+        fail(attribute + " names accessor " + std::to_string(index) + " of " +
+             std::to_string(model.accessors.size()));
+    const tinygltf::Accessor& a = model.accessors[size_t(index)];
+    if (a.sparse.isSparse) fail(name + " is sparse; pgt reads plain accessors");
+    if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != components)
+        fail(name + " has " + std::to_string(tinygltf::GetNumComponentsInType(uint32_t(a.type))) +
+             " components; " + attribute + " has " + std::to_string(components));
+    const AccessorBytes at = locate(model, a, name, components, fail);
     std::vector<double> out(a.count * size_t(components));
     for (size_t e = 0; e < a.count; ++e)
-        for (int c = 0; c < components; ++c) {
-            const unsigned char* p = base + size_t(stride) * e + size_t(size) * size_t(c);
-            double x = 0;
-            switch (a.componentType) {
-                case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); x = f; break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = *p; if (a.normalized) x /= 255.0; break;
-                case TINYGLTF_COMPONENT_TYPE_BYTE: x = int8_t(*p); if (a.normalized) x = std::max(x / 127.0, -1.0); break;
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); x = u; if (a.normalized) x /= 65535.0; break; }
-                case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t s; std::memcpy(&s, p, 2); x = s; if (a.normalized) x = std::max(x / 32767.0, -1.0); break; }
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); x = u; break; }
-                default: fail(name + " has component type " + std::to_string(a.componentType) + ", which glTF does not allow here");
-            }
+        for (size_t c = 0; c < size_t(components); ++c) {
+            const double x = component(at.base + at.stride * e + at.componentBytes * c,
+                                       a.componentType, a.normalized);
             if (!std::isfinite(x))
-                fail(name + " element " + std::to_string(e) + " is not finite (" +
-                     std::to_string(x) + ")");
-            out[e * size_t(components) + size_t(c)] = x;
+                fail(name + " element " + std::to_string(e) + " is not finite (" + shortNumber(x) +
+                     ")");
+            out[e * size_t(components) + c] = x;
         }
     return out;
 }
@@ -188,45 +227,20 @@ int attribute(const tinygltf::Primitive& prim, const std::string& name) {
     return it == prim.attributes.end() ? -1 : it->second;
 }
 
-// The primitive's attributes in glTF's own axes and pgt's v; indices checked. Geometry is
-// checked before texture coordinates are asked for, so that a broken file says what is broken.
-Attributes readAttributes(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                          int uvSet, const Fail& fail) {
-    Attributes at;
-    const int pos = attribute(prim, "POSITION");
-    if (pos < 0) fail("the primitive has no POSITION");
-    const std::vector<double> p = readAccessor(model, pos, "POSITION", 3, fail);
-    const size_t n = p.size() / 3;
-    for (size_t k = 0; k < n; ++k) at.p.push_back({p[3 * k], p[3 * k + 1], p[3 * k + 2]});
-    auto sameCount = [&](const std::vector<double>& v, int comps, int acc, const std::string& what) {
-        if (v.size() / size_t(comps) != n)
-            fail(accessorName(acc, what) + " has " + std::to_string(v.size() / size_t(comps)) +
-                 " elements; POSITION has " + std::to_string(n));
-    };
-    if (const int acc = attribute(prim, "NORMAL"); acc >= 0) {
-        const std::vector<double> v = readAccessor(model, acc, "NORMAL", 3, fail);
-        sameCount(v, 3, acc, "NORMAL");
-        for (size_t k = 0; k < n; ++k) {
-            Vec3d nk{v[3 * k], v[3 * k + 1], v[3 * k + 2]};
-            if (!(glm::length(nk) > 1e-6))
-                fail(accessorName(acc, "NORMAL") + " element " + std::to_string(k) +
-                     " has length " + std::to_string(glm::length(nk)) + " (a normal is unit)");
-            at.n.push_back(glm::normalize(nk));
-        }
-    }
-    if (const int acc = attribute(prim, "TANGENT"); acc >= 0) {
-        const std::vector<double> v = readAccessor(model, acc, "TANGENT", 4, fail);
-        sameCount(v, 4, acc, "TANGENT");
-        for (size_t k = 0; k < n; ++k) {
-            Vec4d tk{v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]};
-            if (!(glm::length(Vec3d(tk)) > 1e-6) || std::fabs(std::fabs(tk.w) - 1) > 1e-3)
-                fail(accessorName(acc, "TANGENT") + " element " + std::to_string(k) + " is (" +
-                     std::to_string(tk.x) + ", " + std::to_string(tk.y) + ", " +
-                     std::to_string(tk.z) + ", " + std::to_string(tk.w) +
-                     "): xyz must be unit and w +1 or -1");
-            at.t.push_back(tk);
-        }
-    }
+// An attribute's elements, checked to be as many as POSITION's `n`.
+std::vector<double> readAttribute(const tinygltf::Model& model, int acc, const std::string& what,
+                                  int components, size_t n, const Fail& fail) {
+    std::vector<double> v = readAccessor(model, acc, what, components, fail);
+    if (v.size() / size_t(components) != n)
+        fail(accessorName(acc, what) + " has " + std::to_string(v.size() / size_t(components)) +
+             " elements; POSITION has " + std::to_string(n));
+    return v;
+}
+
+// The triangles' vertex indices (0, 1, 2, ... without an index accessor), each below `n`.
+std::vector<uint32_t> readIndices(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                  size_t n, const Fail& fail) {
+    std::vector<uint32_t> tri;
     if (prim.indices >= 0) {
         const std::vector<double> idx = readAccessor(model, prim.indices, "indices", 1, fail);
         const int type = model.accessors[size_t(prim.indices)].componentType;
@@ -240,23 +254,56 @@ Attributes readAttributes(const tinygltf::Model& model, const tinygltf::Primitiv
                 fail(accessorName(prim.indices, "indices") + " element " + std::to_string(k) +
                      " is index " + std::to_string(int64_t(idx[k])) + "; the primitive has " +
                      std::to_string(n) + " vertices");
-            at.tri.push_back(uint32_t(idx[k]));
+            tri.push_back(uint32_t(idx[k]));
         }
     } else {
-        for (size_t k = 0; k < n; ++k) at.tri.push_back(uint32_t(k));
+        for (size_t k = 0; k < n; ++k) tri.push_back(uint32_t(k));
     }
-    if (at.tri.size() % 3 != 0 || at.tri.empty())
-        fail("the primitive has " + std::to_string(at.tri.size()) +
+    if (tri.size() % 3 != 0 || tri.empty())
+        fail("the primitive has " + std::to_string(tri.size()) +
              (prim.indices >= 0 ? " indices" : " vertices and no indices") +
              ", not a whole number of triangles");
-    if (at.tri.size() / 3 > kMaxTriangles)
-        fail("the primitive has " + std::to_string(at.tri.size() / 3) +
-             " triangles (more than 2^24)");
+    if (tri.size() / 3 > kMaxTriangles)
+        fail("the primitive has " + std::to_string(tri.size() / 3) + " triangles (more than 2^24)");
+    return tri;
+}
+
+// The primitive's attributes in glTF's own axes and pgt's v; indices checked. Geometry is
+// checked before texture coordinates are asked for, so that a broken file says what is broken.
+Attributes readAttributes(const tinygltf::Model& model, const tinygltf::Primitive& prim, int uvSet,
+                          const Fail& fail) {
+    Attributes at;
+    const int pos = attribute(prim, "POSITION");
+    if (pos < 0) fail("the primitive has no POSITION");
+    const std::vector<double> p = readAccessor(model, pos, "POSITION", 3, fail);
+    const size_t n = p.size() / 3;
+    for (size_t k = 0; k < n; ++k) at.p.push_back({p[3 * k], p[3 * k + 1], p[3 * k + 2]});
+    if (const int acc = attribute(prim, "NORMAL"); acc >= 0) {
+        const std::vector<double> v = readAttribute(model, acc, "NORMAL", 3, n, fail);
+        for (size_t k = 0; k < n; ++k) {
+            const Vec3d nk{v[3 * k], v[3 * k + 1], v[3 * k + 2]};
+            if (!(glm::length(nk) > 1e-6))
+                fail(accessorName(acc, "NORMAL") + " element " + std::to_string(k) +
+                     " has length " + shortNumber(glm::length(nk)) + " (a normal is unit)");
+            at.n.push_back(glm::normalize(nk));
+        }
+    }
+    if (const int acc = attribute(prim, "TANGENT"); acc >= 0) {
+        const std::vector<double> v = readAttribute(model, acc, "TANGENT", 4, n, fail);
+        for (size_t k = 0; k < n; ++k) {
+            const Vec4d tk{v[4 * k], v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]};
+            if (!(glm::length(Vec3d(tk)) > 1e-6) || std::fabs(std::fabs(tk.w) - 1) > 1e-3)
+                fail(accessorName(acc, "TANGENT") + " element " + std::to_string(k) + " is (" +
+                     shortNumber(tk.x) + ", " + shortNumber(tk.y) + ", " + shortNumber(tk.z) +
+                     ", " + shortNumber(tk.w) + "): xyz must be unit and w +1 or -1");
+            at.t.push_back(tk);
+        }
+    }
+    at.tri = readIndices(model, prim, n, fail);
     const std::string uvName = "TEXCOORD_" + std::to_string(uvSet);
     const int uvAcc = attribute(prim, uvName);
     if (uvAcc < 0) fail("the primitive has no " + uvName + ": parallax needs texture coordinates");
-    const std::vector<double> uv = readAccessor(model, uvAcc, uvName, 2, fail);
-    sameCount(uv, 2, uvAcc, uvName);
+    const std::vector<double> uv = readAttribute(model, uvAcc, uvName, 2, n, fail);
     for (size_t k = 0; k < n; ++k)
         at.uv.push_back({uv[2 * k], 1.0 - uv[2 * k + 1]});  // glTF's v runs down the image
     return at;
@@ -295,7 +342,8 @@ Mat4d localMatrix(const tinygltf::Node& node) {
         glm::dquat q(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
         m = m * glm::mat4_cast(glm::normalize(q));
     }
-    if (node.scale.size() == 3) m = glm::scale(m, Vec3d(node.scale[0], node.scale[1], node.scale[2]));
+    if (node.scale.size() == 3)
+        m = glm::scale(m, Vec3d(node.scale[0], node.scale[1], node.scale[2]));
     return m;
 }
 
@@ -358,7 +406,7 @@ const tinygltf::Primitive& selectPrimitive(const tinygltf::Model& model, GltfSel
     }
     if (which.mesh < 0 || size_t(which.mesh) >= model.meshes.size())
         fail("mesh " + std::to_string(which.mesh) + " of " + std::to_string(model.meshes.size()) +
-             " (the file has " + std::to_string(model.meshes.size()) + " meshes)");
+             (model.meshes.empty() ? ": the file has no mesh" : ""));
     const tinygltf::Mesh& mesh = model.meshes[size_t(which.mesh)];
     if (which.primitive < 0 || size_t(which.primitive) >= mesh.primitives.size())
         fail("primitive " + std::to_string(which.primitive) + " of mesh " +
@@ -433,10 +481,9 @@ ControlMesh weldedCage(const BaseMesh& mesh) {
     std::map<std::array<double, 3>, int> ids;
     std::vector<int> posOf;
     for (const BaseVertex& v : mesh.vertices) {
-        auto [it, added] = ids.emplace(std::array<double, 3>{v.position.x + 0.0,
-                                                             v.position.y + 0.0,
-                                                             v.position.z + 0.0},
-                                       int(cage.positions.size()));
+        auto [it, added] = ids.emplace(
+            std::array<double, 3>{v.position.x + 0.0, v.position.y + 0.0, v.position.z + 0.0},
+            int(cage.positions.size()));
         if (added) cage.positions.push_back(v.position);
         posOf.push_back(it->second);
         cage.uvs.push_back(v.uv);
@@ -479,7 +526,8 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
     }
     out.cage = weldedCage(out.drawn.mesh);
     std::string hashed = fileSha1(path);
-    for (const auto& b : model.buffers) hashed += textSha1(std::string(b.data.begin(), b.data.end()));
+    for (const auto& b : model.buffers)
+        hashed += textSha1(std::string(b.data.begin(), b.data.end()));
     out.cage.sourceSha1 = textSha1(hashed);
     const std::string& name = model.meshes[size_t(which.mesh)].name;
     out.description = "mesh " + std::to_string(which.mesh) +

@@ -27,9 +27,9 @@ enum class MeshFrames { Asset, MikkTSpace, Pgt };
 std::string toString(MeshFrames frames);
 
 struct GltfMesh {
-    RefinedMesh drawn;  // the primitive's triangles with their frames, in world space
-    ControlMesh cage;   // the same triangles, positions welded: the limit truth's cage
-    std::string framesUsed;  // "asset", "mikktspace" or "pgt"
+    RefinedMesh drawn;        // the primitive's triangles with their frames, in world space
+    ControlMesh cage;         // the same triangles, positions welded: the limit truth's cage
+    std::string framesUsed;   // "asset", "mikktspace" or "pgt"
     std::string description;  // e.g. mesh 0 "Sphere" primitive 0, node 0
 };
 

@@ -42,6 +42,30 @@ Vec3d perpendicular(const Vec3d& n) {
     return glm::normalize(projectOut(axis, n));
 }
 
+// Per triangle: the unit direction of increasing u in its plane and its UV orientation (+1
+// preserving, -1 flipping, 0 without UV area, direction zero). Returns how many have no area.
+int64_t triangleDirections(const MikkInput& in, std::vector<Vec3d>& dirU,
+                           std::vector<int8_t>& orient) {
+    const size_t nTri = in.triangles.size() / 3;
+    dirU.assign(nTri, Vec3d(0));
+    orient.assign(nTri, 0);
+    int64_t degenerate = 0;
+    for (size_t t = 0; t < nTri; ++t) {
+        const uint32_t* i = &in.triangles[3 * t];
+        const Vec3d d1 = in.positions[i[1]] - in.positions[i[0]];
+        const Vec3d d2 = in.positions[i[2]] - in.positions[i[0]];
+        const Vec2d s1 = in.uvs[i[1]] - in.uvs[i[0]], s2 = in.uvs[i[2]] - in.uvs[i[0]];
+        const double area2 = s1.x * s2.y - s1.y * s2.x;
+        if (!(std::fabs(area2) > std::numeric_limits<float>::min())) {
+            ++degenerate;
+            continue;
+        }
+        orient[t] = area2 > 0 ? 1 : -1;
+        dirU[t] = unitOrZero(d1 * s2.y - d2 * s1.y) * double(orient[t]);
+    }
+    return degenerate;
+}
+
 }  // namespace
 
 MikkFrames mikkTSpace(const MikkInput& in) {
@@ -53,23 +77,9 @@ MikkFrames mikkTSpace(const MikkInput& in) {
         weld[c] = ids.emplace(weldKey(in, in.triangles[c]), uint32_t(ids.size())).first->second;
 
     MikkFrames out;
-    // Per triangle: the unit direction of increasing u in its plane, its orientation and
-    // whether its UVs span an area.
-    std::vector<Vec3d> dirU(nTri, Vec3d(0));
-    std::vector<int8_t> orient(nTri, 0);  // +1 preserving, -1 flipping, 0 no UV area
-    for (size_t t = 0; t < nTri; ++t) {
-        const uint32_t* i = &in.triangles[3 * t];
-        const Vec3d d1 = in.positions[i[1]] - in.positions[i[0]];
-        const Vec3d d2 = in.positions[i[2]] - in.positions[i[0]];
-        const Vec2d s1 = in.uvs[i[1]] - in.uvs[i[0]], s2 = in.uvs[i[2]] - in.uvs[i[0]];
-        const double area2 = s1.x * s2.y - s1.y * s2.x;
-        if (!(std::fabs(area2) > std::numeric_limits<float>::min())) {
-            ++out.degenerateUvTriangles;
-            continue;
-        }
-        orient[t] = area2 > 0 ? 1 : -1;
-        dirU[t] = unitOrZero(d1 * s2.y - d2 * s1.y) * double(orient[t]);
-    }
+    std::vector<Vec3d> dirU;
+    std::vector<int8_t> orient;
+    out.degenerateUvTriangles = triangleDirections(in, dirU, orient);
 
     // Per (welded vertex, orientation): the angle-weighted sum of the projected directions.
     std::vector<Vec3d> sum(2 * ids.size(), Vec3d(0));

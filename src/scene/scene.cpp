@@ -141,9 +141,8 @@ void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
 void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
     m.gltf = true;
     m.source = f.string("file");
-    const fs::path p = fs::path(m.source).is_absolute()
-                           ? fs::path(m.source)
-                           : fs::path(s.file).parent_path() / m.source;
+    const fs::path p = fs::path(m.source).is_absolute() ? fs::path(m.source)
+                                                        : fs::path(s.file).parent_path() / m.source;
     GltfSelection which;
     if (f.has("mesh")) {
         const Json& mesh = f.raw("mesh");
@@ -399,14 +398,14 @@ Json baseJson(const Scene& s) {
                                  },
                                  [&](const MeshBase& m) {
                                      Json j{{"type", m.gltf ? "gltf" : "mesh"},
-                                                 {"source", m.source},
-                                                 {"sha1", m.cage->sourceSha1},
-                                                 {"given", givenBlock(s, "base")},
-                                                 {"scheme", toString(m.scheme)},
-                                                 {"refine", m.refine},
-                                                 {"truth_surface", toString(m.truthSurface)},
-                                                 {"world_per_uv", m.worldPerUv},
-                                                 {"cull_back_faces", s.cullBackFaces}};
+                                            {"source", m.source},
+                                            {"sha1", m.cage->sourceSha1},
+                                            {"given", givenBlock(s, "base")},
+                                            {"scheme", toString(m.scheme)},
+                                            {"refine", m.refine},
+                                            {"truth_surface", toString(m.truthSurface)},
+                                            {"world_per_uv", m.worldPerUv},
+                                            {"cull_back_faces", s.cullBackFaces}};
                                      if (m.gltf) j["part"] = m.part, j["frames"] = m.frames;
                                      return j;
                                  }},

@@ -305,8 +305,9 @@ class DrawnSegments {
         for (size_t t = 0; t < nTri; ++t)
             for (int e = 0; e < 3; ++e) {
                 const EdgeKey k = key(t, e);
-                texels_[k] = glm::length((drawn.vertices[k.second].uv - drawn.vertices[k.first].uv) *
-                                         Vec2d(height.width, height.height));
+                texels_[k] =
+                    glm::length((drawn.vertices[k.second].uv - drawn.vertices[k.first].uv) *
+                                Vec2d(height.width, height.height));
             }
         for (;;) {
             double verts = 0;
@@ -421,7 +422,8 @@ std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& heigh
                 at(i, j) = addVertex(*v[0], *v[1], *v[2], 1.0 - double(i + j) / n, double(i) / n,
                                      double(j) / n);
         auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-            if (a != b && b != c && a != c) m.sheet.triangles.insert(m.sheet.triangles.end(), {a, b, c});
+            if (a != b && b != c && a != c)
+                m.sheet.triangles.insert(m.sheet.triangles.end(), {a, b, c});
         };
         for (int j = 0; j < n; ++j)
             for (int i = 0; i + j < n; ++i) {
