@@ -392,11 +392,12 @@ TEST(GltfAssets, BrokenAssetsNameWhatIsWrong) {
         {"SchemaFailures/sceneWrongType.gltf", "File not found : BoxTextured0.bin"},
         {"MissingBin/BoxTextured.gltf", "File not found : BoxTextured0.bin"},
         {"RecursiveNodes/RecursiveNodes.gltf", "is its own ancestor (a cycle in \"children\")"},
-        {"TestNoRootNode/NoScene.gltf", "mesh 0 of 0"},
-        {"TestNoRootNode/SceneWithoutNodes.gltf", "mesh 0 of 0"},
+        {"TestNoRootNode/NoScene.gltf", "the file has no mesh"},
+        {"TestNoRootNode/SceneWithoutNodes.gltf", "the file has no mesh"},
         {"IncorrectVertexArrays/Cube.gltf", "the primitive has no TEXCOORD_0"},
         {"2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "the primitive has no TEXCOORD_0"},
-        {"draco/2CylinderEngine.gltf", "accessor[0] invalid bufferView"},
+        {"draco/2CylinderEngine.gltf",
+         "the asset requires KHR_draco_mesh_compression; pgt reads uncompressed buffers"},
         {"glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_00.gltf",
          "has mode 0; pgt reads triangles (mode 4)"},
     };
@@ -427,11 +428,10 @@ TEST(GltfAssets, UriCannotLeaveTheAssetsFolder) {
     fs::create_directories(dir / "asset");
     writePlane(dir, "outside", 1);  // outside.bin beside the folder
     writePlane(dir / "asset", "plane", 1);
-    // A relative uri is refused by name; an absolute one is read relative to the folder (as
-    // tinygltf joins them), where it is not.
+    // A uri climbing out with .. is refused by name, an absolute one before anything is read.
     for (const auto& [uri, expected] : std::vector<std::pair<std::string, std::string>>{
              {"../outside.bin", "a uri leaves the asset's folder: ../outside.bin"},
-             {(dir / "outside.bin").string(), "File not found"},
+             {(dir / "outside.bin").string(), "is not a path relative to the asset"},
              {std::string(5000, 'a') + ".bin", "File not found"}}) {  // longer than a path may be
         // The same plane whose buffer uri points out of its folder.
         std::ifstream in(dir / "asset" / "plane.gltf");
@@ -445,6 +445,36 @@ TEST(GltfAssets, UriCannotLeaveTheAssetsFolder) {
     // A path the user wrote may go anywhere: the scene names ../asset/plane.gltf.
     fs::create_directories(dir / "scenes");
     EXPECT_NO_THROW(scene(dir / "scenes", R"({"type": "gltf", "file": "../asset/plane.gltf"})"));
+    fs::remove_all(dir);
+}
+
+// What would give wrong numbers silently is refused: a TANGENT along its NORMAL (no tangent
+// plane, every V NaN) and a truth too large for memory (a floor tiled 1,000 times at 4
+// samples per texel of a 32^2 map).
+TEST(GltfAssets, SilentMistakesAreRefused) {
+    auto dir = test::tempDir("gltf_silent");
+    std::vector<GltfVertex> v;
+    for (int k = 0; k < 4; ++k) {
+        const float x = (k & 1) ? 0.5f : -0.5f, y = (k & 2) ? 0.5f : -0.5f;
+        v.push_back({{x, 0, -y}, {0, 1, 0}, {x + 0.5f, 1 - (y + 0.5f)}, {0, 1, 0, 1}});
+    }
+    writeGltf(dir, "along_n", v, {0, 1, 3, 0, 3, 2});
+    for (auto& x : v) x.t[0] = 1, x.t[1] = 0, x.uv[0] *= 1000, x.uv[1] *= 1000;
+    writeGltf(dir, "tiled", v, {0, 1, 3, 0, 3, 2});
+    auto error = [&](const std::string& base) {
+        try {
+            scene(dir, base);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(error(R"({"type": "gltf", "file": "along_n.gltf"})")
+                  .find("TANGENT element 0 is parallel to its NORMAL"),
+              std::string::npos);
+    const std::string tiled = error(R"({"type": "gltf", "file": "tiled.gltf"})");
+    EXPECT_NE(tiled.find("truth.rate = 4: the mesh's polygonal truth"), std::string::npos) << tiled;
+    EXPECT_NE(tiled.find("more than the memory limit"), std::string::npos) << tiled;
     fs::remove_all(dir);
 }
 

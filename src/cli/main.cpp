@@ -45,6 +45,14 @@ void printSummary(const pgt::RenderResult& r) {
     for (const auto& m : r.methods)
         for (const auto& w : m.warnings)
             std::fprintf(stderr, "pgt: warning: %s: %s\n", m.config.label.c_str(), w.text.c_str());
+    // Nothing to compare: every mean above is NaN. A mesh facing away from the camera (its
+    // back faces culled) is the usual cause.
+    if (r.raster.covered == 0)
+        std::fprintf(stderr,
+                     "pgt: warning: no pixel of the base was rasterised (%lld triangles culled as "
+                     "back faces, %lld truth hits): nothing was compared; turn the camera "
+                     "(theta, phi) toward the surface's front or set base.cull_back_faces false\n",
+                     (long long)r.raster.trianglesCulled, (long long)r.truthHits);
 }
 
 // `pgt render`: checks the memory estimate and --out before any work.

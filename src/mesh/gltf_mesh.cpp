@@ -8,8 +8,6 @@
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <map>
@@ -18,11 +16,11 @@
 
 #include "core/error.h"
 #include "core/json_read.h"
+#include "mesh/gltf_file.h"
 #include "mesh/mikktspace.h"
 
 namespace pgt {
 
-namespace fs = std::filesystem;
 using Vec4d = glm::dvec4;
 using Mat3d = glm::dmat3;
 using Mat4d = glm::dmat4;
@@ -35,87 +33,8 @@ std::string toString(MeshFrames frames) {
 
 namespace {
 
-constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(1) << 30;
+using Fail = GltfFail;
 constexpr size_t kMaxTriangles = size_t(1) << 24;
-
-// Errors about the asset: the scene's file and field, the asset's path, what is wrong.
-struct Fail {
-    const std::string& sceneFile;
-    const std::string& field;
-    const std::string& path;
-    [[noreturn]] void operator()(const std::string& what) const {
-        throw InputError(sceneFile, field, path, what);
-    }
-};
-
-// Buffers and images tinygltf reads through these: bounded in size, and a uri may not
-// leave the asset's folder (no absolute path, no ".." above it).
-struct FsGuard {
-    fs::path folder;
-    std::string refused;  // the first uri refused, for the error message
-};
-
-// tinygltf calls these from C: they must not throw (a uri too long for a path is just absent).
-bool fileExists(const std::string& path, void*) {
-    std::error_code ec;
-    return fs::is_regular_file(path, ec);
-}
-std::string expandNothing(const std::string& path, void*) { return path; }  // no ~ or $VAR
-
-bool readGuarded(std::vector<unsigned char>* out, std::string* err, const std::string& path,
-                 void* user) {
-    auto* guard = static_cast<FsGuard*>(user);
-    const fs::path rel = fs::path(path).lexically_relative(guard->folder).lexically_normal();
-    if (fs::path(path).is_absolute() == false || rel.empty() || *rel.begin() == ".." ||
-        rel.is_absolute()) {
-        if (guard->refused.empty()) guard->refused = path;
-        if (err) *err += "uri leaves the asset's folder: " + path;
-        return false;
-    }
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) > kMaxFileBytes || ec) {
-        if (err) *err += "cannot read " + path;
-        return false;
-    }
-    std::ifstream f(path, std::ios::binary);
-    out->assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    return bool(f) || f.eof();
-}
-
-// Images are not pgt's business (the height map is the scene's): keep them undecoded.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*) {
-    return true;
-}
-
-tinygltf::Model parseFile(const std::string& path, const Fail& fail) {
-    requireRegularFile(path, fail.sceneFile, fail.field, "glTF file");
-    std::error_code ec;
-    if (fs::file_size(path, ec) > kMaxFileBytes)
-        fail("the file is larger than 1 GiB (" + std::to_string(fs::file_size(path, ec)) +
-             " bytes)");
-    char magic[4] = {};
-    std::ifstream(path, std::ios::binary).read(magic, 4);
-    FsGuard guard{fs::absolute(path).parent_path().lexically_normal(), {}};
-    tinygltf::TinyGLTF loader;
-    loader.SetFsCallbacks({fileExists, expandNothing, readGuarded, nullptr, &guard});
-    loader.SetImageLoader(skipImage, nullptr);
-    tinygltf::Model model;
-    std::string err, warn;
-    const std::string absolute = fs::absolute(path).lexically_normal().string();
-    const bool ok = std::memcmp(magic, "glTF", 4) == 0
-                        ? loader.LoadBinaryFromFile(&model, &err, &warn, absolute)
-                        : loader.LoadASCIIFromFile(&model, &err, &warn, absolute);
-    if (!guard.refused.empty())
-        fail("a uri leaves the asset's folder: " +
-             fs::path(guard.refused).lexically_relative(guard.folder).string());
-    if (!ok) {
-        while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-        fail("not a readable glTF 2.0 file: " +
-             (err.empty() ? std::string("tinygltf gave no reason") : printable(err, 300)));
-    }
-    return model;
-}
 
 // A number as a message shows it: 0, 1, -0.5, 1e-07 (not 0.000000).
 std::string shortNumber(double x) {
@@ -177,14 +96,18 @@ AccessorBytes locate(const tinygltf::Model& model, const tinygltf::Accessor& a,
     const size_t bufferBytes = model.buffers[size_t(view.buffer)].data.size();
     const double element = double(size) * components;
     const double stride = view.byteStride ? double(view.byteStride) : element;
+    if (stride < element)
+        fail("buffer view " + std::to_string(a.bufferView) + " has byteStride " +
+             std::to_string(view.byteStride) + ", less than " + name + "'s element of " +
+             shortNumber(element) + " bytes");
     const double end = double(a.byteOffset) + stride * (double(a.count) - 1) + element;
     if (a.count == 0 || end > double(view.byteLength) ||
         double(view.byteOffset) + double(view.byteLength) > double(bufferBytes))
         fail(name + ": " + std::to_string(a.count) + " elements from byte " +
-             std::to_string(a.byteOffset) + " need " + std::to_string(int64_t(end)) +
-             " bytes of buffer view " + std::to_string(a.bufferView) + ", which has " +
-             std::to_string(view.byteLength) + " (buffer " + std::to_string(view.buffer) + ": " +
-             std::to_string(bufferBytes) + " bytes)");
+             std::to_string(a.byteOffset) + " need " + shortNumber(end) + " bytes of buffer view " +
+             std::to_string(a.bufferView) + ", which has " + std::to_string(view.byteLength) +
+             " (buffer " + std::to_string(view.buffer) + ": " + std::to_string(bufferBytes) +
+             " bytes)");
     return {model.buffers[size_t(view.buffer)].data.data() + view.byteOffset + a.byteOffset,
             size_t(stride), size_t(size)};
 }
@@ -295,21 +218,31 @@ Attributes readAttributes(const tinygltf::Model& model, const tinygltf::Primitiv
             if (!(glm::length(Vec3d(tk)) > 1e-6) || std::fabs(std::fabs(tk.w) - 1) > 1e-3)
                 fail(accessorName(acc, "TANGENT") + " element " + std::to_string(k) + " is (" +
                      shortNumber(tk.x) + ", " + shortNumber(tk.y) + ", " + shortNumber(tk.z) +
-                     ", " + shortNumber(tk.w) + "): xyz must be unit and w +1 or -1");
+                     ", " + shortNumber(tk.w) + "): xyz must not be zero and w +1 or -1");
             at.t.push_back(tk);
         }
     }
+    if (!at.n.empty() && !at.t.empty())
+        for (size_t k = 0; k < n; ++k)
+            if (!(glm::length(glm::cross(at.n[k], glm::normalize(Vec3d(at.t[k])))) > 1e-3))
+                fail("TANGENT element " + std::to_string(k) +
+                     " is parallel to its NORMAL: no tangent plane");
     at.tri = readIndices(model, prim, n, fail);
     const std::string uvName = "TEXCOORD_" + std::to_string(uvSet);
     const int uvAcc = attribute(prim, uvName);
-    if (uvAcc < 0) fail("the primitive has no " + uvName + ": parallax needs texture coordinates");
+    if (uvAcc < 0) {
+        const std::string what =
+            "the primitive has no " + uvName + ": parallax needs texture coordinates";
+        uvSet ? fail.at("uv", what) : fail(what);  // the set the scene chose, or the file
+    }
     const std::vector<double> uv = readAttribute(model, uvAcc, uvName, 2, n, fail);
     for (size_t k = 0; k < n; ++k)
         at.uv.push_back({uv[2 * k], 1.0 - uv[2 * k + 1]});  // glTF's v runs down the image
     return at;
 }
 
-// Without NORMAL, glTF asks for flat normals: every triangle gets its own three vertices.
+// Without NORMAL, glTF asks for flat normals (every triangle gets its own three vertices) and
+// for the asset's tangents to be ignored: MikkTSpace computes them on the flat normals.
 void flatNormals(Attributes& at) {
     Attributes flat;
     for (size_t k = 0; k < at.tri.size(); k += 3) {
@@ -321,7 +254,6 @@ void flatNormals(Attributes& at) {
             flat.p.push_back(at.p[i[c]]);
             flat.uv.push_back(at.uv[i[c]]);
             flat.n.push_back(n);
-            if (!at.t.empty()) flat.t.push_back(at.t[i[c]]);
         }
     }
     at = std::move(flat);
@@ -347,8 +279,9 @@ Mat4d localMatrix(const tinygltf::Node& node) {
     return m;
 }
 
-// The world matrix of the node that places the mesh (identity when no node does).
-Mat4d worldMatrix(const tinygltf::Model& model, int meshIndex, int node, const Fail& fail) {
+// The world matrix of the node that places the mesh (`node`, checked by selectPrimitive; -1:
+// the first node that instances it, set here; none: the identity).
+Mat4d worldMatrix(const tinygltf::Model& model, int meshIndex, int& node) {
     const size_t nodes = model.nodes.size();
     std::vector<int> parent(nodes, -1);  // checkNodeGraph made it a forest
     for (size_t k = 0; k < nodes; ++k)
@@ -356,11 +289,6 @@ Mat4d worldMatrix(const tinygltf::Model& model, int meshIndex, int node, const F
     if (node < 0)
         for (size_t k = 0; k < nodes && node < 0; ++k)
             if (model.nodes[k].mesh == meshIndex) node = int(k);
-    if (node < 0) return Mat4d(1.0);
-    if (size_t(node) >= nodes)
-        fail("node " + std::to_string(node) + " of " + std::to_string(nodes));
-    if (model.nodes[size_t(node)].mesh != meshIndex)
-        fail("node " + std::to_string(node) + " does not place mesh " + std::to_string(meshIndex));
     Mat4d m(1.0);
     for (int k = node; k >= 0; k = parent[size_t(k)]) m = localMatrix(model.nodes[size_t(k)]) * m;
     return m;
@@ -396,21 +324,51 @@ void checkNodeGraph(const tinygltf::Model& model, const Fail& fail) {
     }
 }
 
+// An index by name among `names` (exactly one must have it), for base.mesh and base.node.
+int byName(const std::vector<std::string>& names, const std::string& name, const char* key,
+           const Fail& fail) {
+    int found = -1, count = 0;
+    for (size_t k = 0; k < names.size(); ++k)
+        if (names[k] == name) found = found < 0 ? int(k) : found, ++count;
+    if (count == 0)
+        fail.at(key, std::string("no ") + key + " is named \"" + printable(name, 80) + "\"");
+    if (count > 1)
+        fail.at(key, std::to_string(count) + (key == std::string("mesh") ? " meshes" : " nodes") +
+                         " are named \"" + printable(name, 80) + "\": give the index");
+    return found;
+}
+
+// The mesh and primitive chosen (a node chosen without a mesh brings its own mesh).
 const tinygltf::Primitive& selectPrimitive(const tinygltf::Model& model, GltfSelection& which,
                                            const Fail& fail) {
-    if (!which.meshName.empty()) {
-        which.mesh = -1;
-        for (size_t k = 0; k < model.meshes.size() && which.mesh < 0; ++k)
-            if (model.meshes[k].name == which.meshName) which.mesh = int(k);
-        if (which.mesh < 0) fail("no mesh is named \"" + printable(which.meshName, 80) + "\"");
+    std::vector<std::string> names;
+    if (!which.nodeName.empty()) {
+        for (const auto& n : model.nodes) names.push_back(n.name);
+        which.node = byName(names, which.nodeName, "node", fail);
     }
+    if (which.node >= 0) {
+        if (size_t(which.node) >= model.nodes.size())
+            fail.at("node", "node " + std::to_string(which.node) + " of " +
+                                std::to_string(model.nodes.size()));
+        if (!which.meshGiven) which.mesh = model.nodes[size_t(which.node)].mesh;
+        if (model.nodes[size_t(which.node)].mesh != which.mesh)
+            fail.at("node", "node " + std::to_string(which.node) + " does not place mesh " +
+                                std::to_string(which.mesh));
+    }
+    if (!which.meshName.empty()) {
+        names.clear();
+        for (const auto& m : model.meshes) names.push_back(m.name);
+        which.mesh = byName(names, which.meshName, "mesh", fail);
+    }
+    if (model.meshes.empty()) fail("the file has no mesh");
     if (which.mesh < 0 || size_t(which.mesh) >= model.meshes.size())
-        fail("mesh " + std::to_string(which.mesh) + " of " + std::to_string(model.meshes.size()) +
-             (model.meshes.empty() ? ": the file has no mesh" : ""));
+        fail.at("mesh", "mesh " + std::to_string(which.mesh) + " of " +
+                            std::to_string(model.meshes.size()));
     const tinygltf::Mesh& mesh = model.meshes[size_t(which.mesh)];
     if (which.primitive < 0 || size_t(which.primitive) >= mesh.primitives.size())
-        fail("primitive " + std::to_string(which.primitive) + " of mesh " +
-             std::to_string(which.mesh) + ", which has " + std::to_string(mesh.primitives.size()));
+        fail.at("primitive", "primitive " + std::to_string(which.primitive) + " of mesh " +
+                                 std::to_string(which.mesh) + ", which has " +
+                                 std::to_string(mesh.primitives.size()));
     const tinygltf::Primitive& prim = mesh.primitives[size_t(which.primitive)];
     if (prim.mode != -1 && prim.mode != TINYGLTF_MODE_TRIANGLES)
         fail("primitive " + std::to_string(which.primitive) + " has mode " +
@@ -501,7 +459,7 @@ ControlMesh weldedCage(const BaseMesh& mesh) {
 GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, MeshFrames frames,
                       const std::string& sceneFile, const std::string& field) {
     const Fail fail{sceneFile, field, path};
-    const tinygltf::Model model = parseFile(path, fail);
+    const tinygltf::Model model = readGltfModel(path, fail);
     checkNodeGraph(model, fail);
     GltfSelection which = selection;
     const tinygltf::Primitive& prim = selectPrimitive(model, which, fail);
@@ -511,7 +469,7 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
     MikkFrames stats;
     const bool assetTangents = frames == MeshFrames::Asset && !at.t.empty();
     if (!assetTangents) mikkTangents(at, &stats);
-    out.drawn.mesh = worldMesh(at, worldMatrix(model, which.mesh, which.node, fail), fail);
+    out.drawn.mesh = worldMesh(at, worldMatrix(model, which.mesh, which.node), fail);
     out.framesUsed = assetTangents ? "asset" : "mikktspace";
     if (frames == MeshFrames::Pgt) {
         out.drawn.handedness = computeTangentFrames(out.drawn.mesh, &out.drawn.frames);
@@ -532,7 +490,9 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
     const std::string& name = model.meshes[size_t(which.mesh)].name;
     out.description = "mesh " + std::to_string(which.mesh) +
                       (name.empty() ? "" : " \"" + printable(name, 60) + "\"") + " primitive " +
-                      std::to_string(which.primitive);
+                      std::to_string(which.primitive) + ", TEXCOORD_" +
+                      std::to_string(which.uvSet) + ", " +
+                      (which.node >= 0 ? "node " + std::to_string(which.node) : "no node");
     return out;
 }
 

@@ -12,13 +12,16 @@
 namespace pgt {
 
 // Which primitive: a mesh by index or name, a primitive of it, the TEXCOORD set, and the
-// node whose transform places it (-1: the first node that instances the mesh, else none).
+// node whose transform places it, by index or name (-1: the first node that instances the
+// mesh, else none). A node given without a mesh brings the mesh it places.
 struct GltfSelection {
     int mesh = 0;
-    std::string meshName;  // when not empty, chosen over `mesh`
+    std::string meshName;  // when set, chosen over `mesh`
+    bool meshGiven = false;
     int primitive = 0;
     int uvSet = 0;
     int node = -1;
+    std::string nodeName;  // when set, chosen over `node`
 };
 
 // The frames the drawn mesh carries: the asset's TANGENT (MikkTSpace where it has none),

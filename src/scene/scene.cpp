@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/format.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
@@ -14,6 +15,7 @@
 #include "heightfield/mipmaps.h"
 #include "mesh/gltf_mesh.h"
 #include "methods/config.h"
+#include "truth/tessellation.h"
 
 namespace pgt {
 
@@ -144,16 +146,20 @@ void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
     const fs::path p = fs::path(m.source).is_absolute() ? fs::path(m.source)
                                                         : fs::path(s.file).parent_path() / m.source;
     GltfSelection which;
-    if (f.has("mesh")) {
-        const Json& mesh = f.raw("mesh");
-        if (mesh.is_string())
-            which.meshName = mesh.get<std::string>();
-        else
-            which.mesh = f.integer("mesh", 0, 0, 1 << 30);
-    }
+    // "mesh" and "node": an index or a name.
+    auto indexOrName = [&](const char* key, int& index, std::string& name) {
+        if (!f.has(key)) return false;
+        if (!f.raw(key).is_string()) {
+            index = f.integer(key, 0, 1 << 30);
+        } else if ((name = f.string(key)).empty()) {
+            f.fail(key, "an empty name");
+        }
+        return true;
+    };
+    which.meshGiven = indexOrName("mesh", which.mesh, which.meshName);
+    indexOrName("node", which.node, which.nodeName);
     which.primitive = f.integer("primitive", 0, 0, 1 << 30);
     which.uvSet = f.integer("uv", 0, 0, 1 << 20);
-    which.node = f.integer("node", -1, -1, 1 << 30);
     const std::string frames = f.choice("frames", {"asset", "mikktspace", "pgt"}, "asset");
     const MeshFrames kind = frames == "pgt"          ? MeshFrames::Pgt
                             : frames == "mikktspace" ? MeshFrames::MikkTSpace
@@ -264,6 +270,23 @@ void parseTruth(Scene& s, JsonFields& root) {
         s.truth.uncertainty = f.boolean("uncertainty", true);
         s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
         f.finish();
+    }
+    const MeshBase* mesh = std::get_if<MeshBase>(&s.base);
+    if (mesh && mesh->truthSurface == MeshTruth::Polygonal) {
+        // Every drawn edge split at rate points per texel of its UV length: a tiled floor
+        // (UVs 0..20) on a large map asks for millions of vertices. 300 bytes a vertex
+        // (sheet, Embree's build, the frame's rays) was measured on a 3 x 3-tiled quad:
+        // 5.9 million vertices at rates 2 and 4 took 1.84 GB.
+        constexpr double kBytesPerTruthVertex = 300;
+        const int rate = s.truth.rate;
+        const double verts =
+            drawnTruthVertices(s.height, mesh->drawn->mesh, rate) +
+            (s.truth.uncertainty ? drawnTruthVertices(s.height, mesh->drawn->mesh, 2 * rate) : 0);
+        checkMemory(verts * kBytesPerTruthVertex, s.file, "truth.rate", std::to_string(rate),
+                    "the mesh's polygonal truth (about " + formatNumber(verts, 3) +
+                        " vertices: every drawn edge split at rate points per texel of its UV "
+                        "length" +
+                        (s.truth.uncertainty ? ", and at 2 x rate for the uncertainty" : "") + ")");
     }
     if (const PlaneBase* plane = s.plane()) {
         // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).

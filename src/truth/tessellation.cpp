@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <tuple>
@@ -309,15 +310,17 @@ class DrawnSegments {
                     glm::length((drawn.vertices[k.second].uv - drawn.vertices[k.first].uv) *
                                 Vec2d(height.width, height.height));
             }
-        for (;;) {
-            double verts = 0;
-            for (size_t t = 0; t < nTri; ++t) {
-                const double n = triangle(t);
-                verts += (n + 1) * (n + 2) / 2;
-            }
-            if (verts <= double(maxVertices) || factor_ < 1e-6) break;
-            factor_ *= 0.9;
+        while (vertices() > double(maxVertices) && factor_ >= 1e-6) factor_ *= 0.9;
+    }
+    // The sheet's vertices at the current counts (each triangle's lattice counted whole: an
+    // upper bound, shared edge points counted twice).
+    double vertices() const {
+        double verts = 0;
+        for (size_t t = 0; t < drawn_.indices.size() / 3; ++t) {
+            const double n = triangle(t);
+            verts += (n + 1) * (n + 2) / 2;
         }
+        return verts;
     }
     EdgeKey key(size_t t, int e) const {
         const uint32_t a = drawn_.indices[3 * t + size_t(e)];
@@ -340,6 +343,10 @@ class DrawnSegments {
 };
 
 }  // namespace
+
+double drawnTruthVertices(const Texture& height, const BaseMesh& drawn, int rate) {
+    return DrawnSegments(drawn, height, rate, std::numeric_limits<int64_t>::max()).vertices();
+}
 
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,

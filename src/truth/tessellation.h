@@ -128,6 +128,10 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
 // sheet is watertight wherever the UVs are continuous (it opens at UV seams, as the real
 // displaced asset does). `maxVertices` bounds the tessellation (all counts are lowered by one
 // factor to fit).
+// The vertices tessellateDrawnMesh makes at `rate` (an upper bound; only the map's size is
+// read): what the scene's memory estimate counts before anything is built.
+double drawnTruthVertices(const Texture& height, const BaseMesh& drawn, int rate);
+
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,
                                                             double worldPerUv, int rate,

@@ -19,9 +19,9 @@ BROKEN = {  # file: what the one line must say
     "SchemaFailures/sceneWrongType.gltf": "File not found : BoxTextured0.bin",
     "MissingBin/BoxTextured.gltf": "File not found : BoxTextured0.bin",
     "RecursiveNodes/RecursiveNodes.gltf": "is its own ancestor",
-    "TestNoRootNode/NoScene.gltf": "mesh 0 of 0",
+    "TestNoRootNode/NoScene.gltf": "the file has no mesh",
     "IncorrectVertexArrays/Cube.gltf": "the primitive has no TEXCOORD_0",
-    "draco/2CylinderEngine.gltf": "invalid bufferView",
+    "draco/2CylinderEngine.gltf": "requires KHR_draco_mesh_compression",
 }
 
 
@@ -57,5 +57,45 @@ def gltf_assets(d):
     check("the asset itself renders", r.returncode == 0, r.stderr)
 
 
+def gltf_edits(d):
+    """A good asset (Blender's cylinder) edited the ways a hand or a tool breaks one."""
+    asset = json.load(open(os.path.join(os.path.abspath(SRC), "tests", "data", "gltf",
+                                        "cylinder.gltf")))
+
+    def render(edit, base_extra=None, name="edit.gltf", text=None):
+        doc = copy(asset)
+        edit(doc)
+        write(d, name, text or json.dumps(doc))
+        scene = copy(GOOD)
+        scene["base"] = {"type": "gltf", "file": name, **(base_extra or {})}
+        path = write(d, "scene.json", json.dumps(scene))
+        out = os.path.join(d, "out")
+        return run(["render", path, "--out", out]), out
+
+    deep = json.dumps(asset)[:-1] + ', "extras": ' + "[" * 30000 + "]" * 30000 + "}"
+    r, out = render(lambda doc: None, text=deep)
+    expect_error("30,000 levels of extras", r, 2, ["base.file", "nested deeper than 64"], out)
+    r, out = render(lambda doc: doc["asset"].update(version="1.0"))
+    expect_error("glTF 1.0", r, 2, ["asset.version is \"1.0\"; pgt reads glTF 2.0"], out)
+    r, out = render(lambda doc: doc.update(extensionsRequired=["EXT_meshopt_compression"]))
+    expect_error("meshopt", r, 2, ["requires EXT_meshopt_compression"], out)
+    r, out = render(lambda doc: doc["bufferViews"][0].update(byteStride=4))
+    expect_error("stride below the element", r, 2, ["byteStride 4, less than"], out)
+    r, out = render(lambda doc: None, {"mesh": ""})
+    expect_error("empty mesh name", r, 2, ["base.mesh", "an empty name"], out)
+    r, out = render(lambda doc: None, {"node": "Cube"})
+    expect_error("unknown node name", r, 2, ["base.node", "no node is named \"Cube\""], out)
+    r, out = render(lambda doc: None, {"primitive": 2})
+    expect_error("primitive out of range", r, 2, ["base.primitive", "primitive 2 of mesh 0"], out)
+    # A node by name brings its mesh; without NORMAL the asset's tangents are ignored (glTF).
+    r, _ = render(lambda doc: None, {"node": "Cylinder"})
+    part = json.load(open(os.path.join(d, "out", "summary.json")))["scene"]["base"]["part"]
+    check("node by name", r.returncode == 0 and "node 0" in part, r.stderr + part)
+    r, _ = render(lambda doc: doc["meshes"][0]["primitives"][0]["attributes"].pop("NORMAL"))
+    frames = json.load(open(os.path.join(d, "out", "summary.json")))["scene"]["base"]["frames"]
+    check("no NORMAL: flat normals, MikkTSpace", r.returncode == 0 and frames == "mikktspace",
+          r.stderr + frames)
+
+
 if __name__ == "__main__":
-    main([gltf_assets])
+    main([gltf_assets, gltf_edits])
