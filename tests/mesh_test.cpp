@@ -215,7 +215,7 @@ TEST(MeshRender, FlatCatmarkGridReproducesThePlane) {
 }
 
 TEST(MeshRender, BundledMeshScenesRender) {
-    for (const char* name : {"cube", "cylinder", "torus", "saddle_obj"}) {
+    for (const char* name : {"cube", "cylinder", "torus", "saddle_obj", "gltf_torus"}) {
         Scene s = loadScene(test::sceneDir() + "/" + name + ".json");
         s.camera.width = s.camera.height = 48;
         s.truth.rate = 1;
