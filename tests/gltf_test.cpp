@@ -99,6 +99,16 @@ Scene scene(const fs::path& dir, const std::string& base) {
     return s;
 }
 
+// The message a scene with this base is refused with ("" when it loads).
+std::string sceneError(const fs::path& dir, const std::string& base) {
+    try {
+        scene(dir, base);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
 TEST(Gltf, PlaneEqualsThePlaneBasePixelForPixel) {
     auto dir = test::tempDir("gltf_plane");
     writePlane(dir, "plane", 1);
@@ -461,14 +471,7 @@ TEST(GltfAssets, SilentMistakesAreRefused) {
     writeGltf(dir, "along_n", v, {0, 1, 3, 0, 3, 2});
     for (auto& x : v) x.t[0] = 1, x.t[1] = 0, x.uv[0] *= 1000, x.uv[1] *= 1000;
     writeGltf(dir, "tiled", v, {0, 1, 3, 0, 3, 2});
-    auto error = [&](const std::string& base) {
-        try {
-            scene(dir, base);
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string();
-    };
+    auto error = [&](const std::string& base) { return sceneError(dir, base); };
     EXPECT_NE(error(R"({"type": "gltf", "file": "along_n.gltf"})")
                   .find("TANGENT element 0 is parallel to its NORMAL"),
               std::string::npos);
@@ -481,14 +484,7 @@ TEST(GltfAssets, SilentMistakesAreRefused) {
 // Bad selections and values name the field.
 TEST(GltfAssets, BadSelectionsAreClearErrors) {
     const std::string dir = test::testDataDir() + "/gltf";
-    auto error = [&](const std::string& base) {
-        try {
-            scene(dir, base);
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string();
-    };
+    auto error = [&](const std::string& base) { return sceneError(dir, base); };
     EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": 3})").find("mesh 3 of 1"),
               std::string::npos);
     EXPECT_NE(error(R"({"type": "gltf", "file": "sphere.gltf", "mesh": "Cube"})")
