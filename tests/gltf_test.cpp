@@ -211,26 +211,30 @@ TEST(Gltf, FramesFollowTheSurfacesUAndV) {
     for (const std::string& file : {data("sphere.gltf"), data("torus_mirrored.gltf"),
                                     data("cylinder.gltf"), (dir / "mirror.gltf").string(),
                                     (dir / "u8.gltf").string(), (dir / "u32.gltf").string()}) {
-        const GltfMesh g = loadGltfMesh(file, {}, MeshFrames::Asset, "t", "base.file");
-        const BaseMesh& m = g.drawn.mesh;
-        int checked = 0, wrong = 0;
-        for (size_t t = 0; t < m.indices.size(); t += 3) {
-            const BaseVertex* v[3] = {&m.vertices[m.indices[t]], &m.vertices[m.indices[t + 1]],
-                                      &m.vertices[m.indices[t + 2]]};
-            const Vec3d e1 = v[1]->position - v[0]->position, e2 = v[2]->position - v[0]->position;
-            const Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
-            const double det = d1.x * d2.y - d2.x * d1.y;
-            if (std::fabs(det) < 1e-9) continue;
-            const Vec3d dSdu = (e1 * d2.y - e2 * d1.y) / det, dSdv = (e2 * d1.x - e1 * d2.x) / det;
-            const Vec3d face = glm::cross(e1, e2);
-            for (const BaseVertex* c : v) {
-                ++checked;
-                wrong += glm::dot(c->tangent, dSdu) <= 0 || glm::dot(c->bitangent, dSdv) <= 0 ||
-                         glm::dot(face, c->normal) <= 0;
+        for (const MeshFrames frames : {MeshFrames::Asset, MeshFrames::Pgt}) {
+            const GltfMesh g = loadGltfMesh(file, {}, frames, "t", "base.file");
+            const BaseMesh& m = g.drawn.mesh;
+            int checked = 0, wrong = 0;
+            for (size_t t = 0; t < m.indices.size(); t += 3) {
+                const BaseVertex* v[3] = {&m.vertices[m.indices[t]], &m.vertices[m.indices[t + 1]],
+                                          &m.vertices[m.indices[t + 2]]};
+                const Vec3d e1 = v[1]->position - v[0]->position,
+                            e2 = v[2]->position - v[0]->position;
+                const Vec2d d1 = v[1]->uv - v[0]->uv, d2 = v[2]->uv - v[0]->uv;
+                const double det = d1.x * d2.y - d2.x * d1.y;
+                if (std::fabs(det) < 1e-9) continue;
+                const Vec3d dSdu = (e1 * d2.y - e2 * d1.y) / det,
+                            dSdv = (e2 * d1.x - e1 * d2.x) / det;
+                const Vec3d face = glm::cross(e1, e2);
+                for (const BaseVertex* c : v) {
+                    ++checked;
+                    wrong += glm::dot(c->tangent, dSdu) <= 0 || glm::dot(c->bitangent, dSdv) <= 0 ||
+                             glm::dot(face, c->normal) <= 0;
+                }
             }
+            EXPECT_GT(checked, 5) << file;
+            EXPECT_EQ(wrong, 0) << file << " frames " << toString(frames);
         }
-        EXPECT_GT(checked, 5) << file;
-        EXPECT_EQ(wrong, 0) << file;
     }
     const GltfMesh mirror =
         loadGltfMesh((dir / "mirror.gltf").string(), {}, MeshFrames::Asset, "t", "base.file");

@@ -109,9 +109,10 @@ void precheck(const std::string& json, const std::string& path, const Fail& fail
 
 }  // namespace
 
-tinygltf::Model readGltfModel(const std::string& path, const GltfFail& fail) {
+tinygltf::Model readGltfModel(const std::string& path, const GltfFail& fail, std::string* sha1) {
     const std::string bytes =
         readTextFile(path, fail.sceneFile, fail.field, "glTF file", kMaxFileBytes);
+    *sha1 = textSha1(bytes);
     const bool binary = bytes.rfind("glTF", 0) == 0;
     precheck(jsonOf(bytes, binary, fail), path, fail);
     FsGuard guard{fs::absolute(path).parent_path().lexically_normal(), {}};

@@ -29,6 +29,7 @@ struct GltfFail {
 };
 
 // The file parsed by tinygltf after pgt's own checks; bad input throws through `fail`.
-tinygltf::Model readGltfModel(const std::string& path, const GltfFail& fail);
+// `sha1` gets the SHA-1 of the file's bytes (read once).
+tinygltf::Model readGltfModel(const std::string& path, const GltfFail& fail, std::string* sha1);
 
 }  // namespace pgt

@@ -47,8 +47,6 @@ std::string accessorName(int index, const std::string& attribute) {
     return "accessor " + std::to_string(index) + " (" + attribute + ")";
 }
 
-// An accessor's elements as doubles (normalized integers mapped as glTF says), after
-// checking that every byte it reads lies in its buffer view and buffer.
 // One component at p as glTF defines it (normalized integers map to [0, 1] or [-1, 1]).
 double component(const unsigned char* p, int type, bool normalized) {
     auto load = [p](auto v) {
@@ -419,9 +417,12 @@ BaseMesh worldMesh(const Attributes& at, const Mat4d& world, const Fail& fail) {
         v.position = a * at.p[k] + move;
         v.uv = at.uv[k];
         v.normal = glm::normalize(normalMatrix * at.n[k]);
-        v.tangent = glm::normalize(a * Vec3d(at.t[k]));
-        v.handedness = at.t[k].w < 0 ? -mirror : mirror;  // a mirroring node flips w
-        v.bitangent = glm::cross(v.normal, v.tangent) * v.handedness;
+        v.tangent = v.bitangent = Vec3d(0);  // without tangents the caller makes the frames
+        if (!at.t.empty()) {
+            v.tangent = glm::normalize(a * Vec3d(at.t[k]));
+            v.handedness = at.t[k].w < 0 ? -mirror : mirror;  // a mirroring node flips w
+            v.bitangent = glm::cross(v.normal, v.tangent) * v.handedness;
+        }
         if (!allFinite(v.position) || !allFinite(v.normal) || !allFinite(v.tangent))
             fail("vertex " + std::to_string(k) + " is not finite under the node transform");
         mesh.vertices.push_back(v);
@@ -459,7 +460,8 @@ ControlMesh weldedCage(const BaseMesh& mesh) {
 GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, MeshFrames frames,
                       const std::string& sceneFile, const std::string& field) {
     const Fail fail{sceneFile, field, path};
-    const tinygltf::Model model = readGltfModel(path, fail);
+    std::string fileSha1;
+    const tinygltf::Model model = readGltfModel(path, fail, &fileSha1);
     checkNodeGraph(model, fail);
     GltfSelection which = selection;
     const tinygltf::Primitive& prim = selectPrimitive(model, which, fail);
@@ -468,7 +470,10 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
     GltfMesh out;
     MikkFrames stats;
     const bool assetTangents = frames == MeshFrames::Asset && !at.t.empty();
-    if (!assetTangents) mikkTangents(at, &stats);
+    if (frames == MeshFrames::Pgt)
+        at.t.clear();  // Listing 7.4 below makes the frames
+    else if (!assetTangents)
+        mikkTangents(at, &stats);
     out.drawn.mesh = worldMesh(at, worldMatrix(model, which.mesh, which.node), fail);
     out.framesUsed = assetTangents ? "asset" : "mikktspace";
     if (frames == MeshFrames::Pgt) {
@@ -483,7 +488,7 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
         }
     }
     out.cage = weldedCage(out.drawn.mesh);
-    std::string hashed = fileSha1(path);
+    std::string hashed = fileSha1;  // the file, then every buffer (a .bin beside it)
     for (const auto& b : model.buffers)
         hashed += textSha1(std::string(b.data.begin(), b.data.end()));
     out.cage.sourceSha1 = textSha1(hashed);

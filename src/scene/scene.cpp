@@ -30,6 +30,11 @@ Vec3d vec3(JsonFields& f, const std::string& key, double lo = -1e9, double hi = 
     return {v[0], v[1], v[2]};
 }
 
+// A file the scene names: absolute as written, else relative to the scene file's folder.
+fs::path besideScene(const Scene& s, const std::string& rel) {
+    return fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
+}
+
 // A height image named by the scene: its header is read while parsing, its pixels only
 // after every other check has passed (a huge map is refused before it is decoded).
 struct PendingImage {
@@ -50,8 +55,7 @@ void parseHeightmap(Scene& s, JsonFields& root, PendingImage& pending) {
         bool channelGiven = f.has("channel");
         int channel = f.integer("channel", 0, 0, 1023);
         f.finish();
-        fs::path p =
-            fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
+        const fs::path p = besideScene(s, rel);
         HeightImageHeader header = probeHeightImage(p.string(), channel, s.file, "heightmap");
         s.height.width = header.width;
         s.height.height = header.height;
@@ -92,8 +96,7 @@ ControlMesh readCage(const Scene& s, JsonFields& f, MeshBase& m) {
         f.has("tiling") ? f.numbers("tiling", 2, 1e-6, 1e6) : std::vector<double>{1.0, 1.0};
     if (f.has("file")) {
         std::string rel = f.string("file");
-        fs::path p =
-            fs::path(rel).is_absolute() ? fs::path(rel) : fs::path(s.file).parent_path() / rel;
+        const fs::path p = besideScene(s, rel);
         m.source = rel;
         return loadObjMesh(p.string(), s.file, "base.file");
     }
@@ -143,8 +146,7 @@ void parseMeshBase(const Scene& s, JsonFields& f, MeshBase& m) {
 void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
     m.gltf = true;
     m.source = f.string("file");
-    const fs::path p = fs::path(m.source).is_absolute() ? fs::path(m.source)
-                                                        : fs::path(s.file).parent_path() / m.source;
+    const fs::path p = besideScene(s, m.source);
     GltfSelection which;
     // "mesh" and "node": an index or a name.
     auto indexOrName = [&](const char* key, int& index, std::string& name) {

@@ -299,17 +299,9 @@ namespace {
 // mesh where the vertex count would pass maxVertices.
 class DrawnSegments {
   public:
-    using EdgeKey = std::pair<uint32_t, uint32_t>;
+    using EdgeKey = std::pair<uint32_t, uint32_t>;  // drawn vertex indices, smaller first
     DrawnSegments(const BaseMesh& drawn, const Texture& height, int rate, int64_t maxVertices)
-        : drawn_(drawn), rate_(rate) {
-        const size_t nTri = drawn.indices.size() / 3;
-        for (size_t t = 0; t < nTri; ++t)
-            for (int e = 0; e < 3; ++e) {
-                const EdgeKey k = key(t, e);
-                texels_[k] =
-                    glm::length((drawn.vertices[k.second].uv - drawn.vertices[k.first].uv) *
-                                Vec2d(height.width, height.height));
-            }
+        : drawn_(drawn), texelsPerUv_(height.width, height.height), rate_(rate) {
         while (vertices() > double(maxVertices) && factor_ >= 1e-6) factor_ *= 0.9;
     }
     // The sheet's vertices at the current counts (each triangle's lattice counted whole: an
@@ -322,24 +314,24 @@ class DrawnSegments {
         }
         return verts;
     }
-    EdgeKey key(size_t t, int e) const {
-        const uint32_t a = drawn_.indices[3 * t + size_t(e)];
-        const uint32_t b = drawn_.indices[3 * t + size_t((e + 1) % 3)];
-        return EdgeKey(std::min(a, b), std::max(a, b));
-    }
+    // An edge's count, from its UV length in texels (the same from either triangle).
     int edge(const EdgeKey& k) const {
-        const double n = std::ceil(factor_ * rate_ * texels_.at(k) - 1e-9);
+        const double texels = glm::length(
+            (drawn_.vertices[k.second].uv - drawn_.vertices[k.first].uv) * texelsPerUv_);
+        const double n = std::ceil(factor_ * rate_ * texels - 1e-9);
         return std::max(1, int(std::min(n, double(1 << 15))));
     }
     int triangle(size_t t) const {
-        return std::max({edge(key(t, 0)), edge(key(t, 1)), edge(key(t, 2))});
+        const uint32_t* i = &drawn_.indices[3 * t];
+        auto key = [](uint32_t a, uint32_t b) { return EdgeKey(std::min(a, b), std::max(a, b)); };
+        return std::max({edge(key(i[0], i[1])), edge(key(i[1], i[2])), edge(key(i[2], i[0]))});
     }
 
   private:
     const BaseMesh& drawn_;
+    Vec2d texelsPerUv_;
     int rate_;
     double factor_ = 1;
-    std::map<EdgeKey, double> texels_;
 };
 
 }  // namespace
