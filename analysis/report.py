@@ -6,9 +6,11 @@ against fetches with the Pareto front, bias-ratio x scale heat maps with the min
 and a table of recommended scale/bias defaults beside the source documents' advice.
 Usage: /usr/bin/python3 analysis/report.py DIR"""
 import argparse
+import ctypes
 import multiprocessing
 import math
 import os
+import signal
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -141,6 +143,15 @@ def defaults_table(df):
                          "doc_ratio": doc[0] if doc else float("nan"),
                          "doc_source": doc[1] if doc else "", "mean_at_doc": doc_err})
     return pd.DataFrame(rows)
+
+
+def die_with_parent():
+    """A drawing worker dies with the report (Linux's PR_SET_PDEATHSIG): a report killed
+    while it draws leaves no orphan still writing figures."""
+    try:
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
+    except (OSError, AttributeError):
+        pass
 
 
 def base_lines(base):
@@ -317,7 +328,7 @@ def main():
 
     # The heat maps and the angle figures draw in two forked workers while this process
     # draws the rest (matplotlib drawing is most of the report's time).
-    pool = multiprocessing.get_context("fork").Pool(2)
+    pool = multiprocessing.get_context("fork").Pool(2, initializer=die_with_parent)
     heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
     theta_job = pool.apply_async(fig_error_vs_theta, (common, figdir))
     agg, pareto_files, fronts = fig_pareto(common, figdir)
