@@ -17,6 +17,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import save_figure, write_text  # noqa: E402
 from report_configs import common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402
+from report_depth import depth_shadow_lines  # noqa: E402
 
 
 def pareto_front(points):
@@ -346,6 +347,7 @@ def main():
     lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
              + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
              + defaults_lines(table, table80, heat)
+             + depth_shadow_lines(common, figdir)
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))

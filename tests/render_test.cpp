@@ -139,10 +139,12 @@ TEST(Render, OutputsRoundTrip) {
     auto in = OIIO::ImageInput::open((dir / "frame.exr").string());
     ASSERT_TRUE(in);
     const OIIO::ImageSpec& spec = in->spec();
-    std::vector<std::string> want = {"truth.u",      "truth.v",    "truth.hit",   "base.u",
-                                     "base.v",       "base.hit",   "parallax.u",  "parallax.v",
-                                     "parallax.err", "pom_8_16.u", "pom_8_16.v",  "pom_8_16.err",
-                                     "pom_8_32.u",   "pom_8_32.v", "pom_8_32.err"};
+    std::vector<std::string> want = {
+        "truth.u",         "truth.v",        "truth.hit",      "base.u",          "base.v",
+        "base.hit",        "parallax.u",     "parallax.v",     "parallax.err",    "pom_8_16.u",
+        "pom_8_16.v",      "pom_8_16.err",   "pom_8_32.u",     "pom_8_32.v",      "pom_8_32.err",
+        "truth.depth",     "truth.shadow",   "parallax.depth", "parallax.shadow", "pom_8_16.depth",
+        "pom_8_16.shadow", "pom_8_32.depth", "pom_8_32.shadow"};
     ASSERT_EQ(spec.nchannels, int(want.size()));
     std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
     ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));

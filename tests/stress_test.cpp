@@ -62,9 +62,11 @@ TEST(Stress, PomZeroDenominatorIsFlaggedAndCounted) {
     EXPECT_FALSE(std::isfinite(uv.x) && std::isfinite(uv.y));
     // Through the comparator: counted as non-finite and diverged, statistics stay NaN-free.
     Image2D<TruthSample> truth(1, 1);
-    truth.at(0, 0) = {true, Vec2d(0.25, 0.5)};
+    truth.at(0, 0).hit = true;
+    truth.at(0, 0).uv = Vec2d(0.25, 0.5);
     Image2D<MethodPixel> px(1, 1);
-    px.at(0, 0) = {true, Vec2d(uv), uint32_t(c.fetches), c.flags};
+    MethodPixel& p = px.at(0, 0);
+    p.covered = true, p.uv = Vec2d(uv), p.fetches = uint32_t(c.fetches), p.flags = c.flags;
     FrameStats fs = compareWithTruth(truth, px, 2, 1, Address::Clamp);
     EXPECT_EQ(fs.nonfinite, 1);
     EXPECT_EQ(fs.diverged, 1);

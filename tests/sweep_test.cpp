@@ -108,7 +108,20 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
                                                  "timing_repeats",
                                                  "timing_fragments",
                                                  "timing_case",
-                                                 "warnings"};
+                                                 "warnings",
+                                                 "depth_mean",
+                                                 "depth_p90",
+                                                 "depth_p99",
+                                                 "depth_max",
+                                                 "depth_signed_mean",
+                                                 "light_theta",
+                                                 "light_phi",
+                                                 "shadow_compared",
+                                                 "shadow_disagree",
+                                                 "shadow_disagree_uv_right",
+                                                 "shadow_disagree_uv_wrong",
+                                                 "truth_shadowed",
+                                                 "method_shadowed"};
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);

@@ -24,12 +24,17 @@
 namespace {
 
 void printSummary(const pgt::RenderResult& r) {
-    std::printf("%-20s %9s %9s %9s %9s %9s %8s %9s\n", "method", "mean", "p50", "p90", "p99", "max",
-                "fetch/px", "ns/px");
+    const bool lit = r.camera.hasLight();
+    std::printf("%-20s %9s %9s %9s %9s %9s %8s %9s %9s%s\n", "method", "mean", "p50", "p90", "p99",
+                "max", "fetch/px", "ns/px", "depth", lit ? "   shadow" : "");
     for (const auto& m : r.methods) {
         const auto& e = m.stats.error;
-        std::printf("%-20s %9.4f %9.4f %9.4f %9.4f %9.4f %8.2f %9.1f", m.config.label.c_str(),
-                    e.mean, e.p50, e.p90, e.p99, e.max, m.stats.fetchesMean, m.nsPerPixel);
+        std::printf("%-20s %9.4f %9.4f %9.4f %9.4f %9.4f %8.2f %9.1f %9.4f", m.config.label.c_str(),
+                    e.mean, e.p50, e.p90, e.p99, e.max, m.stats.fetchesMean, m.nsPerPixel,
+                    m.stats.depthError.mean);
+        if (lit)
+            std::printf(" %8.2f%%",
+                        100 * pgt::share(m.stats.shadow.differ, m.stats.shadow.compared));
         if (m.stats.nonfinite) std::printf("  nonfinite=%lld", (long long)m.stats.nonfinite);
         std::printf("\n");
     }
@@ -37,6 +42,13 @@ void printSummary(const pgt::RenderResult& r) {
         std::printf("truth uncertainty (rate %d vs %d): p99 %.5f, max %.5f texels\n",
                     r.uncertainty.rate, r.uncertainty.rateFine, r.uncertainty.p99Texels,
                     r.uncertainty.maxTexels);
+    if (r.haveUncertainty && lit)
+        std::printf("truth shadows differing between the rates: %.2f%% of %lld pixels\n",
+                    100 * pgt::share(r.uncertainty.shadowMismatch, r.uncertainty.shadowCompared),
+                    (long long)r.uncertainty.shadowCompared);
+    std::printf("depth: mean |depth offset error| in texels; %s\n",
+                lit ? "shadow: pixels whose shadow differs from the truth's (docs/model.md §7b)"
+                    : "no light: no shadows (docs/model.md §5b)");
     if (r.truthBlocks > 1)
         std::printf(
             "truth traced in %d blocks, each over the part of the plane it sees "

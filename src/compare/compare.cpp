@@ -12,8 +12,18 @@
 
 namespace pgt {
 
+ShadowCounts& ShadowCounts::operator+=(const ShadowCounts& o) {
+    compared += o.compared, differ += o.differ;
+    right += o.right, differRight += o.differRight;
+    wrong += o.wrong, differWrong += o.differWrong;
+    truthDark += o.truthDark, methodDark += o.methodDark;
+    return *this;
+}
+
 CompareTally& CompareTally::operator+=(const CompareTally& o) {
     fetchSum += o.fetchSum;
+    depthSignedSum += o.depthSignedSum;
+    shadow += o.shadow;
     covered += o.covered, above1 += o.above1, nonfinite += o.nonfinite;
     zeroDivide += o.zeroDivide, stepLimit += o.stepLimit, diverged += o.diverged;
     both += o.both, truthOnly += o.truthOnly, rasterOnly += o.rasterOnly, neither += o.neither;
@@ -51,7 +61,25 @@ double tallyPixel(CompareTally& acc, const TruthSample& t, const MethodPixel& m,
     if (!t.hit) return NAN;
     double e = uvErrorTexels(m.uv, t.uv, texWidth, texHeight, address);
     acc.above1 += e > 1.0;
+    if (t.shadow != kShadowNone && m.shadow != kShadowNone) {
+        ShadowCounts& sc = acc.shadow;
+        const bool differ = t.shadow != m.shadow;
+        ++sc.compared;
+        sc.differ += differ;
+        sc.truthDark += t.shadow == kShadowDark;
+        sc.methodDark += m.shadow == kShadowDark;
+        if (e <= 1.0)
+            ++sc.right, sc.differRight += differ;
+        else
+            ++sc.wrong, sc.differWrong += differ;
+    }
     return e;
+}
+
+// A compared pixel's depth error in texels (docs/model.md §7b), signed (> 0: too deep); NaN
+// where either depth is not finite.
+double depthErrorTexels(const TruthSample& t, const MethodPixel& m, int texWidth, int texHeight) {
+    return (double(m.depth) - t.depth) * std::sqrt(double(texWidth) * double(texHeight));
 }
 
 FrameStats frameStats(const CompareTally& all, std::vector<float>& errors) {
@@ -68,6 +96,7 @@ FrameStats frameStats(const CompareTally& all, std::vector<float>& errors) {
     fs.fetchesMean = all.covered ? all.fetchSum / double(all.covered) : 0.0;
     fs.fracAbove1Texel = errors.empty() ? NAN : double(all.above1) / double(errors.size());
     fs.error = summarize(errors);
+    fs.shadow = all.shadow;
     return fs;
 }
 
@@ -94,7 +123,7 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
     // Pixels in blocks over all cores, each block's errors in pixel order; the blocks' lists
     // are joined in order, so the kept errors do not depend on the threads.
     const size_t n = truth.size(), block = 4096, blocks = (n + block - 1) / block;
-    std::vector<std::vector<float>> found(inPlace_ ? 0 : blocks);
+    std::vector<std::vector<float>> found(inPlace_ ? 0 : blocks), depths(blocks);
     all_ += tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, blocks), CompareTally{},
         [&](const tbb::blocked_range<size_t>& r, CompareTally acc) {
@@ -103,6 +132,14 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
                     double e = tallyPixel(acc, truth.data[k], method.data[k], texWidth, texHeight,
                                           address);
                     if (errTexels) errTexels->data[k] = float(e);
+                    if (!std::isnan(e)) {
+                        const double d =
+                            depthErrorTexels(truth.data[k], method.data[k], texWidth, texHeight);
+                        if (std::isfinite(d)) {
+                            acc.depthSignedSum += d;
+                            depths[b].push_back(float(std::fabs(d)));
+                        }
+                    }
                     if (coded)
                         coded[k] = codedError(truth.data[k], method.data[k], e);
                     else if (!std::isnan(e))
@@ -112,19 +149,32 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
         },
         [](CompareTally x, const CompareTally& y) { return x += y; });
     for (const auto& f : found) errors_.insert(errors_.end(), f.begin(), f.end());
+    for (const auto& d : depths) depthErrors_.insert(depthErrors_.end(), d.begin(), d.end());
 }
+
+namespace {
+void addDepths(FrameStats& fs, const CompareTally& all, std::vector<float>& depthErrors) {
+    fs.depthError = summarize(depthErrors);
+    fs.depthSignedMean =
+        depthErrors.empty() ? NAN : all.depthSignedSum / double(depthErrors.size());
+    std::vector<float>().swap(depthErrors);
+}
+}  // namespace
 
 FrameStats ErrorTally::finish() {
     if (!inPlace_) {
         FrameStats fs = frameStats(all_, errors_);
         std::vector<float>().swap(errors_);
+        addDepths(fs, all_, depthErrors_);
         return fs;
     }
     std::vector<float> errors;  // the errors (codes >= 0) in pixel order
     errors.reserve(size_t(all_.both));
     for (float c : coded_.data)
         if (c >= 0) errors.push_back(c);
-    return frameStats(all_, errors);
+    FrameStats fs = frameStats(all_, errors);
+    addDepths(fs, all_, depthErrors_);
+    return fs;
 }
 
 FrameStats compareWithTruth(const Image2D<TruthSample>& truth, const Image2D<MethodPixel>& method,

@@ -15,8 +15,25 @@ struct CoverageCounts {
     int64_t both = 0, truthOnly = 0, rasterOnly = 0, neither = 0;
 };
 
+// Shadow states against the truth's (docs/model.md §7b), over the compared pixels where both
+// the truth and the method have one; split by whether the method's uv' is right (e <= 1
+// texel) or wrong.
+struct ShadowCounts {
+    int64_t compared = 0, differ = 0;
+    int64_t right = 0, differRight = 0;  // e <= 1 texel
+    int64_t wrong = 0, differWrong = 0;  // e > 1 texel
+    int64_t truthDark = 0, methodDark = 0;
+    ShadowCounts& operator+=(const ShadowCounts& o);
+};
+
 struct FrameStats {
-    Summary error;                 // over pixels covered by both with finite uv' (texels)
+    Summary error;  // over pixels covered by both with finite uv' (texels)
+    // |depth' - depth_true| (docs/model.md §7b) in texels (UV units x sqrt(W H)), over the
+    // compared pixels where both depths are finite; its signed mean (> 0: the method puts the
+    // surface too deep).
+    Summary depthError;
+    double depthSignedMean = NAN;
+    ShadowCounts shadow;
     double fracAbove1Texel = NAN;  // share of those pixels with e > 1 texel
     CoverageCounts coverage;
     int64_t nonfinite = 0;                  // covered pixels whose uv' is not finite
@@ -32,6 +49,8 @@ struct CompareTally {
     int64_t covered = 0, above1 = 0, nonfinite = 0, zeroDivide = 0, stepLimit = 0, diverged = 0;
     int64_t both = 0, truthOnly = 0, rasterOnly = 0, neither = 0;
     uint32_t fetchesMax = 0;
+    double depthSignedSum = 0;
+    ShadowCounts shadow;
     CompareTally& operator+=(const CompareTally& o);
 };
 
@@ -64,6 +83,7 @@ class ErrorTally {
   private:
     CompareTally all_;
     std::vector<float> errors_;
+    std::vector<float> depthErrors_;  // |depth' - depth_true| in texels, pixel order
     Image2D<float> coded_;
     bool inPlace_ = false;
 };

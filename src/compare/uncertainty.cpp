@@ -14,6 +14,8 @@ void UncertaintyTally::add(const Image2D<TruthSample>& coarse, const Image2D<Tru
         const auto& b = fine.data[k];
         if (a.hit != b.hit) ++hitMismatch_;
         if (!(a.hit && b.hit)) continue;
+        if (a.shadow != kShadowNone && b.shadow != kShadowNone)
+            ++shadowCompared_, shadowMismatch_ += a.shadow != b.shadow;
         diffs_.push_back(float(uvErrorTexels(a.uv, b.uv, texWidth, texHeight, address)));
     }
 }
@@ -21,6 +23,8 @@ void UncertaintyTally::add(const Image2D<TruthSample>& coarse, const Image2D<Tru
 TruthUncertainty UncertaintyTally::finish() {
     TruthUncertainty u;
     u.hitMismatch = hitMismatch_;
+    u.shadowMismatch = shadowMismatch_;
+    u.shadowCompared = shadowCompared_;
     u.pixelsCompared = int64_t(diffs_.size());
     Summary d = summarize(diffs_);  // NaN statistics when no pixel was compared
     std::vector<float>().swap(diffs_);

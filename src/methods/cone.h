@@ -21,6 +21,11 @@ struct ConeRay {
           b(c.bias),
           r(a * std::sqrt(dir.x * dir.x + dir.y * dir.y)) {}
     Vec2<Real> at(Real e) const { return uv0 + dir * (a * e + b); }
+    // uv' at e, its height a e + b the found point's (docs/model.md §6c).
+    Vec2<Real> found(MethodContext<Real>& c, Real e) const {
+        c.foundHeight = a * e + b;
+        return at(e);
+    }
 };
 
 // Whether the eye is above the surface (V.z > 0); if not there is no first hit: flagged.
@@ -58,15 +63,15 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         e -= ratio * gap / (ratio + ray.r);
         uv = ray.at(e);
     }
-    if (cfg.binarySteps == 0) return uv;
+    if (cfg.binarySteps == 0) return ray.found(c, e);
     const Real gap = e - sign * c.h(uv);
-    if (!(gap > Real(0))) return uv;
+    if (!(gap > Real(0))) return ray.found(c, e);
     Real above = e, below = e - gap;
     for (int i = 0; i < cfg.binarySteps; ++i) {
         const Real mid = (above + below) * Real(0.5);
         (mid - sign * c.h(ray.at(mid)) > Real(0) ? above : below) = mid;
     }
-    return ray.at((above + below) * Real(0.5));
+    return ray.found(c, (above + below) * Real(0.5));
 }
 
 // Relaxed cone stepping (Policarpo & Oliveira, GPU Gems 3 ch. 18, listing 18-3) on the relaxed
@@ -95,7 +100,7 @@ Vec2<Real> methodRelaxedCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> 
         half *= Real(0.5);
         mid += mid - ray.sign * c.h(ray.at(mid)) > Real(0) ? -half : half;
     }
-    return ray.at(mid);
+    return ray.found(c, mid);
 }
 
 }  // namespace pgt

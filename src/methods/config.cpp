@@ -212,6 +212,20 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     return cfg;
 }
 
+const std::vector<std::string>& shadowNames() {
+    static const std::vector<std::string> names = {"none", "hard", "soft"};
+    return names;
+}
+
+// "shadow" and "shadow_steps": the march toward the view's light (docs/model.md §6c).
+void readShadowParameters(JsonFields& f, MethodConfig& cfg) {
+    const std::string& current = shadowNames()[size_t(cfg.shadow)];
+    const std::string name = f.choice("shadow", shadowNames(), current);
+    cfg.shadow = ShadowMarch(std::find(shadowNames().begin(), shadowNames().end(), name) -
+                             shadowNames().begin());
+    cfg.shadowSteps = f.integer("shadow_steps", cfg.shadowSteps, 1, 4096);
+}
+
 // {"preset": NAME, "label": optional, "scale", "bias", "uniforms": {...}}: the preset's
 // configuration, labelled NAME, with what the entry overrides (setShaderParameter).
 MethodConfig parsePreset(const Json& object, const std::string& file, const std::string& path) {
@@ -226,6 +240,7 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
         if (p.name == name) cfg = presetConfig(p, label, file, f.fieldPath("preset"));
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
+    if (cfg.kind != MethodKind::Glsl) readShadowParameters(f, cfg);
     if (f.has("uniforms")) {
         const Json& u = f.raw("uniforms");
         if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
@@ -250,6 +265,8 @@ std::string parameterSuffix(const MethodConfig& c) {
     if (c.gpu8Filter) add("gpu8");
     if (c.lodGrad) add("grad");
     if (c.discardOutside) add("discard");
+    if (c.shadow != ShadowMarch::Hard) add("shadow_", shadowNames()[size_t(c.shadow)]);
+    if (c.shadowSteps != MethodConfig{}.shadowSteps) add("ss", std::to_string(c.shadowSteps));
     // Numbers as an ostream's default %g shows them.
     if (std::isfinite(c.scale)) add("s", formatNumber(c.scale, 6));
     if (std::isfinite(c.bias)) add("b", formatNumber(c.bias, 6));
@@ -314,6 +331,7 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
     cfg.gpu8Filter =
         f.choice("filter", {"exact", "gpu8"}, cfg.gpu8Filter ? "gpu8" : "exact") == "gpu8";
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, cfg.lodGrad ? "grad" : "zero") == "grad";
+    readShadowParameters(f, cfg);
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -423,6 +441,10 @@ Json toJson(const MethodConfig& c) {
     // Absent at their defaults: older studies keep their identity.
     if (c.gpu8Filter) j["filter"] = "gpu8";
     if (c.lodGrad) j["lod"] = "grad";
+    if (c.kind != MethodKind::Glsl) {
+        if (c.shadow != ShadowMarch::Hard) j["shadow"] = shadowNames()[size_t(c.shadow)];
+        if (c.shadowSteps != MethodConfig{}.shadowSteps) j["shadow_steps"] = c.shadowSteps;
+    }
     return j;
 }
 

@@ -56,10 +56,19 @@ SteepMarch<Real> steepMarch(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v
     return m;
 }
 
+// The height of the eye ray at march depth t in [0, 1] below the top of the relief: the ray
+// enters at s + b (t = 0) and leaves at b (t = 1) (docs/model.md §6c).
+template <class Real>
+inline Real marchHeight(const MethodContext<Real>& c, Real t) {
+    return c.scale + c.bias - c.scale * t;
+}
+
 template <class Real>
 Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                        const MethodConfig& cfg) {
-    return steepMarch(c, uv0, v, cfg).uv;
+    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg);
+    c.foundHeight = marchHeight(c, m.layer);
+    return m.uv;
 }
 
 // 002/004 tail: interpolate between the layers before and after the crossing.
@@ -73,6 +82,7 @@ Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     Real denom = after - before;
     if (denom == Real(0)) c.flags |= kFlagZeroDivide;  // 0/0 or x/0: w is not finite
     Real w = after / denom;
+    c.foundHeight = marchHeight(c, m.layer - m.layerDepth * w);
     return prev * w + m.uv * (Real(1) - w);
 }
 
@@ -103,6 +113,7 @@ Vec2<Real> methodRelief(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         }
         depth += size;
     }
+    c.foundHeight = marchHeight(c, best);
     return dp + ds * best;
 }
 

@@ -16,10 +16,13 @@ Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                            const MethodConfig& cfg) {
     Vec2<Real> pdir = Vec2<Real>(v.x, v.y) / Real(cfg.iterations);
     Vec2<Real> uv = uv0;
+    Real sum = Real(0);
     for (int i = 0; i < cfg.iterations; ++i) {
         Real parallax = c.parallaxMap(uv);
         uv += pdir * parallax;
+        sum += parallax;
     }
+    c.foundHeight = sum / Real(cfg.iterations);  // the mean height it used (docs/model.md §6c)
     return uv;
 }
 
@@ -31,7 +34,9 @@ Vec2<Real> methodTangentPlane(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real>
     Real parallax = c.parallaxMap(uv0);
     Real ndotv = glm::dot(n, v);
     if (!(ndotv > Real(0))) c.flags |= kFlagZeroDivide;  // plane faces away or is edge-on
-    return uv0 + Vec2<Real>(v.x, v.y) * parallax / ndotv;
+    const Real along = parallax / ndotv;  // the eye ray's parameter at the tangent plane
+    c.foundHeight = along * v.z;
+    return uv0 + Vec2<Real>(v.x, v.y) * along;
 }
 
 }  // namespace pgt

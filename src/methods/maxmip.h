@@ -86,7 +86,10 @@ Vec2<Real> methodMaxMip(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     const Real X0 = start.x * W - Real(0.5), Y0 = start.y * H - Real(0.5);
     const Real dX = -dir.x * W, dY = -dir.y * H;
     const Real tauMax = zTop - zBot;
-    auto at = [&](Real tau) { return uv0 + dir * (zTop - tau); };
+    auto at = [&](Real tau) {
+        c.foundHeight = zTop - tau;  // the ray's height there (docs/model.md §6c)
+        return uv0 + dir * (zTop - tau);
+    };
     if (!(std::fabs(X0) < Real(1 << 30) && std::fabs(Y0) < Real(1 << 30))) return at(tauMax);
     int level = p.top();
     int64_t nx = int64_t(std::floor(X0)) >> level, ny = int64_t(std::floor(Y0)) >> level;

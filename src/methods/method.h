@@ -35,6 +35,10 @@ enum class MethodKind {
 
 struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
 
+// The self-shadowing a method does toward the view's light (docs/model.md §6c): none, the
+// hard march of the POM literature, or Tatarchuk's soft shadow (DirectX SDK sample).
+enum class ShadowMarch { None, Hard, Soft };
+
 struct MethodConfig {
     MethodKind kind = MethodKind::None;
     std::string name;                       // "pom"
@@ -58,6 +62,10 @@ struct MethodConfig {
     // Glsl: the shader file, function, sampler and uniforms (its name is the user's).
     std::shared_ptr<const GlslSpec> glsl;
     std::string preset;  // the engine/document preset it came from, if any
+    // Self-shadowing, run after the method from the point it found when the view has a light.
+    ShadowMarch shadow = ShadowMarch::Hard;
+    int shadowSteps = 16;           // the hard march's samples toward the light
+    double shadowSoftening = 0.58;  // the soft shadow's g_fShadowSoftening
 };
 
 // Stiff-case flags a method raises (counted per frame, never thrown).
@@ -80,6 +88,9 @@ struct MethodContext : MapRefs {
     // The fragment's level of detail for "lod": "grad" (lodFromGradients of uv0's
     // derivatives); 0 = level 0. The caller sets it, and only where the maps have mipmaps.
     Real lod = 0;
+    // Out: the height (UV units, docs/model.md §3's s h + b) of the point the method found,
+    // set by every method; its depth offset along the eye ray is -height / V.z (§6c).
+    Real foundHeight = Real(NAN);
 
     Real h(Vec2<Real> uv) {
         ++fetches;

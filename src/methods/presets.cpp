@@ -29,6 +29,12 @@ MethodConfig layered(MethodKind kind, int minLayers, int maxLayers, int maxSteps
     return c;
 }
 
+// Tatarchuk's soft shadow (methods/shadow.h) in place of the hard march.
+MethodConfig softShadowed(MethodConfig c) {
+    c.shadow = ShadowMarch::Soft;
+    return c;
+}
+
 MethodPreset builtinPreset(const char* name, const char* source, MethodConfig config) {
     return {name, source, std::move(config), {}, ""};
 }
@@ -71,6 +77,11 @@ const std::vector<MethodPreset>& methodPresets() {
         builtinPreset("deferred_blog",
                       "004 (the deferred-renderer blog): numSteps 100 at height scale 0.15",
                       layered(K::Steep, 100, 100, 100, 0.15, -0.15)),
+        builtinPreset("tatarchuk_soft",
+                      "Tatarchuk I3D 2006 / DirectX SDK: pom with lerp(50, 8) samples by V.z "
+                      "at height scale 0.02 below the polygon, and the sample's soft "
+                      "self-shadow (softening 0.58)",
+                      softShadowed(layered(K::Pom, 8, 50, 0, 0.02, -0.02))),
         glslPreset("godot",
                    "Godot 4 BaseMaterial3D, height mapping on, deep parallax off: "
                    "heightmap_scale 5",

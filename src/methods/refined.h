@@ -25,7 +25,11 @@ Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     const Vec2<Real> ds = -Vec2<Real>(v.x, v.y) / v.z * c.scale;
     const Real size = Real(1) / Real(cfg.linearSteps);
     Real ta = Real(0), fa = c.depth(dp);
-    if (!(fa > Real(0))) return dp;  // the top of the relief is already on the surface
+    auto found = [&](Real t) {
+        c.foundHeight = marchHeight(c, t);
+        return dp + ds * t;
+    };
+    if (!(fa > Real(0))) return found(Real(0));  // the top of the relief is on the surface
     Real tb = ta, fb = fa;
     for (int i = 0; i < cfg.linearSteps; ++i) {
         tb = ta + size;
@@ -33,7 +37,7 @@ Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         if (!(fb > Real(0))) break;
         ta = tb, fa = fb;
     }
-    if (fb > Real(0)) return dp + ds * tb;  // no sample below the surface (h below 0)
+    if (fb > Real(0)) return found(tb);  // no sample below the surface (h below 0)
     Real t = tb;
     for (int i = 0; i < cfg.secantSteps; ++i) {
         t = ta + (tb - ta) * fa / (fa - fb);  // fa > 0 >= fb: no division by zero
@@ -43,7 +47,7 @@ Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         else
             tb = t, fb = f;
     }
-    return dp + ds * t;
+    return found(t);
 }
 
 // Contact refinement (Riccardi 2018): the steep march of methods/layered.h with a fixed
@@ -85,6 +89,7 @@ Vec2<Real> methodContact(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     Real denom = after - before;
     if (denom == Real(0)) c.flags |= kFlagZeroDivide;
     Real w = after / denom;
+    c.foundHeight = marchHeight(c, layer - layerDepth * w);
     return prev * w + uv * (Real(1) - w);
 }
 

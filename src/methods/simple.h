@@ -7,7 +7,8 @@ namespace pgt {
 
 // Normal-mapping baseline: uv' = uv0.
 template <class Real>
-Vec2<Real> methodNone(MethodContext<Real>&, Vec2<Real> uv0, Vec3<Real>, const MethodConfig&) {
+Vec2<Real> methodNone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real>, const MethodConfig&) {
+    c.foundHeight = Real(0);  // the base surface itself
     return uv0;
 }
 
@@ -16,6 +17,7 @@ template <class Real>
 Vec2<Real> methodParallax(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                           const MethodConfig&) {
     Real height = c.h(uv0) * c.scale + c.bias;
+    c.foundHeight = height;
     Real rcpZ = Real(1) / v.z;
     height = height * rcpZ;
     return height * Vec2<Real>(v.x, v.y) + uv0;
@@ -26,6 +28,7 @@ template <class Real>
 Vec2<Real> methodOffsetLimited(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                                const MethodConfig&) {
     Real height = c.h(uv0) * c.scale + c.bias;
+    c.foundHeight = height;  // the height it used (docs/model.md §6c), not on the eye ray
     return height * Vec2<Real>(v.x, v.y) + uv0;
 }
 

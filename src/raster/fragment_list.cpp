@@ -11,6 +11,13 @@
 
 namespace pgt {
 
+namespace {
+// A list made by hand (tests) may leave its lights out: no light (zero) then.
+Vec3d lightOf(const std::vector<Vec3d>& lights, size_t k) {
+    return k < lights.size() ? lights[k] : Vec3d(0);
+}
+}  // namespace
+
 FragmentList compactFragments(const Image2D<Fragment>& frags) {
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
@@ -29,6 +36,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
     list.viewExact.resize(total);
     list.uvDx.resize(total);
     list.uvDy.resize(total);
+    list.light.resize(total);
+    list.lightExact.resize(total);
     tbb::parallel_for(0, H, [&](int y) {
         size_t k = start[size_t(y)];
         for (int x = 0; x < W; ++x) {
@@ -40,6 +49,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             list.viewExact[k] = f.viewTangentExact;
             list.uvDx[k] = f.uvDx;
             list.uvDy[k] = f.uvDy;
+            list.light[k] = f.lightTangent;
+            list.lightExact[k] = f.lightTangentExact;
             ++k;
         }
     });
@@ -53,6 +64,10 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     viewExact.insert(viewExact.end(), from.viewExact.begin(), from.viewExact.end());
     uvDx.insert(uvDx.end(), from.uvDx.begin(), from.uvDx.end());
     uvDy.insert(uvDy.end(), from.uvDy.begin(), from.uvDy.end());
+    for (size_t k = 0; k < from.size(); ++k) {
+        light.push_back(lightOf(from.light, k));
+        lightExact.push_back(lightOf(from.lightExact, k));
+    }
 }
 
 namespace {
@@ -63,6 +78,8 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.viewExact.push_back(from.viewExact[k]);
     to.uvDx.push_back(from.uvDx[k]);
     to.uvDy.push_back(from.uvDy[k]);
+    to.light.push_back(lightOf(from.light, k));
+    to.lightExact.push_back(lightOf(from.lightExact, k));
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
@@ -71,6 +88,8 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.viewExact[slot] = from.viewExact[k];
     to.uvDx[slot] = from.uvDx[k];
     to.uvDy[slot] = from.uvDy[k];
+    to.light[slot] = lightOf(from.light, k);
+    to.lightExact[slot] = lightOf(from.lightExact, k);
 }
 }  // namespace
 

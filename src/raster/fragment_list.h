@@ -14,13 +14,14 @@ namespace pgt {
 
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
-// reads them as they are. 100 bytes per fragment.
+// reads them as they are. 148 bytes per fragment.
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
-    std::vector<Vec3d> view;        // unit tangent-space V (003 Listing 7.8's frame)
-    std::vector<Vec3d> viewExact;   // V in the exact frame of the drawn surface (meshes)
-    std::vector<Vec2d> uvDx, uvDy;  // uv0's screen derivatives (Fragment::uvDx, uvDy)
+    std::vector<Vec3d> view;               // unit tangent-space V (003 Listing 7.8's frame)
+    std::vector<Vec3d> viewExact;          // V in the exact frame of the drawn surface (meshes)
+    std::vector<Vec2d> uvDx, uvDy;         // uv0's screen derivatives (Fragment::uvDx, uvDy)
+    std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     size_t size() const { return pixel.size(); }
     // Appends `from`'s fragments, their pixel indices moved by `pixelOffset`.
     void append(const FragmentList& from, int32_t pixelOffset = 0);

@@ -218,7 +218,7 @@ void quadDerivatives(Fragment& f, const ScreenTriangle& tri, int px, int py) {
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
 // (003 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
 void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
-           const SurfaceDerivatives& d, const Camera& camera) {
+           const SurfaceDerivatives& d, const Camera& camera, const Ray& ray, Vec3d light) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
@@ -233,6 +233,13 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     Vec3d view = camera.viewVector(position);
     f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
     f.viewTangentExact = f.viewTangent;
+    f.rayT = glm::dot(position - ray.origin, ray.dir);
+    auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
+        return light == Vec3d(0) ? Vec3d(0)
+                                 : glm::normalize(Vec3d(glm::dot(x, light), glm::dot(y, light),
+                                                        glm::dot(z, light)));
+    };
+    f.lightTangent = f.lightTangentExact = toFrame(t, bt, n);
     f.exactFrame = d.exact;
     if (d.exact) {
         Vec3d te = glm::normalize(d.dSdu - n * glm::dot(n, d.dSdu));
@@ -240,12 +247,13 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
         be = glm::normalize(be - te * glm::dot(te, be));
         f.viewTangentExact =
             glm::normalize(Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
+        f.lightTangentExact = toFrame(te, be, n);
     }
 }
 
 // Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
 // forward); `frags` and `depth` are the rectangle's.
-void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera,
+void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera, Vec3d light,
           PixelRect rect, Image2D<Fragment>& frags, Image2D<double>& depth) {
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
@@ -259,7 +267,7 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             if (!(z < nearest)) continue;
             nearest = z;
             Fragment& f = frags.at(px - rect.x0, py - rect.y0);
-            shade(f, tri, b, d, camera);
+            shade(f, tri, b, d, camera, camera.pixelRay(px, py), light);
             quadDerivatives(f, tri, px, py);
         }
 }
@@ -367,7 +375,7 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-                scan(screen, d, camera_, rect, out, depth);
+                scan(screen, d, camera_, camera_.light(), rect, out, depth);
         }
     }
     for (const Fragment& f : out.data) {

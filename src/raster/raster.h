@@ -35,6 +35,11 @@ struct Fragment {
     // Quads start at even x and y; y grows downward (image rows). Non-finite where the
     // neighbour's centre is beyond a pinhole's horizon.
     Vec2d uvDx{0}, uvDy{0};
+    // The direction toward the view's light in the per-vertex and the exact frame (zero
+    // without a light, docs/model.md §6c), and the distance along the pixel's ray to the drawn
+    // point (world units; the base of the depth offsets, §5b).
+    Vec3d lightTangent{0}, lightTangentExact{0};
+    double rayT = NAN;
 };
 
 struct RasterOptions {

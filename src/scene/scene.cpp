@@ -261,6 +261,16 @@ void parseCamera(Scene& s, JsonFields& root) {
     f.finish();
 }
 
+// "light": {"theta", "phi"}: a directional light (docs/model.md §5b).
+void parseLight(Scene& s, JsonFields& root) {
+    if (!root.has("light")) return;
+    JsonFields f(root.raw("light"), s.file, "light");
+    s.light.on = true;
+    s.light.theta = f.number("theta", 0.0, 90.0);
+    s.light.phi = f.number("phi", 0.0, -360.0, 360.0);
+    f.finish();
+}
+
 // "truth": rate, geometry, uncertainty, memory budget; a plane's vertex bound.
 void parseTruth(Scene& s, JsonFields& root) {
     if (root.has("truth")) {
@@ -334,6 +344,7 @@ Scene parseScene(const Json& json, const std::string& file) {
         f.finish();
     }
     parseCamera(s, root);
+    parseLight(s, root);
     s.methods = parseMethods(root.raw("methods"), file, "methods");
     for (size_t i = 0; i < s.methods.size(); ++i)
         if (s.methods[i].lodGrad && !s.mipmaps)
@@ -361,6 +372,7 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view);
 Camera makeCamera(const Scene& s, const ViewSpec& view) {
     Camera cam = makeCameraUnjittered(s, view);
     cam.setJitter(view.camera.jitter, view.camera.jitterSeed);
+    if (view.light.on) cam.setLight(viewFromAngles(view.light.theta, view.light.phi));
     return cam;
 }
 
@@ -479,7 +491,7 @@ Json cameraJson(const CameraSpec& c) {
 Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
     Json methods = Json::array();
     for (const auto& m : s.methods) methods.push_back(toJson(m));
-    return {
+    Json out = {
         // The block as written (every generator parameter) and the file's content hash.
         {"heightmap",
          {{"source", s.heightSource},
@@ -498,6 +510,9 @@ Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
           {"uncertainty", s.truth.uncertainty},
           {"memory_mb", s.truth.memoryMb}}},
     };
+    // Only with a light: a study without one keeps the identity it had before lights.
+    if (view.light.on) out["light"] = {{"theta", view.light.theta}, {"phi", view.light.phi}};
+    return out;
 }
 
 const char* baseType(const BaseSurface& base) {

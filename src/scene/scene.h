@@ -142,11 +142,21 @@ struct TruthSpec {
     int memoryMb = 1536;
 };
 
-// What changes between the views of one scene in a study or a fit: the camera and (s, b).
-// Stages take it beside the Scene instead of a copy of the Scene (which owns the texels).
+// A directional light (docs/model.md §5b): the direction toward it by the angles of an
+// orthographic camera's view direction, (sin t cos p, sin t sin p, cos t) in world space (a
+// plane's tangent space). Off: no shadows anywhere.
+struct LightSpec {
+    bool on = false;
+    double theta = 45, phi = 0;  // degrees
+};
+
+// What changes between the views of one scene in a study or a fit: the camera, (s, b) and
+// the light. Stages take it beside the Scene instead of a copy of the Scene (which owns the
+// texels).
 struct ViewSpec {
     CameraSpec camera;
     Displacement displacement;
+    LightSpec light;
 };
 
 struct Scene {
@@ -166,11 +176,12 @@ struct Scene {
     UvExtent uvExtent;
     bool cullBackFaces = true;
     CameraSpec camera;
+    LightSpec light;
     std::vector<MethodConfig> methods;
     TruthSpec truth;
     nlohmann::json sweep;  // the "sweep" block as written (validated by study/sweep.h)
     nlohmann::json fit;    // the "fit" block as written (validated by study/fit.h)
-    ViewSpec view() const { return {camera, displacement}; }  // the scene's own view
+    ViewSpec view() const { return {camera, displacement, light}; }  // the scene's own view
 };
 
 // Reads and validates a scene file; throws InputError (file, field, value) on bad input,

@@ -13,6 +13,7 @@
 #include "core/percentile.h"
 #include "gl/glsl_method.h"
 #include "methods/registry.h"
+#include "methods/shadow.h"
 
 namespace pgt {
 
@@ -145,15 +146,19 @@ Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const Fragm
                             tex.height->height);
 }
 
+// One method on one fragment, then its shadow march toward `light` (tangent space; zero:
+// the view has no light). The depth offset is -height / V.z (docs/model.md §6c).
 template <class Real>
 MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0, Vec3<Real> v,
-                   Real lod) {
+                   Real lod, Vec3<Real> light) {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
     c.lod = lod;
     Vec2<Real> uv = runMethod<Real>(cfg, c, uv0, v);
     MethodPixel p;
     p.covered = true;
     p.uv = Vec2d(uv);
+    p.depth = float(-c.foundHeight / v.z);
+    if (light != Vec3<Real>(0)) p.shadow = runShadow(cfg, c, uv, light);
     p.fetches = uint32_t(c.fetches);
     p.flags = c.flags;
     // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
@@ -226,13 +231,17 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
+    const auto& lights = exactFrame ? frags.lightExact : frags.light;
+    // A list made by hand (tests) may leave the lights out: no light then.
+    auto light = [&](size_t k) { return k < lights.size() ? lights[k] : Vec3d(0); };
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
-                                                     fragmentLod<double>(cfg, tex, frags, k))
-                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
-                                                    fragmentLod<float>(cfg, tex, frags, k));
+                cfg.doublePrecision
+                    ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
+                                     fragmentLod<double>(cfg, tex, frags, k), light(k))
+                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
+                                    fragmentLod<float>(cfg, tex, frags, k), Vec3f(light(k)));
         }
     });
     return out;
@@ -244,13 +253,14 @@ namespace {
 template <class Real>
 double cppPass(const MethodConfig& cfg, const MethodTextures& tex,
                const std::vector<Vec2<Real>>& uv0, const std::vector<Vec3<Real>>& view,
-               const std::vector<Real>& lod) {
+               const std::vector<Real>& lod, const std::vector<Vec3<Real>>& light) {
     double acc = 0;
     for (size_t k = 0; k < uv0.size(); ++k) {
         MethodContext<Real> c = makeMethodContext<Real>(tex);
         c.lod = lod[k];
         Vec2<Real> uv = runMethod<Real>(cfg, c, uv0[k], view[k]);
         acc += double(uv.x + uv.y);
+        if (light[k] != Vec3<Real>(0)) acc += double(runShadow(cfg, c, uv, light[k]));
     }
     return acc;
 }
@@ -261,6 +271,8 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     // The inputs rounded before the clock starts: the time is the method's alone.
     const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
     const auto view = toFloat<Vec3<Real>>(frags.view);
+    auto light = toFloat<Vec3<Real>>(frags.light);
+    light.resize(frags.size(), Vec3<Real>(0));
     std::vector<Real> lod(frags.size());
     for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(cfg, tex, frags, k);
     std::vector<double> samples;
@@ -268,7 +280,7 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     for (int r = 0; r < repeats; ++r) {
         throwIfCancelled();
         auto t0 = Clock::now();
-        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod);
+        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod, light);
         samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /
                           double(frags.size()));
     }

@@ -54,6 +54,20 @@ namespace {
 Json finiteOrNull(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
 }  // namespace
 
+double share(int64_t part, int64_t whole) { return whole > 0 ? double(part) / double(whole) : NAN; }
+
+Json shadowJson(const ShadowCounts& c) {
+    auto num = finiteOrNull;
+    return {{"compared", c.compared},
+            {"disagree", num(share(c.differ, c.compared))},
+            {"uv_right", c.right},
+            {"disagree_uv_right", num(share(c.differRight, c.right))},
+            {"uv_wrong", c.wrong},
+            {"disagree_uv_wrong", num(share(c.differWrong, c.wrong))},
+            {"truth_shadowed", num(share(c.truthDark, c.compared))},
+            {"method_shadowed", num(share(c.methodDark, c.compared))}};
+}
+
 Json toJson(const FrameStats& s) {
     auto num = finiteOrNull;
     return {
@@ -76,6 +90,15 @@ Json toJson(const FrameStats& s) {
         {"zero_divide", s.zeroDivide},
         {"step_limit", s.stepLimit},
         {"fetches", {{"mean", s.fetchesMean}, {"max", s.fetchesMax}}},
+        {"depth_error_texels",
+         {{"pixels", s.depthError.count},
+          {"mean", num(s.depthError.mean)},
+          {"p50", num(s.depthError.p50)},
+          {"p90", num(s.depthError.p90)},
+          {"p99", num(s.depthError.p99)},
+          {"max", num(s.depthError.max)},
+          {"signed_mean", num(s.depthSignedMean)}}},
+        {"shadow", shadowJson(s.shadow)},
     };
 }
 
@@ -126,6 +149,8 @@ Json truthJson(const Scene& scene, const RenderResult& r) {
                                 {"rate_fine", u.rateFine},
                                 {"pixels_compared", u.pixelsCompared},
                                 {"hit_mismatch", u.hitMismatch},
+                                {"shadow_mismatch", u.shadowMismatch},
+                                {"shadow_compared", u.shadowCompared},
                                 {"p50_texels", finiteOrNull(u.p50Texels)},
                                 {"p99_texels", finiteOrNull(u.p99Texels)},
                                 {"max_texels", finiteOrNull(u.maxTexels)}};
@@ -293,11 +318,20 @@ std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& conf
                                       "base.u",  "base.v",  "base.hit"};
     for (const MethodConfig& cfg : configs)
         for (const char* c : {".u", ".v", ".err"}) names.push_back(cfg.label + c);
+    // The depth offsets and shadow states (docs/model.md §5b, §6c), after the UV channels.
+    names.push_back("truth.depth");
+    names.push_back("truth.shadow");
+    for (const MethodConfig& cfg : configs)
+        for (const char* c : {".depth", ".shadow"}) names.push_back(cfg.label + c);
     return names;
 }
 
+namespace {
+float shadowChannel(int8_t state) { return state == kShadowNone ? NAN : float(state); }
+}  // namespace
+
 void interleaveFrameBand(const FrameBand& b, float* rows) {
-    const size_t methods = b.pixels.size(), nc = 6 + 3 * methods;
+    const size_t methods = b.pixels.size(), nc = 8 + 5 * methods, tail = 6 + 3 * methods;
     const size_t n = b.truth->data.size();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
@@ -313,7 +347,11 @@ void interleaveFrameBand(const FrameBand& b, float* rows) {
                 p[6 + 3 * i] = m.covered ? float(m.uv.x) : NAN;
                 p[7 + 3 * i] = m.covered ? float(m.uv.y) : NAN;
                 p[8 + 3 * i] = b.errTexels[i]->data[k];
+                p[tail + 2 + 2 * i] = m.covered ? m.depth : NAN;
+                p[tail + 3 + 2 * i] = m.covered ? shadowChannel(m.shadow) : NAN;
             }
+            p[tail] = float(t.depth);
+            p[tail + 1] = shadowChannel(t.shadow);
         }
     });
 }

@@ -54,7 +54,11 @@ class RenderWriter : public FrameSink {
 void writeRenderOutputs(const Scene& scene, const RenderResult& result, const std::string& dir);
 
 // frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
-// LABEL.u, LABEL.v, LABEL.err per method (docs/outputs.md).
+// LABEL.u, LABEL.v, LABEL.err per method, then truth.depth, truth.shadow and LABEL.depth,
+// LABEL.shadow per method (docs/outputs.md).
+// A share of counts, NaN when the whole is 0; shadow counts as summary.json has them.
+double share(int64_t part, int64_t whole);
+nlohmann::json shadowJson(const ShadowCounts& counts);
 std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
 // A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
 // channel has no value), into `rows` (width x rows x channels floats).

@@ -75,6 +75,16 @@ struct MethodRun {
     Image2D<float> errTexels;
 };
 
+// The truth's depth offsets (docs/model.md §5b): where the rasteriser covers a pixel the truth
+// hit, the hit's distance along the ray beyond the drawn point, in UV units (l world units).
+void setTruthDepths(Image2D<TruthSample>& truth, const Image2D<Fragment>& frags, double l) {
+    for (size_t k = 0; k < truth.data.size(); ++k) {
+        TruthSample& t = truth.data[k];
+        const Fragment& f = frags.data[k];
+        t.depth = t.hit && f.covered ? (t.t - f.rayT) / l : NAN;
+    }
+}
+
 // Rows [band.y0, band.y1) of `full` from a band image.
 template <class T>
 void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
@@ -165,9 +175,10 @@ class BandPipeline {
         if (truth_.surfaces)
             truth_.surfaces->truth->traceRect(r_.camera, band, ownTruth_);
         else if (truth_.prepared)
-            truthBand_ = &truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
+            ownTruth_ = truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
         else
             ownTruth_ = rowsOf(truth_.frames->truth, band);
+        setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
         for (const TruthSample& t : truthBand_->data) r_.truthHits += t.hit;
         r_.timingsMs["trace"] += msSince(t0);
         if (!truth_.haveFine()) return;
@@ -413,11 +424,11 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
     // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
-    // interleaved rows (6 + 3 per method floats).
+    // interleaved rows (8 + 5 per method floats).
     const double band = double(width) * std::min(height, bandRows(width));
     double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 68 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
-    if (m.writesImages) perBandPixel += (6.0 + 3.0 * methods) * sizeof(float) * 2;
+    if (m.writesImages) perBandPixel += (8.0 + 5.0 * methods) * sizeof(float) * 2;
     // The frame: each method's kept errors (float) for its percentiles, the truth's own, the
     // error maps' float images; or everything when the images are kept.
     double perPixel = (methods + 1) * sizeof(float);

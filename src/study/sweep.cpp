@@ -67,6 +67,51 @@ struct ResultRow {
 
 std::string integer(int64_t x) { return std::to_string(x); }
 
+// results.csv's last columns: the timing's spread, the warnings, and the depth and shadow
+// statistics (docs/model.md §7b; empty without a light).
+std::vector<CsvColumn<ResultRow>> laterColumns() {
+    using Col = CsvColumn<ResultRow>;
+    auto depth = [](double Summary::*field) {
+        return [field](const ResultRow& x) { return num(x.m.stats.depthError.*field); };
+    };
+    auto shadowShare = [](int64_t ShadowCounts::*part, int64_t ShadowCounts::*whole) {
+        return [part, whole](const ResultRow& x) {
+            const ShadowCounts& c = x.m.stats.shadow;
+            return num(share(c.*part, c.*whole));
+        };
+    };
+    return {
+        Col{"timing_backend", [](const ResultRow& x) { return x.m.timingBackend; }},
+        Col{"ns_per_px_p25", [](const ResultRow& x) { return num(x.m.timing.p25); }},
+        Col{"ns_per_px_p75", [](const ResultRow& x) { return num(x.m.timing.p75); }},
+        Col{"timing_repeats", [](const ResultRow& x) { return integer(x.m.timing.repeats); }},
+        Col{"timing_fragments", [](const ResultRow& x) { return integer(x.m.timing.fragments); }},
+        Col{"timing_case",
+            [](const ResultRow& x) {
+                return integer(x.m.timingCase >= 0 ? x.m.timingCase : x.c.index);
+            }},
+        Col{"warnings", [](const ResultRow& x) { return warningKinds(x.m.warnings); }},
+        Col{"depth_mean", depth(&Summary::mean)},
+        Col{"depth_p90", depth(&Summary::p90)},
+        Col{"depth_p99", depth(&Summary::p99)},
+        Col{"depth_max", depth(&Summary::max)},
+        Col{"depth_signed_mean", [](const ResultRow& x) { return num(x.m.stats.depthSignedMean); }},
+        Col{"light_theta",
+            [](const ResultRow& x) { return num(x.r.view.light.on ? x.r.view.light.theta : NAN); }},
+        Col{"light_phi",
+            [](const ResultRow& x) { return num(x.r.view.light.on ? x.r.view.light.phi : NAN); }},
+        Col{"shadow_compared",
+            [](const ResultRow& x) { return integer(x.m.stats.shadow.compared); }},
+        Col{"shadow_disagree", shadowShare(&ShadowCounts::differ, &ShadowCounts::compared)},
+        Col{"shadow_disagree_uv_right",
+            shadowShare(&ShadowCounts::differRight, &ShadowCounts::right)},
+        Col{"shadow_disagree_uv_wrong",
+            shadowShare(&ShadowCounts::differWrong, &ShadowCounts::wrong)},
+        Col{"truth_shadowed", shadowShare(&ShadowCounts::truthDark, &ShadowCounts::compared)},
+        Col{"method_shadowed", shadowShare(&ShadowCounts::methodDark, &ShadowCounts::compared)},
+    };
+}
+
 // results.csv (docs/studies.md): the columns in order, each with how a row writes it.
 const CsvTable<ResultRow>& resultTable() {
     using Col = CsvColumn<ResultRow>;
@@ -83,7 +128,7 @@ const CsvTable<ResultRow>& resultTable() {
             return num(x.m.haveExactFrame ? x.m.statsExactFrame.error.*field : NAN);
         };
     };
-    static const CsvTable<ResultRow> table({
+    std::vector<CsvColumn<ResultRow>> columns = {
         Col{"case", [](const ResultRow& x) { return integer(x.c.index); }},
         Col{"theta", [](const ResultRow& x) { return num(x.c.theta); }},
         Col{"phi", [](const ResultRow& x) { return num(x.c.phi); }},
@@ -115,17 +160,9 @@ const CsvTable<ResultRow>& resultTable() {
         Col{"truth_uncertainty_max", uncertainty(&TruthUncertainty::maxTexels)},
         Col{"mean_exact_frame", exact(&Summary::mean)},
         Col{"p90_exact_frame", exact(&Summary::p90)},
-        Col{"timing_backend", [](const ResultRow& x) { return x.m.timingBackend; }},
-        Col{"ns_per_px_p25", [](const ResultRow& x) { return num(x.m.timing.p25); }},
-        Col{"ns_per_px_p75", [](const ResultRow& x) { return num(x.m.timing.p75); }},
-        Col{"timing_repeats", [](const ResultRow& x) { return integer(x.m.timing.repeats); }},
-        Col{"timing_fragments", [](const ResultRow& x) { return integer(x.m.timing.fragments); }},
-        Col{"timing_case",
-            [](const ResultRow& x) {
-                return integer(x.m.timingCase >= 0 ? x.m.timingCase : x.c.index);
-            }},
-        Col{"warnings", [](const ResultRow& x) { return warningKinds(x.m.warnings); }},
-    });
+    };
+    for (auto& c : laterColumns()) columns.push_back(std::move(c));
+    static const CsvTable<ResultRow> table(std::move(columns));
     return table;
 }
 

@@ -132,6 +132,7 @@ struct TruthSurface::Impl {
         int guard = 0;
         bool done = false;
         TruthSample result;
+        Vec3d ng{0};  // the hit triangle's geometric normal (unnormalised, either side)
     };
 
     // Clips the ray; false when it misses the relief's bounds entirely.
@@ -203,6 +204,8 @@ struct TruthSurface::Impl {
         w.result = hitToSample(rh);
         if (w.result.hit) {
             w.result.uv += w.uvOffset;
+            w.result.t = w.t + double(rh.ray.tfar);
+            w.ng = Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
             w.done = true;
             return;
         }
@@ -221,7 +224,8 @@ struct TruthSurface::Impl {
         Vec2d uvOffset{0};     // tile offset added to the UV (periodic planes)
     };
 
-    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx, Detail* detail = nullptr) const {
+    TruthSample trace(const Ray& ray, RTCIntersectContext* ctx, Detail* detail = nullptr,
+                      Vec3d* ng = nullptr) const {
         Walk w;
         if (!start(ray, w)) return {};
         RTCRayHit rh;
@@ -233,7 +237,34 @@ struct TruthSurface::Impl {
         if (detail)
             detail->rh = rh, detail->org = w.segOrg, detail->dir = w.dir,
             detail->uvOffset = w.uvOffset;
+        if (ng) *ng = w.ng;
         return w.result;
+    }
+
+    // The truth's shadow at the hit `s` of the ray `eye` (docs/model.md §5b): in shadow where
+    // the sheet, on the side the eye sees, faces away from the light, or where a ray from the
+    // hit toward the light meets the sheet (it starts 1e-5 of the sheet's size off the
+    // surface, a hundredth of a triangle at the default rates, far above float rounding).
+    int8_t shadowAt(const Ray& eye, const TruthSample& s, Vec3d ng, Vec3d light,
+                    RTCIntersectContext* ctx) const {
+        if (!s.hit) return kShadowNone;
+        if (glm::dot(ng, eye.dir) > 0) ng = -ng;
+        const double len = glm::length(ng);
+        if (!(len > 0)) return kShadowDark;  // a degenerate triangle: no side faces the light
+        ng /= len;
+        if (!(glm::dot(ng, light) > 0)) return kShadowDark;
+        const Vec3d p = eye.origin + eye.dir * s.t;
+        const double eps = 1e-5 * std::max(glm::length(boundsHi - boundsLo), glm::length(p));
+        return trace(Ray{p + ng * eps, light, false}, ctx).hit ? kShadowDark : kShadowLit;
+    }
+
+    // A pixel's truth with its shadow when the camera carries a light.
+    TruthSample tracePixel(const Camera& camera, int x, int y, RTCIntersectContext* ctx) const {
+        const Ray ray = camera.pixelRay(x, y);
+        Vec3d ng{0};
+        TruthSample s = trace(ray, ctx, nullptr, &ng);
+        if (camera.hasLight()) s.shadow = shadowAt(ray, s, ng, camera.light(), ctx);
+        return s;
     }
 
     // A tile's rays as coherent streams: every live walk's stretch in one rtcIntersect1M
@@ -265,8 +296,15 @@ struct TruthSurface::Impl {
             }
             live.resize(keep);
         }
-        for (int k = 0; k < n; ++k)
-            out.at(x0 + k % w - ox, y0 + k / w - oy) = walks[size_t(k)].result;
+        RTCIntersectContext shadowCtx;  // shadow rays scatter: no coherence flag
+        rtcInitIntersectContext(&shadowCtx);
+        for (int k = 0; k < n; ++k) {
+            Walk& wk = walks[size_t(k)];
+            if (camera.hasLight() && wk.result.hit)
+                wk.result.shadow = shadowAt(camera.pixelRay(x0 + k % w, y0 + k / w), wk.result,
+                                            wk.ng, camera.light(), &shadowCtx);
+            out.at(x0 + k % w - ox, y0 + k / w - oy) = wk.result;
+        }
     }
 
     // Planes keep their vertices at (s, 0) and carry b as a translation N * l * b of the

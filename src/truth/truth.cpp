@@ -236,7 +236,7 @@ void TruthSurface::traceInto(const Camera& camera, PixelRect block, Image2D<Trut
         for (int t = r.begin(); t < r.end(); ++t)
             for (int y = tiles.y0(t); y < tiles.y1(t); ++y)
                 for (int x = tiles.x0(t); x < tiles.x1(t); ++x)
-                    out.at(x - ox, y - oy) = m.trace(camera.pixelRay(x, y), &ctx);
+                    out.at(x - ox, y - oy) = m.tracePixel(camera, x, y, &ctx);
     });
 }
 

@@ -25,7 +25,8 @@ class Frame:
     """One rendered view: frame.exr's channels and summary.json.
 
     channels: dict name -> float32 array (height x width), the names of frame.exr
-      (truth.u, truth.v, truth.hit, base.u, base.v, base.hit, LABEL.u, LABEL.v, LABEL.err);
+      (truth.u, truth.v, truth.hit, base.u, base.v, base.hit, LABEL.u, LABEL.v, LABEL.err,
+      then truth.depth, truth.shadow, LABEL.depth, LABEL.shadow);
       row 0 is the top of the image, as in frame.exr. Views of one array: `pixels`.
     pixels: float32 array height x width x channels, in the channels' order.
     summary: summary.json as a dict.

@@ -1,0 +1,114 @@
+"""The report's depth-offset and self-shadowing section (docs/model.md §7b): each
+configuration's depth error and shadow disagreement against the view angle and against its
+cost, beside its UV error. Studies without a light (or written before depth existed) have no
+such columns, or only empty ones: the section is left out."""
+import os
+
+from common import nice, np, plt, save_figure
+from report_configs import families
+
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
+
+# (column, axis label, file stem)
+MEASURES = [("depth_mean", "mean depth error [texels]", "depth"),
+            ("shadow_disagree", "share of pixels whose shadow differs from the truth's", "shadow")]
+
+
+def has_depth(df):
+    return "depth_mean" in df.columns and np.isfinite(df["depth_mean"]).any()
+
+
+def _panels(df, column, ylabel, figdir, stem):
+    """One panel per family, a line per configuration: `column` averaged over the cases of
+    each view angle."""
+    fams = {f: ls for f, ls in families(df).items()
+            if np.isfinite(df[df["label"].isin(ls)][column]).any()}
+    if not fams:
+        return None
+    cols = min(3, len(fams))
+    rows = (len(fams) + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.0 * rows), squeeze=False)
+    for ax in axes.flat[len(fams):]:
+        ax.set_visible(False)
+    for ax, (family, labels) in zip(axes.flat, fams.items()):
+        for i, label in enumerate(labels):
+            r = df[df["label"] == label].groupby("theta")[column].mean()
+            r = r[np.isfinite(r)]
+            if not r.empty:
+                ax.plot(r.index, r.values, marker=MARKERS[i % len(MARKERS)], ms=3, lw=1.2,
+                        label=label)
+        if column == "depth_mean":
+            ax.set_yscale("log")
+        ax.set_title(family, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=6)
+    fig.supxlabel("view angle theta [degrees]", fontsize=9)
+    fig.supylabel(ylabel, fontsize=9)
+    fig.tight_layout()
+    name = f"{stem}_vs_theta.png"
+    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    plt.close(fig)
+    return name
+
+
+def _against_cost(agg, figdir):
+    """Depth error and shadow disagreement against each configuration's time (C++ methods,
+    the only ones that report depth)."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    colours = plt.get_cmap("tab20")
+    for ax, (key, ylabel, _) in zip(axes, MEASURES):
+        for k, (method, grp) in enumerate(agg.groupby("method")):
+            ok = np.isfinite(grp[key]) & np.isfinite(grp["ns"])
+            if ok.any():
+                ax.scatter(grp["ns"][ok].clip(lower=1e-2), grp[key][ok], s=20, label=method,
+                           color=colours(k % 20))
+        ax.set_xscale("log")
+        if key == "depth_mean":
+            ax.set_yscale("log")
+        ax.set_xlabel("method time, shadow march included [ns per pixel, one C++ thread]")
+        ax.set_ylabel(ylabel)
+        ax.tick_params(labelsize=7)
+    axes[0].legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    name = "depth_shadow_vs_cost.png"
+    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    plt.close(fig)
+    return name
+
+
+def depth_shadow_lines(df, figdir):
+    """report.md's section, its figures drawn into `figdir`; [] without depth columns."""
+    if not has_depth(df):
+        return []
+    agg = df.groupby(["label", "method"], sort=False).agg(
+        mean=("mean", "mean"), depth=("depth_mean", "mean"), depth_p90=("depth_p90", "mean"),
+        signed=("depth_signed_mean", "mean"), shadow=("shadow_disagree", "mean"),
+        right=("shadow_disagree_uv_right", "mean"), wrong=("shadow_disagree_uv_wrong", "mean"),
+        truth=("truth_shadowed", "mean"), ns=("ns_per_px", "mean")).reset_index()
+    agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
+    figs = [_panels(df, col, ylabel, figdir, stem) for col, ylabel, stem in MEASURES]
+    cost = _against_cost(agg, figdir)
+    light = df[["light_theta", "light_phi"]].dropna().drop_duplicates()
+    lit = ", ".join(f"theta {nice(t)}, phi {nice(p)}" for t, p in light.itertuples(index=False))
+    lines = ["## Depth offset and self-shadowing", "",
+             "Where each configuration puts the surface along the eye ray (its depth offset, "
+             "docs/model.md §6c) against the truth's, in texels, and whether its shadow march "
+             "agrees with the truth's shadow rays" + (f" (light at {lit})" if lit else
+                                                      " (the study has no light)") + ". "
+             "Signed mean > 0: the configuration puts the surface too deep. The shadow "
+             "disagreement is split by whether the configuration's uv' was right (<= 1 texel) "
+             "or wrong. GLSL methods report no depth and run no march (blank).", ""]
+    for name in figs + [cost]:
+        if name:
+            lines += [f"![{name}](figures/{name})", ""]
+    lines += ["| configuration | UV mean | depth mean | depth p90 | depth signed | shadow "
+              "differs | where uv' right | where uv' wrong | truth in shadow |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for r in agg.sort_values("depth_mean", na_position="last").itertuples(index=False):
+        pct = (lambda x: "" if not np.isfinite(x) else f"{x:.1%}")
+        num = (lambda x: "" if not np.isfinite(x) else nice(x))
+        lines.append(f"| {r.label} | {num(r.mean)} | {num(r.depth_mean)} | {num(r.depth_p90)} | "
+                     f"{num(r.signed)} | {pct(r.shadow_disagree)} | {pct(r.right)} | "
+                     f"{pct(r.wrong)} | {pct(r.truth)} |")
+    lines.append("")
+    return lines

@@ -1,0 +1,220 @@
+// Depth offsets and self-shadowing (docs/model.md §5b, §6c, §7b) against closed forms: a
+// constant height, head-on views, the plane's exact depth of any hit, a step edge's shadow
+// length, a flat map's lack of shadows, and the truth's shadow rays against a brute-force
+// march of the bilinear surface.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "methods/shadow.h"
+#include "study/evaluate.h"
+#include "study/render.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+// One C++ method on one fragment, as the pipeline runs it: its uv' and its depth offset.
+struct Answer {
+    Vec2f uv;
+    float depth;
+};
+Answer runAt(const MethodConfig& cfg, MethodTextureCache& cache, const Displacement& d, Vec2f uv0,
+             Vec3f v) {
+    MethodContext<float> c = makeMethodContext<float>(cache.get(cfg, d));
+    Answer a;
+    a.uv = runMethod<float>(cfg, c, uv0, v);
+    a.depth = -c.foundHeight / v.z;
+    return a;
+}
+
+// Methods exact on a constant height (their answer lies on the plane z = s h + b up to float
+// rounding), and those exact up to their search's resolution.
+const char* const kExactOnConstant[] = {"parallax", "offset_limited", "pom",       "secant",
+                                        "contact",  "maxmip",         "iterative", "tangent_plane"};
+const char* const kSearchOnConstant[] = {"steep", "relief", "cone", "relaxed_cone"};
+
+TEST(DepthOffset, ConstantHeightIsExactForEveryExactMethod) {
+    const Texture map = test::makeTexture(16, 16, [](int, int) { return 0.3; });
+    const Displacement d{0.08, -0.06};
+    const double z = 0.08 * 0.3 - 0.06;  // the surface's height, UV units
+    MethodTextureCache cache(map, UvExtent(1.0));
+    for (double theta : {0.0, 30.0, 60.0, 80.0})
+        for (double phi : {0.0, 70.0, 200.0}) {
+            const Vec3f v(viewFromAngles(theta, phi));
+            const double want = -z / double(v.z);
+            for (const char* name : kExactOnConstant) {
+                const Answer a = runAt(test::method(std::string("\"") + name + "\""), cache, d,
+                                       Vec2f(0.37f, 0.61f), v);
+                EXPECT_NEAR(a.depth, want, 2e-6 * (1 + std::fabs(want)) / double(v.z))
+                    << name << " theta " << theta;
+            }
+            for (const char* name : kSearchOnConstant) {
+                const MethodConfig cfg = test::method(std::string("\"") + name + "\"");
+                const Answer a = runAt(cfg, cache, d, Vec2f(0.37f, 0.61f), v);
+                // Their step in height: steep a layer (at most 1/8 of s), the others finer.
+                EXPECT_NEAR(a.depth, want, 0.08 / 8 / double(v.z)) << name << " theta " << theta;
+            }
+            // The polygon itself: no offset.
+            EXPECT_EQ(runAt(test::method("\"none\""), cache, d, Vec2f(0.3f, 0.2f), v).depth, 0.0f);
+        }
+}
+
+// Head-on, the exact methods land on uv0 at the surface: the depth is minus the height there.
+TEST(DepthOffset, HeadOnDepthIsTheHeight) {
+    const Texture map = test::smoothTexture(32, 32);
+    const Displacement d{0.1, -0.05};
+    MethodTextureCache cache(map, UvExtent(1.0));
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> uni(0.f, 1.f);
+    for (int k = 0; k < 200; ++k) {
+        const Vec2f uv0(uni(rng), uni(rng));
+        const double want = -(0.1 * sampleBilinear<double>(map, Vec2d(uv0)) - 0.05);
+        for (const char* name : {"parallax", "pom", "secant", "contact", "maxmip"}) {
+            const Answer a =
+                runAt(test::method(std::string("\"") + name + "\""), cache, d, uv0, Vec3f(0, 0, 1));
+            EXPECT_NEAR(a.depth, want, 1e-6) << name << " at " << uv0.x << ", " << uv0.y;
+        }
+    }
+}
+
+Scene litPlane(Texture map, double s, double b, double theta, double phi, int resolution,
+               const char* methods) {
+    Scene sc = test::planeScene(std::move(map), s, b, theta, phi, resolution,
+                                parseMethods(nlohmann::json::parse(methods), "test", "methods"));
+    sc.truth.uncertainty = false;
+    sc.light = {true, 45, 180};
+    return sc;
+}
+
+// On a plane (orthographic), the eye ray meets height z at -z / V.z beyond the drawn point:
+// the truth's depth of every hit is -(s h(uv_true) + b) / cos(theta), exactly on a ramp
+// (its tessellation is exact) and to the tessellation's error on a smooth map.
+TEST(DepthOffset, TruthDepthOnAPlaneIsTheHitsHeightOverCosTheta) {
+    struct Case {
+        Texture map;
+        double tolerance;
+    };
+    const Texture ramp = test::makeTexture(
+        16, 16, [](int i, int) { return 0.2 + 0.6 * (i + 0.5) / 16; }, Address::Clamp);
+    for (const Case& c : {Case{ramp, 1e-5}, Case{test::smoothTexture(32, 32), 2e-4}})
+        for (double theta : {0.0, 40.0, 70.0}) {
+            Scene sc = litPlane(c.map, 0.1, -0.07, theta, 30, 96, R"(["pom"])");
+            sc.height.address = c.map.address;
+            const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+            int checked = 0;
+            for (const TruthSample& t : r.truth.data) {
+                if (!std::isfinite(t.depth)) continue;
+                const double z = 0.1 * sampleBilinear<double>(sc.height, t.uv) - 0.07;
+                EXPECT_NEAR(t.depth, -z / std::cos(radians(theta)), c.tolerance)
+                    << "theta " << theta;
+                ++checked;
+            }
+            EXPECT_GT(checked, 1000) << "theta " << theta;
+            EXPECT_EQ(r.methods[0].stats.depthError.count, r.methods[0].stats.error.count);
+        }
+}
+
+// maxmip traces the bilinear surface exactly, the truth its tessellation: their depths agree
+// to the tessellation's error, far closer than steep's layers.
+TEST(DepthOffset, MaxMipAgreesWithTheTruth) {
+    Scene sc = litPlane(test::smoothTexture(32, 32), 0.08, -0.04, 55, 20, 128,
+                        R"(["maxmip", {"name": "steep", "min_layers": 8, "max_layers": 8}])");
+    const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+    const FrameStats& maxmip = r.methods[0].stats;
+    const FrameStats& steep = r.methods[1].stats;
+    EXPECT_GT(maxmip.depthError.count, 5000);
+    EXPECT_LT(maxmip.depthError.p90, 2e-3);
+    EXPECT_LT(maxmip.depthError.p90 * 10, steep.depthError.p90);
+}
+
+// A flat map casts no shadow: the truth and every march light every pixel.
+TEST(Shadows, AFlatMapCastsNone) {
+    Scene sc = litPlane(test::makeTexture(16, 16, [](int, int) { return 0.5; }), 0.1, -0.05, 50, 0,
+                        64, R"(["pom", "parallax", {"preset": "tatarchuk_soft"}])");
+    sc.light = {true, 70, 120};
+    const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+    for (const MethodFrame& m : r.methods) {
+        EXPECT_GT(m.stats.shadow.compared, 2000) << m.config.label;
+        EXPECT_EQ(m.stats.shadow.truthDark, 0) << m.config.label;
+        EXPECT_EQ(m.stats.shadow.methodDark, 0) << m.config.label;
+    }
+}
+
+// A plateau of height s stepping down along +u, the light from -u at 45 degrees: its shadow
+// (the falling edge facing away, then the floor) reaches s tan 45 = s beyond the edge's top,
+// from u = 31.5 / 64 to 31.5 / 64 + s. Head-on, each row counts that many pixels.
+TEST(Shadows, AStepEdgeCastsAShadowOfItsHeight) {
+    const Texture map =
+        test::makeTexture(64, 64, [](int i, int) { return i >= 16 && i < 32 ? 1.0 : 0.0; });
+    Scene sc = litPlane(map, 0.1, 0.0, 0, 90, 240,  // phi 90: u runs along the image's rows
+                        R"([{"name": "pom", "shadow_steps": 128, "label": "pom"},
+                            {"name": "pom", "shadow": "soft", "label": "soft"}])");
+    const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+    const Image2D<Fragment>& f = r.fragments;
+    const int y = 120;
+    const double du = std::fabs(f.at(121, y).uv0.x - f.at(120, y).uv0.x);
+    ASSERT_GT(du, 0);
+    const double want = 0.1 / du;
+    int truthDark = 0, marchDark = 0, softDark = 0;
+    for (int x = 0; x < 240; ++x) {
+        const TruthSample& t = r.truth.at(x, y);
+        const MethodPixel& m = r.methods[0].pixels.at(x, y);
+        if (!t.hit || !m.covered) continue;
+        truthDark += t.shadow == kShadowDark;
+        marchDark += m.shadow == kShadowDark;
+        softDark += r.methods[1].pixels.at(x, y).shadow == kShadowDark;
+        // Inside the shadow's span, both agree (away from its two ends).
+        const double u = t.uv.x;
+        if (u > 31.5 / 64 + 2 * du && u < 31.5 / 64 + 0.1 - 2 * du) {
+            EXPECT_EQ(t.shadow, kShadowDark) << "u " << u;
+            EXPECT_EQ(m.shadow, kShadowDark) << "u " << u;
+        }
+    }
+    EXPECT_NEAR(truthDark, want, 2.0);
+    EXPECT_NEAR(marchDark, want, 2.0);
+    // Tatarchuk's seven taps reach L.xy s f, f <= 0.88, and a tap darkens more than half only
+    // while (1 - f) w 0.58 > 1/2: up to f = 0.66 (w 4), 0.707 x 0.1 x 0.66 = 0.047 UV past
+    // the edge (plus the bilinear ramp's texel): half the true shadow's length.
+    EXPECT_GT(softDark, 0.035 / du);
+    EXPECT_LT(softDark, 0.065 / du);
+}
+
+// The truth's shadow rays against a brute-force march of the bilinear surface in double:
+// from the hit, 4,000 steps toward the light; in shadow where the surface faces away or any
+// step lies below it. They disagree only where the light grazes an edge.
+TEST(Shadows, TruthRaysAgreeWithABruteForceMarch) {
+    const Texture map = test::smoothTexture(32, 32);
+    const double s = 0.12, b = -0.06;
+    Scene sc = litPlane(map, s, b, 30, 0, 128, R"(["none"])");
+    sc.light = {true, 60, 30};
+    sc.truth.rate = 8;
+    const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
+    const Vec3d L = viewFromAngles(60, 30);
+    auto height = [&](Vec2d uv) { return s * sampleBilinear<double>(map, uv) + b; };
+    int compared = 0, differ = 0;
+    for (const TruthSample& t : r.truth.data) {
+        if (!t.hit) continue;
+        const double z0 = height(t.uv), top = s + b;
+        // The bilinear surface's normal from central differences of its height.
+        const double e = 1e-5;
+        const Vec3d n(-(height(t.uv + Vec2d(e, 0)) - height(t.uv - Vec2d(e, 0))) / (2 * e),
+                      -(height(t.uv + Vec2d(0, e)) - height(t.uv - Vec2d(0, e))) / (2 * e), 1);
+        bool dark = glm::dot(n, L) <= 0;
+        const int steps = 4000;
+        for (int k = 1; k <= steps && !dark; ++k) {
+            const double z = z0 + (top - z0) * k / steps;
+            const Vec2d uv = t.uv + Vec2d(L.x, L.y) / L.z * (z - z0);
+            if (uv.x < 0 || uv.x > 1 || uv.y < 0 || uv.y > 1) break;  // past the plane's sheet
+            dark = height(uv) > z;
+        }
+        ++compared;
+        differ += dark != (t.shadow == kShadowDark);
+    }
+    EXPECT_GT(compared, 10000);
+    EXPECT_LT(double(differ) / compared, 0.01) << differ << " of " << compared;
+}
+
+}  // namespace
+}  // namespace pgt
