@@ -31,6 +31,15 @@ DOCUMENT_BIAS_RATIO = {
 KEYS = ["theta", "phi", "scale", "bias"]
 
 
+def case_keys(df):
+    """The columns that identify a case: KEYS, and the light's angles where a study swept or
+    set a light (a study without one has them empty; pandas drops empty keys when grouping)."""
+    light = ["light_theta", "light_phi"]
+    if all(c in df.columns for c in light) and df["light_theta"].notna().all():
+        return KEYS + light
+    return list(KEYS)
+
+
 def _replace_whole(path, write):
     """Writes `path` whole or not at all: `write(tmp)` makes a hidden temporary beside it,
     which is renamed into place (a killed report leaves no zero-byte figure)."""

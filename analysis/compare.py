@@ -12,7 +12,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import KEYS, nice, pd, plt, save_figure, write_text  # noqa: E402
+from common import KEYS, case_keys, nice, pd, plt, save_figure, write_text  # noqa: E402
 
 
 def plot_label(grp, label, args, worse, growth):
@@ -53,7 +53,8 @@ def main():
             print(f"compare.py: {name} lacks columns {missing}", file=sys.stderr)
             return 2
     os.makedirs(args.out, exist_ok=True)
-    merged = old.merge(new, on=KEYS + ["label"], suffixes=("_old", "_new"))
+    keys = case_keys(old) if case_keys(old) == case_keys(new) else KEYS
+    merged = old.merge(new, on=keys + ["label"], suffixes=("_old", "_new"))
     if merged.empty:
         print("compare.py: OLD and NEW share no (case, label) rows", file=sys.stderr)
         return 2

@@ -15,7 +15,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
-from common import save_figure, write_text  # noqa: E402
+from common import case_keys, save_figure, write_text  # noqa: E402
 from report_configs import common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 
@@ -169,7 +169,7 @@ def base_lines(base):
 
 def header_lines(df, study):
     """The report's title, the study's scene, cases and the units."""
-    cases = df[["theta", "phi", "scale", "bias"]].drop_duplicates()
+    cases = df[case_keys(df)].drop_duplicates()
     lines = ["# pgt study report", ""]
     if study:
         hm = study["scene"]["heightmap"]

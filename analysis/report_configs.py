@@ -6,7 +6,7 @@ curves stay visible."""
 import math
 import os
 
-from common import nice, np, plt, save_figure
+from common import case_keys, nice, np, plt, save_figure
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
 STYLES = ["-", "--", "-.", ":"]
@@ -23,7 +23,7 @@ def families(df):
 def common_cases(df):
     """The rows of the cases every configuration finished with a finite mean, the number of
     those cases and of all cases, and {label: cases with non-finite uv'}."""
-    keys = ["theta", "phi", "scale", "bias"]
+    keys = case_keys(df)
     labels = df["label"].nunique()
     finite = df[np.isfinite(df["mean"])]
     per_case = finite.groupby(keys)["label"].nunique()

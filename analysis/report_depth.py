@@ -51,6 +51,29 @@ def _panels(df, column, ylabel, figdir, stem):
     return name
 
 
+def _against_light(df, figdir):
+    """Shadow disagreement against the light's angle, one line per C++ configuration (a study
+    that swept light_theta)."""
+    if "light_theta" not in df.columns or df["light_theta"].nunique() < 2:
+        return None
+    fig, ax = plt.subplots(figsize=(8, 5))
+    colours = plt.get_cmap("tab20")
+    for i, (label, grp) in enumerate(df.groupby("label", sort=False)):
+        r = grp.groupby("light_theta")["shadow_disagree"].mean()
+        r = r[np.isfinite(r)]
+        if not r.empty:
+            ax.plot(r.index, r.values, marker=MARKERS[i % len(MARKERS)], ms=3, lw=1.2,
+                    color=colours(i % 20), label=label)
+    ax.set_xlabel("light angle from the normal [degrees]")
+    ax.set_ylabel("share of pixels whose shadow differs from the truth's")
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    name = "shadow_vs_light_theta.png"
+    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    plt.close(fig)
+    return name
+
+
 def _against_cost(agg, figdir):
     """Depth error and shadow disagreement against each configuration's time (C++ methods,
     the only ones that report depth)."""
@@ -88,6 +111,7 @@ def depth_shadow_lines(df, figdir):
     agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
     figs = [_panels(df, col, ylabel, figdir, stem) for col, ylabel, stem in MEASURES]
     cost = _against_cost(agg, figdir)
+    figs.append(_against_light(df, figdir))
     light = df[["light_theta", "light_phi"]].dropna().drop_duplicates()
     lit = ", ".join(f"theta {nice(t)}, phi {nice(p)}" for t, p in light.itertuples(index=False))
     lines = ["## Depth offset and self-shadowing", "",

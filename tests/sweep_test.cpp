@@ -179,6 +179,67 @@ TEST(Sweep, ResumeAfterAnInterruptionGivesTheSameResults) {
     std::filesystem::remove_all(parts);
 }
 
+// The light's angles are an axis of their own: a case per light angle, resumed by its key
+// (two cases share theta, phi, s and b and differ only in the light), and refused in a scene
+// without a light.
+TEST(Sweep, LightAnglesAreAnAxisAndResumeKeepsThem) {
+    const char* json = R"({
+      "heightmap": {"procedural": "bricks", "size": [32, 32], "bricks": [2, 4]},
+      "base": {"type": "plane", "infinite": true},
+      "camera": {"type": "orthographic", "theta": 30, "frame": "fill", "resolution": [32, 32]},
+      "light": {"theta": 45, "phi": 90},
+      "methods": ["pom"],
+      "truth": {"rate": 2, "uncertainty": false},
+      "sweep": {"theta": [30], "scale": [0.1], "bias_ratio": [-1], "light_theta": [20, 75],
+                "timing": {"repeats": 1, "fragments": 64}}
+    })";
+    Scene scene = studyScene(json);
+    Study study = parseStudy(scene);
+    ASSERT_EQ(study.cases.size(), 2u);
+    EXPECT_NE(study.cases[0].key(), study.cases[1].key());
+    auto whole = test::tempDir("sweep_light"), parts = test::tempDir("sweep_light_parts");
+    SweepOptions opt;
+    opt.progress = false;
+    opt.outDir = whole.string();
+    runSweep(scene, study, opt);
+    const auto lines = readLines(whole / "results.csv");
+    ASSERT_EQ(lines.size(), 3u);
+    // The light's angles in their columns; a low light casts more shadow than a high one.
+    const auto& cols = resultColumns();
+    auto column = [&](const std::string& line, const std::string& name) {
+        auto q0 = line.find('"'), q1 = line.rfind('"');
+        std::string l = line;
+        l.replace(q0, q1 - q0 + 1, "PARAMS");
+        std::vector<std::string> f;
+        std::stringstream ss(l);
+        for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+        return std::stod(f[size_t(std::find(cols.begin(), cols.end(), name) - cols.begin())]);
+    };
+    EXPECT_EQ(column(lines[1], "light_theta"), 20);
+    EXPECT_EQ(column(lines[2], "light_theta"), 75);
+    EXPECT_EQ(column(lines[2], "light_phi"), 90);
+    EXPECT_LT(column(lines[1], "truth_shadowed"), column(lines[2], "truth_shadowed"));
+    opt.outDir = parts.string();
+    opt.maxCases = 1;
+    EXPECT_EQ(runSweep(scene, study, opt).done, 1);
+    opt.maxCases = -1;
+    SweepSummary second = runSweep(scene, study, opt);
+    EXPECT_EQ(second.resumed, 1);
+    EXPECT_EQ(second.done, 1);
+    EXPECT_EQ(rowsWithoutTiming(whole / "results.csv"), rowsWithoutTiming(parts / "results.csv"));
+    std::filesystem::remove_all(whole);
+    std::filesystem::remove_all(parts);
+
+    nlohmann::json dark = nlohmann::json::parse(json);
+    dark.erase("light");
+    try {
+        parseStudy(parseScene(dark, "dark.json"));
+        ADD_FAILURE() << "a light sweep without a light was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("sweep.light_theta"), std::string::npos) << e.what();
+    }
+}
+
 TEST(Sweep, ADirectoryHoldsOneStudy) {
     Scene scene = studyScene();
     auto dir = test::tempDir("sweep_other");

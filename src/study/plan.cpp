@@ -51,20 +51,24 @@ std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, 
 }  // namespace
 
 std::string StudyCase::key() const {
-    return num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
+    std::string k = num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
+    if (std::isfinite(lightTheta)) k += ";light " + num(lightTheta) + ";" + num(lightPhi);
+    return k;
 }
 
 namespace {
 
-// The study's axes: the values of each of theta, phi, scale and bias (or b/s ratios).
+// The study's axes: the values of each of theta, phi, scale and bias (or b/s ratios), and
+// of the light's angles (one NaN each without a light).
 struct StudyAxes {
-    std::vector<double> thetas, phis, scales, biases;
+    std::vector<double> thetas, phis, scales, biases, lightThetas, lightPhis;
     bool ratios = false;  // `biases` are b / s
 };
 
-// What a study's axes default to: the scene's own view angles and (s, b).
+// What a study's axes default to: the scene's own view angles, (s, b) and light.
 struct AxisDefaults {
     double theta = 0, phi = 0, scale = 0, bias = 0;
+    LightSpec light;
 };
 
 StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
@@ -78,6 +82,14 @@ StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
     a.biases = a.ratios        ? valueList(f, "bias_ratio", -1e3, 1e3)
                : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
                                : std::vector<double>{d.bias};
+    for (const char* key : {"light_theta", "light_phi"})
+        if (f.has(key) && !d.light.on) f.fail(key, "the scene has no \"light\" to sweep");
+    a.lightThetas = f.has("light_theta") ? valueList(f, "light_theta", 0, 90)
+                    : d.light.on         ? std::vector<double>{d.light.theta}
+                                         : std::vector<double>{NAN};
+    a.lightPhis = f.has("light_phi") ? valueList(f, "light_phi", -360, 360)
+                  : d.light.on       ? std::vector<double>{d.light.phi}
+                                     : std::vector<double>{NAN};
     return a;
 }
 
@@ -217,28 +229,32 @@ std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
     return out;
 }
 
-// The cases in order: grouped by (scale, bias), then theta, phi.
+// The cases in order: grouped by (scale, bias), then theta, phi, the light's theta and phi.
 std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
     // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
     double caseCount = double(a.scales.size()) * double(a.biases.size()) * double(a.thetas.size()) *
-                       double(a.phis.size());
+                       double(a.phis.size()) * double(a.lightThetas.size()) *
+                       double(a.lightPhis.size());
     if (caseCount > double(kMaxStudyCases))
         throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
                          "a study has at most " + std::to_string(kMaxStudyCases) +
-                             " cases (theta x phi x scale x bias); split it into several");
+                             " cases (theta x phi x scale x bias x light); split it into several");
     std::vector<StudyCase> cases;
     int index = 0;
     for (double s : a.scales)
         for (double bv : a.biases)
             for (double th : a.thetas)
-                for (double ph : a.phis) {
-                    StudyCase c;
-                    c.index = index++;
-                    c.theta = th, c.phi = ph, c.scale = s;
-                    c.bias = a.ratios ? bv * s : bv;
-                    c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
-                    cases.push_back(c);
-                }
+                for (double ph : a.phis)
+                    for (double lt : a.lightThetas)
+                        for (double lp : a.lightPhis) {
+                            StudyCase c;
+                            c.index = index++;
+                            c.theta = th, c.phi = ph, c.scale = s;
+                            c.bias = a.ratios ? bv * s : bv;
+                            c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
+                            c.lightTheta = lt, c.lightPhi = lp;
+                            cases.push_back(c);
+                        }
     return cases;
 }
 
@@ -272,7 +288,7 @@ Study parseStudy(const Scene& scene) {
     JsonFields f(scene.sweep, file, "sweep");
     Study st;
     StudyAxes axes = readAxes(f, {scene.camera.theta, scene.camera.phi, scene.displacement.scale,
-                                  scene.displacement.bias});
+                                  scene.displacement.bias, scene.light});
     readFrameSettings(f, scene, st);
     ParameterLists lists;
     f.finish(readParameterLists(f, scene, lists));
@@ -298,8 +314,10 @@ std::vector<StudyCase> planCases(const Json& identity, const std::string& file) 
                              "not a study's study.json (made by pgt sweep)");
         return scene->at(block).at(key).get<double>();
     };
-    const AxisDefaults d{number("camera", "theta"), number("camera", "phi"),
-                         number("displacement", "scale"), number("displacement", "bias")};
+    AxisDefaults d{number("camera", "theta"), number("camera", "phi"),
+                   number("displacement", "scale"), number("displacement", "bias"), LightSpec{}};
+    if (scene->contains("light"))
+        d.light = {true, number("light", "theta"), number("light", "phi")};
     JsonFields f(identity.at("sweep"), file, "sweep");
     return makeCases(readAxes(f, d), file);
 }

@@ -18,8 +18,9 @@ namespace pgt {
 struct StudyCase {
     int index = 0;
     double theta = 0, phi = 0, scale = 0, bias = 0;
-    double biasRatio = NAN;   // b / s when the study gave ratios
-    std::string key() const;  // identity of the case in results.csv
+    double biasRatio = NAN;                   // b / s when the study gave ratios
+    double lightTheta = NAN, lightPhi = NAN;  // the light's angles; NaN: the scene has none
+    std::string key() const;                  // identity of the case in results.csv
 };
 
 struct Study {

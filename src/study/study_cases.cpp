@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <filesystem>
@@ -29,6 +30,7 @@ ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
     view.camera.height = study.height;
     view.camera.jitter = study.jitter;
     view.displacement = {c.scale, c.bias};
+    if (std::isfinite(c.lightTheta)) view.light = {true, c.lightTheta, c.lightPhi};
     return view;
 }
 

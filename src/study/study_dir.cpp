@@ -88,6 +88,10 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
     std::map<std::string, std::set<std::string>> labelsByKey;
     std::vector<std::string> order;
     bool dropped = false;
+    // The light's angles (light_theta, then light_phi): part of a case's key.
+    const size_t lightColumn =
+        size_t(std::find(resultColumns().begin(), resultColumns().end(), "light_theta") -
+               resultColumns().begin());
     for (const auto& f : splitCsvRecords(text, resultHeader().size(), &dropped)) {
         if (f.size() != resultColumns().size()) {
             dropped = true;
@@ -97,6 +101,7 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         try {
             c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
             c.scale = std::stod(f[3]), c.bias = std::stod(f[4]);
+            c.lightTheta = std::stod(f[lightColumn]), c.lightPhi = std::stod(f[lightColumn + 1]);
         } catch (const std::exception&) {
             dropped = true;
             continue;
