@@ -79,6 +79,30 @@ TEST(DepthOffset, HeadOnDepthIsTheHeight) {
     }
 }
 
+// A ramp h = a + k u (exact under bilinear between the first and last texel centres): the eye
+// ray uv(z) = uv0 + V.xy / V.z z meets z = s (a + k u) + b at z = (s (a + k u0) + b) /
+// (1 - s k V.x / V.z); the exact methods' depth is -z / V.z.
+TEST(DepthOffset, RampIsExactForTheExactMethods) {
+    const double a = 0.2, k = 0.6;
+    const Texture map = test::makeTexture(
+        32, 32, [&](int i, int) { return a + k * (i + 0.5) / 32; }, Address::Clamp);
+    const Displacement d{0.1, -0.07};
+    MethodTextureCache cache(map, UvExtent(1.0));
+    for (double theta : {20.0, 50.0, 75.0})
+        for (double phi : {0.0, 150.0, 250.0}) {
+            const Vec3f v(viewFromAngles(theta, phi));
+            const Vec2f uv0(0.45f, 0.5f);
+            const double vx = v.x, vz = v.z;
+            const double z = (0.1 * (a + k * double(uv0.x)) - 0.07) / (1 - 0.1 * k * vx / vz);
+            for (const char* name : {"pom", "secant", "contact", "maxmip"}) {
+                const Answer ans =
+                    runAt(test::method(std::string("\"") + name + "\""), cache, d, uv0, v);
+                EXPECT_NEAR(ans.depth, -z / vz, 1e-5 / vz)
+                    << name << " theta " << theta << " phi " << phi;
+            }
+        }
+}
+
 Scene litPlane(Texture map, double s, double b, double theta, double phi, int resolution,
                const char* methods) {
     Scene sc = test::planeScene(std::move(map), s, b, theta, phi, resolution,

@@ -121,6 +121,29 @@ void BM_TruthFramePeriodic(benchmark::State& state) {
 }
 BENCHMARK(BM_TruthFramePeriodic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The shadow rays' cost (docs/model.md §5b): the default study's bricks on the infinite plane,
+// 512^2 at view theta range(0), traced without a light (range(1) = 0) and with one at
+// theta 45, phi 120 (1): each hit's shadow ray walks the tiles toward the light.
+void BM_TruthShadowRays(benchmark::State& state) {
+    Scene s = frameScene(256, 512);
+    s.height = makeProceduralHeight(
+        nlohmann::json::parse(R"({"procedural": "bricks", "size": [256, 256], "bricks": [4, 8],
+            "mortar": 0.12, "bevel": 0.2, "jitter": 0.3, "seed": 7})"),
+        "bench", "heightmap");
+    s.plane()->infinite = true;
+    s.camera.theta = double(state.range(0));
+    s.camera.fillSize = 1.0;
+    if (state.range(1)) s.light = {true, 45, 120};
+    auto base = tessellatePlane(s.height, *s.plane(), 4);
+    TruthSurface surface(base, s.displacement, TruthGeometry::Grid, true);
+    Camera cam = makeCamera(s);
+    Image2D<TruthSample> frame;
+    for (auto _ : state) surface.traceFrame(cam, frame, TraceMode::Coherent);
+    state.SetItemsProcessed(state.iterations() * 512 * 512);
+    state.SetLabel(state.range(1) ? "with shadow rays" : "primary rays only");
+}
+BENCHMARK(BM_TruthShadowRays)->ArgsProduct({{30, 60, 80}, {0, 1}})->Unit(benchmark::kMillisecond);
+
 // A (s, b) change on an existing surface (1025^2 vertices): displace + rebuild (0) or
 // refit (1), for the grid (range(0) = 0) and the triangle (1) geometry.
 void BM_TruthUpdate(benchmark::State& state) {
