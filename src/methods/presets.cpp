@@ -56,6 +56,21 @@ MethodPreset glslPreset(const char* name, const char* source, const char* file,
     return p;
 }
 
+// three.js r131's ParallaxShader at its example's defaults (scale 0.005 passed negated,
+// layers 20-25) in one of its modes; world_per_uv 1 (set it to the base's l elsewhere).
+MethodPreset threePreset(const char* name, const char* mode, const char* function) {
+    std::vector<GlslSpec::Uniform> uniforms = {uniform("parallax_scale", -0.005),
+                                               uniform("world_per_uv", 1.0)};
+    if (std::string(function) != "ThreeBasic")  // basic reads no layer count
+        uniforms.insert(uniforms.end(), {uniform("parallax_min_layers", 20.0),
+                                         uniform("parallax_max_layers", 25.0)});
+    return glslPreset(name,
+                      (std::string("three.js r131 ParallaxShader ") + mode +
+                       " at its example's defaults: scale 0.005 (passed negated), layers 20-25")
+                          .c_str(),
+                      "presets/threejs.glsl", function, "heightMap", false, std::move(uniforms));
+}
+
 }  // namespace
 
 const std::vector<MethodPreset>& methodPresets() {
@@ -113,6 +128,19 @@ const std::vector<MethodPreset>& methodPresets() {
                    "presets/tatarchuk.glsl", "TatarchukPom", "heightMap", false,
                    {uniform("height_map_scale", 0.02), uniform("min_samples", 8.0),
                     uniform("max_samples", 50.0)}),
+        glslPreset("jme",
+                   "jMonkeyEngine 3 Lighting/PBRLighting: classic parallax (SteepParallax off), "
+                   "ParallaxHeight 0.05",
+                   "presets/jme.glsl", "JmeParallax", "heightMap", false,
+                   {uniform("parallax_height", 0.05)}),
+        glslPreset("jme_steep",
+                   "jMonkeyEngine 3 Lighting/PBRLighting: SteepParallax on, ParallaxHeight 0.05",
+                   "presets/jme.glsl", "JmeSteepParallax", "heightMap", false,
+                   {uniform("parallax_height", 0.05)}),
+        threePreset("threejs_relief", "relief (the example's default mode)", "ThreeRelief"),
+        threePreset("threejs_occlusion", "occlusion", "ThreeOcclusion"),
+        threePreset("threejs_steep", "steep", "ThreeSteep"),
+        threePreset("threejs_basic", "basic", "ThreeBasic"),
     };
     return presets;
 }
