@@ -71,13 +71,34 @@ MethodPreset threePreset(const char* name, const char* mode, const char* functio
                       "presets/threejs.glsl", function, "heightMap", false, std::move(uniforms));
 }
 
+// The list with the engine presets of issue 31 after it (jMonkeyEngine, three.js).
+std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
+    std::vector<MethodPreset> engines = {
+        glslPreset("jme",
+                   "jMonkeyEngine 3 Lighting/PBRLighting: classic parallax (SteepParallax off), "
+                   "ParallaxHeight 0.05",
+                   "presets/jme.glsl", "JmeParallax", "heightMap", false,
+                   {uniform("parallax_height", 0.05)}),
+        glslPreset("jme_steep",
+                   "jMonkeyEngine 3 Lighting/PBRLighting: SteepParallax on, ParallaxHeight 0.05",
+                   "presets/jme.glsl", "JmeSteepParallax", "heightMap", false,
+                   {uniform("parallax_height", 0.05)}),
+        threePreset("threejs_relief", "relief (the example's default mode)", "ThreeRelief"),
+        threePreset("threejs_occlusion", "occlusion", "ThreeOcclusion"),
+        threePreset("threejs_steep", "steep", "ThreeSteep"),
+        threePreset("threejs_basic", "basic", "ThreeBasic"),
+    };
+    for (auto& p : engines) presets.push_back(std::move(p));
+    return presets;
+}
+
 }  // namespace
 
 const std::vector<MethodPreset>& methodPresets() {
     // LearnOpenGL's height_scale 0.1 on a depth map d = 1 - h is s = 0.1, b = -0.1 (docs/model.md
     // §3); 004's height scale 0.15 likewise.
     using K = MethodKind;
-    static const std::vector<MethodPreset> presets = {
+    static const std::vector<MethodPreset> presets = withEngines({
         builtinPreset("welsh", "000 (Welsh 2004): parallax mapping at its own s 0.04, b -0.02",
                       singleFetch(K::Parallax, 0.04, -0.02)),
         builtinPreset("learnopengl_parallax",
@@ -128,20 +149,7 @@ const std::vector<MethodPreset>& methodPresets() {
                    "presets/tatarchuk.glsl", "TatarchukPom", "heightMap", false,
                    {uniform("height_map_scale", 0.02), uniform("min_samples", 8.0),
                     uniform("max_samples", 50.0)}),
-        glslPreset("jme",
-                   "jMonkeyEngine 3 Lighting/PBRLighting: classic parallax (SteepParallax off), "
-                   "ParallaxHeight 0.05",
-                   "presets/jme.glsl", "JmeParallax", "heightMap", false,
-                   {uniform("parallax_height", 0.05)}),
-        glslPreset("jme_steep",
-                   "jMonkeyEngine 3 Lighting/PBRLighting: SteepParallax on, ParallaxHeight 0.05",
-                   "presets/jme.glsl", "JmeSteepParallax", "heightMap", false,
-                   {uniform("parallax_height", 0.05)}),
-        threePreset("threejs_relief", "relief (the example's default mode)", "ThreeRelief"),
-        threePreset("threejs_occlusion", "occlusion", "ThreeOcclusion"),
-        threePreset("threejs_steep", "steep", "ThreeSteep"),
-        threePreset("threejs_basic", "basic", "ThreeBasic"),
-    };
+    });
     return presets;
 }
 
