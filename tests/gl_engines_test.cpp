@@ -55,6 +55,19 @@ Vec2f jmeSteepTwin(const Texture& t, Vec2f uv, Vec3f V, float s) {
     return uv - P * (1.0f - amount);
 }
 
+// PlayCanvas: h' = h s - s / 2; to beta.19 along (V.x, +-V.y) / (V.z + 0.42), beta.20 along the
+// unit V (offset limiting).
+Vec2f playcanvasTwin(const Texture& t, Vec2f uv, Vec3f V, float s, float ySign, bool limited) {
+    const float h = height(t, uv) * s - s * 0.5f;
+    if (limited) {
+        const Vec3f v = glm::normalize(V);
+        return uv + h * Vec2f(v.x, v.y);
+    }
+    Vec3f v(V.x, ySign * V.y, V.z);
+    v.z += 0.42f;
+    return uv + h * Vec2f(v.x, v.y) / v.z;
+}
+
 enum class Three { Basic, Steep, Occlusion, Relief };
 
 Vec2f threeTwin(const Texture& t, Vec2f uv, Vec3f V, Three mode, float s, float lo, float hi) {
@@ -103,13 +116,22 @@ std::vector<Engine> engines() {
             return threeTwin(t, uv, v, mode, -0.005f, 20.0f, 25.0f);
         };
     };
-    return {{"jme", [](const Texture& t, Vec2f uv, Vec3f v) { return jmeTwin(t, uv, v, 0.05f); }},
-            {"jme_steep",
-             [](const Texture& t, Vec2f uv, Vec3f v) { return jmeSteepTwin(t, uv, v, 0.05f); }},
-            {"threejs_basic", three(Three::Basic)},
-            {"threejs_steep", three(Three::Steep)},
-            {"threejs_occlusion", three(Three::Occlusion)},
-            {"threejs_relief", three(Three::Relief)}};
+    return {
+        {"jme", [](const Texture& t, Vec2f uv, Vec3f v) { return jmeTwin(t, uv, v, 0.05f); }},
+        {"jme_steep",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return jmeSteepTwin(t, uv, v, 0.05f); }},
+        {"playcanvas", [](const Texture& t, Vec2f uv,
+                          Vec3f v) { return playcanvasTwin(t, uv, v, 0.025f, -1.0f, false); }},
+        {"playcanvas_fixed", [](const Texture& t, Vec2f uv,
+                                Vec3f v) { return playcanvasTwin(t, uv, v, 0.025f, 1.0f, false); }},
+        {"playcanvas_offset_limited",
+         [](const Texture& t, Vec2f uv, Vec3f v) {
+             return playcanvasTwin(t, uv, v, 0.1f, 1.0f, true);
+         }},
+        {"threejs_basic", three(Three::Basic)},
+        {"threejs_steep", three(Three::Steep)},
+        {"threejs_occlusion", three(Three::Occlusion)},
+        {"threejs_relief", three(Three::Relief)}};
 }
 
 // Flat height h: jME classic offsets by s (h - 0.6) cos(theta) along unit V.xy; jME steep meets
@@ -121,6 +143,8 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
     test::Fragments in = test::randomFragments(400, 31, 80);
     const GlslRun jme = runPreset("jme", t, in), steep = runPreset("jme_steep", t, in);
     const GlslRun basic = runPreset("threejs_basic", t, in);
+    const GlslRun pc = runPreset("playcanvas", t, in),
+                  pcFixed = runPreset("playcanvas_fixed", t, in);
     const GlslRun occlusion = runPreset("threejs_occlusion", t, in);
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         const Vec2d uv0(in.uv0[k]);
@@ -133,6 +157,10 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
         EXPECT_LT(glm::length(Vec2d(steep.uv[k]) - (uv0 - P * (1 - h))), 1e-5 + 1e-5 * tanTheta)
             << k;
         EXPECT_LT(glm::length(Vec2d(basic.uv[k]) - (uv0 + dir * 0.005 * h)), 1e-6);
+        // PlayCanvas: h' = 0.025 (h - 1/2) along (V.x, -V.y) / (V.z + 0.42); fixed: +V.y.
+        const double hp = 0.025 * (h - 0.5), z = v.z + 0.42;
+        EXPECT_LT(glm::length(Vec2d(pc.uv[k]) - (uv0 + Vec2d(v.x, -v.y) * hp / z)), 1e-6);
+        EXPECT_LT(glm::length(Vec2d(pcFixed.uv[k]) - (uv0 + dir * hp / z)), 1e-6);
         // three.js occlusion (its depth is h, the scale -0.005): uv0 + V.xy / V.z 0.005 h.
         EXPECT_LT(glm::length(Vec2d(occlusion.uv[k]) - (uv0 + dir / v.z * 0.005 * h)),
                   1e-6 + 1e-5 * tanTheta)
