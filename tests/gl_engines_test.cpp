@@ -68,6 +68,119 @@ Vec2f playcanvasTwin(const Texture& t, Vec2f uv, Vec3f V, float s, float ySign, 
     return uv + h * Vec2f(v.x, v.y) / v.z;
 }
 
+// Ogre: depth 1 - h; parallax uv - V.xy / V.z d s; occlusion S = V.xy s in n steps, each
+// moving before comparing the previous layer (strict), then the interpolation.
+Vec2f ogreTwin(const Texture& t, Vec2f uv, Vec3f V, float s, int n, bool occlusion) {
+    auto depth = [&](Vec2f p) { return 1.0f - height(t, p); };
+    const Vec3f e = glm::normalize(V);
+    if (!occlusion) return uv - Vec2f(e.x, e.y) / e.z * depth(uv) * s;
+    const float L = 1.0f / float(n);
+    const Vec2f delta = Vec2f(e.x, e.y) * s / float(n);
+    Vec2f current = uv;
+    float d = 0, layer = 0;
+    for (int i = 0; i < n; ++i) {
+        current = uv - float(i + 1) * delta;
+        d = depth(current);
+        if (float(i) * L > d) break;
+        layer = float(i + 1) * L;
+    }
+    const Vec2f prev = current + delta;
+    const float after = d - layer, before = depth(prev) - layer + L;
+    const float w = after / (after - before);
+    return current * (1.0f - w) + prev * w;
+}
+
+// O3DE: depth 1 - h; the march P(t) = -V / V.z t factor in steps of 1/N while depth > t.
+enum class O3de { Basic, Steep, Pom, Relief, Contact };
+Vec2f o3deTwin(const Texture& t, Vec2f uv, Vec3f V, O3de mode, float factor, int n) {
+    auto depth = [&](Vec2f p) { return 1.0f - height(t, p); };
+    const Vec3f v = glm::normalize(V);
+    if (mode == O3de::Basic) return uv - Vec2f(v.x, v.y) * depth(uv) * factor;
+    float step = 1.0f / float(n), tt = 0;
+    Vec3f delta = -v * factor / v.z * step, P(0.0f);
+    float s = depth(uv), prev = s;
+    while (s > tt) {
+        tt += step;
+        P += delta;
+        prev = s;
+        s = depth(uv + Vec2f(P));
+    }
+    if (tt > 0 && mode == O3de::Pom) {
+        const float prevDiff = prev - (tt - step), curDiff = tt - s;
+        const float w = prevDiff / (prevDiff + curDiff);
+        P = (P - delta) * (1.0f - w) + P * w;
+    } else if (tt > 0 && mode == O3de::Relief) {
+        for (int i = 0; i < n; ++i) {
+            delta *= 0.5f;
+            step *= 0.5f;
+            const float sigma = s > tt ? 1.0f : s < tt ? -1.0f : 0.0f;
+            P += sigma * delta;
+            tt += sigma * step;
+            s = depth(uv + Vec2f(P));
+        }
+    } else if (tt > 0 && mode == O3de::Contact) {
+        P -= delta;
+        tt -= step;
+        s = prev;
+        const Vec3f fine = delta * step;
+        const float fineStep = step * step;
+        while (s > tt) {
+            tt += fineStep;
+            P += fine;
+            s = depth(uv + Vec2f(P));
+        }
+    }
+    return P.z > 0 ? uv : uv + Vec2f(P);
+}
+
+// DarkPlaces: O = -0.04 normalize(V).xy; offset mapping N times tc += O / N (1 - b - h(tc));
+// relief the ray (O, -1) / N, N - 1 steps while z >= h, then R refinements of +-f/2.
+Vec2f darkplacesTwin(const Texture& t, Vec2f uv, Vec3f V, bool relief, int n, int r) {
+    const Vec3f e = glm::normalize(V);
+    const Vec2f O = -Vec2f(e.x, e.y) * 0.04f;
+    if (!relief) {
+        Vec2f tc = uv;
+        for (int i = 0; i < n; ++i) tc += O / float(n) * (1.0f - height(t, tc));
+        return tc;
+    }
+    Vec3f step(O, -1.0f), RT(uv, 1.0f);
+    step /= float(n);
+    auto above = [&]() { return RT.z >= height(t, Vec2f(RT)) ? 1.0f : 0.0f; };
+    for (int i = 1; i < n; ++i) RT += step * above();
+    float f = 1;
+    for (int i = 0; i < r; ++i) {
+        RT += step * (f * above() - 0.5f * f);
+        f *= 0.5f;
+    }
+    return Vec2f(RT);
+}
+
+// Babylon: offset uv + 0.05 h V.xy; occlusion away from the eye, 15 + 11 cos(theta) samples
+// as a float, 15 passes, the linear crossing at the first height above the ray.
+Vec2f babylonTwin(const Texture& t, Vec2f uv, Vec3f V, bool occlusion) {
+    const Vec3f v = glm::normalize(V);
+    if (!occlusion) return uv + 0.05f * height(t, uv) * Vec2f(v.x, v.y);
+    const Vec2f maxOff =
+        -glm::normalize(Vec2f(v.x, v.y)) * (0.05f * glm::length(Vec2f(v.x, v.y)) / v.z);
+    const float samples = 15.0f + glm::dot(-v, Vec3f(0, 0, 1)) * (4.0f - 15.0f);
+    const float step = 1.0f / samples;
+    float ray = 1, prevHeight = 1;
+    Vec2f cur(0.0f), prevOff(0.0f);
+    for (int i = 0; i < 15; ++i) {
+        const float h = height(t, uv + cur);
+        if (h > ray) {
+            const float d1 = h - ray, d2 = (ray + step) - prevHeight, q = d1 / (d1 + d2);
+            cur = q * prevOff + (1.0f - q) * cur;
+            break;
+        }
+        ray -= step;
+        prevOff = cur;
+        cur += step * maxOff;
+        prevHeight = h;
+    }
+    return uv + cur;
+}
+
 enum class Three { Basic, Steep, Occlusion, Relief };
 
 Vec2f threeTwin(const Texture& t, Vec2f uv, Vec3f V, Three mode, float s, float lo, float hi) {
@@ -111,6 +224,11 @@ struct Engine {
     std::function<Vec2f(const Texture&, Vec2f, Vec3f)> twin;
 };
 std::vector<Engine> engines() {
+    auto o3de = [](O3de mode) {
+        return [mode](const Texture& t, Vec2f uv, Vec3f v) {
+            return o3deTwin(t, uv, v, mode, 0.05f, 16);
+        };
+    };
     auto three = [](Three mode) {
         return [mode](const Texture& t, Vec2f uv, Vec3f v) {
             return threeTwin(t, uv, v, mode, -0.005f, 20.0f, 25.0f);
@@ -128,6 +246,23 @@ std::vector<Engine> engines() {
          [](const Texture& t, Vec2f uv, Vec3f v) {
              return playcanvasTwin(t, uv, v, 0.1f, 1.0f, true);
          }},
+        {"ogre_parallax",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return ogreTwin(t, uv, v, 0.04f, 32, false); }},
+        {"ogre_pom",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return ogreTwin(t, uv, v, 0.04f, 32, true); }},
+        {"o3de_pom", o3de(O3de::Pom)},
+        {"o3de_steep", o3de(O3de::Steep)},
+        {"o3de_relief", o3de(O3de::Relief)},
+        {"o3de_contact", o3de(O3de::Contact)},
+        {"o3de_basic", o3de(O3de::Basic)},
+        {"darkplaces_offset",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return darkplacesTwin(t, uv, v, false, 2, 0); }},
+        {"darkplaces_relief",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return darkplacesTwin(t, uv, v, true, 10, 5); }},
+        {"babylon_offset",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, false); }},
+        {"babylon_occlusion",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, true); }},
         {"threejs_basic", three(Three::Basic)},
         {"threejs_steep", three(Three::Steep)},
         {"threejs_occlusion", three(Three::Occlusion)},
@@ -146,6 +281,12 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
     const GlslRun pc = runPreset("playcanvas", t, in),
                   pcFixed = runPreset("playcanvas_fixed", t, in);
     const GlslRun occlusion = runPreset("threejs_occlusion", t, in);
+    const GlslRun ogre = runPreset("ogre_parallax", t, in), ogrePom = runPreset("ogre_pom", t, in);
+    const GlslRun o3de = runPreset("o3de_pom", t, in), o3deBasic = runPreset("o3de_basic", t, in);
+    const GlslRun dp = runPreset("darkplaces_offset", t, in);
+    const GlslRun dpRelief = runPreset("darkplaces_relief", t, in);
+    const GlslRun bjs = runPreset("babylon_offset", t, in);
+    const GlslRun bjsPom = runPreset("babylon_occlusion", t, in);
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         const Vec2d uv0(in.uv0[k]);
         const Vec3d v = glm::normalize(Vec3d(in.view[k]));
@@ -161,15 +302,39 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
         const double hp = 0.025 * (h - 0.5), z = v.z + 0.42;
         EXPECT_LT(glm::length(Vec2d(pc.uv[k]) - (uv0 + Vec2d(v.x, -v.y) * hp / z)), 1e-6);
         EXPECT_LT(glm::length(Vec2d(pcFixed.uv[k]) - (uv0 + dir * hp / z)), 1e-6);
+        // Ogre: uv - V.xy / V.z d s; its occlusion overshoots one layer: uv - (d + 1/32) V.xy s.
+        EXPECT_LT(glm::length(Vec2d(ogre.uv[k]) - (uv0 - dir / v.z * (1 - h) * 0.04)),
+                  1e-6 + 1e-6 * tanTheta);
+        EXPECT_LT(glm::length(Vec2d(ogrePom.uv[k]) - (uv0 - dir * (1 - h + 1.0 / 32) * 0.04)), 1e-6)
+            << k;
         // three.js occlusion (its depth is h, the scale -0.005): uv0 + V.xy / V.z 0.005 h.
         EXPECT_LT(glm::length(Vec2d(occlusion.uv[k]) - (uv0 + dir / v.z * 0.005 * h)),
                   1e-6 + 1e-5 * tanTheta)
             << k;
+        // O3DE: POM meets depth 1 - h exactly, basic offsets by -V.xy d 0.05.
+        const Vec2d below = -dir / v.z * (1 - h);  // the ray's point at depth 1 - h, per unit s
+        EXPECT_LT(glm::length(Vec2d(o3de.uv[k]) - (uv0 + below * 0.05)), 1e-6 + 1e-5 * tanTheta);
+        EXPECT_LT(glm::length(Vec2d(o3deBasic.uv[k]) - (uv0 - dir * (1 - h) * 0.05)), 1e-6);
+        // DarkPlaces: its two steps of O / 2 (1 - h) add up to O (1 - h), O = -0.04 V.xy; relief
+        // stops within 1/10 / 2^5 of the height.
+        const Vec2d dpWant = uv0 - dir * 0.04 * (1 - h);
+        EXPECT_LT(glm::length(Vec2d(dp.uv[k]) - dpWant), 1e-6);
+        EXPECT_LT(glm::length(Vec2d(dpRelief.uv[k]) - dpWant),
+                  0.04 * glm::length(dir) * (0.1 / 32 + 1e-5) + 1e-6);
+        // Babylon: offset + 0.05 h V.xy; occlusion reaches depth 1 - h only when its lowest ray
+        // height 1 - 14 / (15 + 11 cos(theta)) is below h, else stops 15 steps down.
+        EXPECT_LT(glm::length(Vec2d(bjs.uv[k]) - (uv0 + dir * 0.05 * h)), 1e-6);
+        const double samples = 15 + 11 * v.z, lowest = 1 - 14 / samples;
+        if (std::fabs(lowest - h) > 1e-3) {
+            const Vec2d want =
+                lowest < h ? uv0 + below * 0.05 : uv0 - dir / v.z * 0.05 * (15 / samples);
+            EXPECT_LT(glm::length(Vec2d(bjsPom.uv[k]) - want), 1e-6 + 1e-5 * tanTheta) << k;
+        }
     }
 }
 
-// Head-on: every preset returns uv0, except jME steep, whose normalize(vec2(0)) is not a
-// number (its quirk: head-on fragments get no finite uv').
+// Head-on: every preset returns uv0, except jME steep and Babylon's occlusion, whose
+// normalize(vec2(0)) is not a number (their quirk: head-on fragments get no finite uv').
 TEST(Gl, EnginePresetsHeadOn) {
     Texture t = test::smoothTexture(32, 32);
     test::Fragments in = test::randomFragments(300, 32);
@@ -177,7 +342,8 @@ TEST(Gl, EnginePresetsHeadOn) {
     for (const Engine& e : engines()) {
         const GlslRun r = runPreset(e.preset, t, in);
         for (size_t k = 0; k < in.uv0.size(); ++k) {
-            if (std::string(e.preset) == "jme_steep") {
+            if (std::string(e.preset) == "jme_steep" ||
+                std::string(e.preset) == "babylon_occlusion") {
                 EXPECT_FALSE(std::isfinite(r.uv[k].x) && std::isfinite(r.uv[k].y)) << k;
                 continue;
             }

@@ -71,9 +71,20 @@ MethodPreset threePreset(const char* name, const char* mode, const char* functio
                       "presets/threejs.glsl", function, "heightMap", false, std::move(uniforms));
 }
 
-// The list with the engine presets of issue 31 after it (jMonkeyEngine, three.js).
-std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
-    std::vector<MethodPreset> engines = {
+// O3DE Atom's parallax at its material defaults (factor 0.05, offset 0, quality Low: 16 steps).
+MethodPreset o3dePreset(const char* name, const char* algorithm, const char* function) {
+    std::vector<GlslSpec::Uniform> uniforms = {uniform("factor", 0.05)};
+    if (std::string(function) != "O3deBasic") uniforms.push_back(uniform("steps", 16, true));
+    return glslPreset(name,
+                      (std::string("O3DE Atom parallax ") + algorithm +
+                       ", material defaults: factor 0.05, offset 0, quality Low (16 steps)")
+                          .c_str(),
+                      "presets/o3de.glsl", function, "heightMap", false, std::move(uniforms));
+}
+
+// jMonkeyEngine, PlayCanvas and Ogre.
+std::vector<MethodPreset> enginePresetsA() {
+    return {
         glslPreset("jme",
                    "jMonkeyEngine 3 Lighting/PBRLighting: classic parallax (SteepParallax off), "
                    "ParallaxHeight 0.05",
@@ -97,12 +108,57 @@ std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
                    "limiting along the unit V",
                    "presets/playcanvas.glsl", "PlayCanvasOffsetLimited", "heightMap", false,
                    {uniform("height_map_factor", 1.0)}),
+        glslPreset("ogre_parallax",
+                   "Ogre RTSS normal_map parallax: height scale 0.04, depth 1 - alpha",
+                   "presets/ogre.glsl", "OgreParallax", "heightMap", false,
+                   {uniform("height_scale", 0.04)}),
+        glslPreset("ogre_pom",
+                   "Ogre RTSS normal_map parallax_occlusion: height scale 0.04, 32 layers, "
+                   "no division by V.z",
+                   "presets/ogre.glsl", "OgreOcclusion", "heightMap", false,
+                   {uniform("height_scale", 0.04), uniform("layer_count", 32, true)}),
+    };
+}
+
+// O3DE, DarkPlaces, Babylon.js and three.js.
+std::vector<MethodPreset> enginePresetsB() {
+    return {
+        o3dePreset("o3de_pom", "POM (the default)", "O3dePom"),
+        o3dePreset("o3de_steep", "Steep", "O3deSteep"),
+        o3dePreset("o3de_relief", "Relief", "O3deRelief"),
+        o3dePreset("o3de_contact", "ContactRefinement", "O3deContact"),
+        o3dePreset("o3de_basic", "Basic", "O3deBasic"),
+        glslPreset("darkplaces_offset",
+                   "DarkPlaces/Xonotic offset mapping: scale 0.04, 2 steps, bias 0",
+                   "presets/darkplaces.glsl", "DarkPlacesOffset", "heightMap", false,
+                   {uniform("offset_scale", 0.04), uniform("offset_bias", 0.0),
+                    uniform("offset_steps", 2, true)}),
+        glslPreset("darkplaces_relief",
+                   "DarkPlaces/Xonotic relief mapping (effects-ultimate): scale 0.04, 10 steps, "
+                   "5 refinements, bias 0",
+                   "presets/darkplaces.glsl", "DarkPlacesRelief", "heightMap", false,
+                   {uniform("offset_scale", 0.04), uniform("offset_bias", 0.0),
+                    uniform("offset_steps", 10, true), uniform("refine_steps", 5, true)}),
+        glslPreset("babylon_offset",
+                   "Babylon.js useParallax: parallaxScaleBias 0.05, offset limiting",
+                   "presets/babylon.glsl", "BabylonOffset", "heightMap", false,
+                   {uniform("parallax_scale", 0.05)}),
+        glslPreset("babylon_occlusion",
+                   "Babylon.js useParallaxOcclusion: parallaxScaleBias 0.05, 15 + 11 cos(theta) "
+                   "samples, at most 15",
+                   "presets/babylon.glsl", "BabylonOcclusion", "heightMap", false,
+                   {uniform("parallax_scale", 0.05)}),
         threePreset("threejs_relief", "relief (the example's default mode)", "ThreeRelief"),
         threePreset("threejs_occlusion", "occlusion", "ThreeOcclusion"),
         threePreset("threejs_steep", "steep", "ThreeSteep"),
         threePreset("threejs_basic", "basic", "ThreeBasic"),
     };
-    for (auto& p : engines) presets.push_back(std::move(p));
+}
+
+// The list with the engine presets of issue 31 after it.
+std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
+    for (auto list : {enginePresetsA(), enginePresetsB()})
+        for (auto& p : list) presets.push_back(std::move(p));
     return presets;
 }
 
