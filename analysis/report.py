@@ -18,6 +18,7 @@ from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_st
 from common import case_keys, save_figure, write_text  # noqa: E402
 from report_configs import common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
+from report_engines import engine_lines  # noqa: E402
 
 
 def pareto_front(points):
@@ -347,6 +348,7 @@ def main():
     lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
              + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
              + defaults_lines(table, table80, heat)
+             + engine_lines(df)
              + depth_shadow_lines(common, figdir)
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))

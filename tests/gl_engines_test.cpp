@@ -376,6 +376,39 @@ TEST(Gl, ThreeJsOcclusionConvergesWithItsLayers) {
     EXPECT_LT(previous, 0.05);
 }
 
+// The presets with a step count converge as it grows: O3DE's quality steps, Ogre's layers,
+// DarkPlaces' relief steps (each against itself at a far larger count, bricks, views to 70).
+TEST(Gl, EnginePresetsConvergeWithTheirStepCounts) {
+    Texture t = test::bricks(64);
+    test::Fragments in = test::randomFragments(2000, 36, 70);
+    struct Knob {
+        const char* preset;
+        const char* uniform;
+        int fine;
+    };
+    for (const Knob& k :
+         {Knob{"o3de_pom", "steps", 256}, Knob{"o3de_relief", "steps", 128},
+          Knob{"ogre_pom", "layer_count", 512}, Knob{"darkplaces_relief", "offset_steps", 256}}) {
+        auto run = [&](int n) {
+            std::string uniforms = "\"";
+            uniforms.append(k.uniform).append("\":").append(std::to_string(n));
+            return runPreset(k.preset, t, in, uniforms);
+        };
+        const GlslRun fine = run(k.fine);
+        double previous = INFINITY;
+        for (int n : {4, 16, 64}) {
+            const GlslRun r = run(n);
+            double sum = 0;
+            for (size_t i = 0; i < in.uv0.size(); ++i)
+                sum += glm::length(Vec2d(r.uv[i]) - Vec2d(fine.uv[i])) * 64;
+            const double mean = sum / double(in.uv0.size());
+            EXPECT_LT(mean, previous) << k.preset << " " << n;
+            previous = mean;
+        }
+        EXPECT_LT(previous, 0.1) << k.preset;
+    }
+}
+
 // Each preset's shader against its C++ twin on 20,000 seeded fragments of the default brick
 // map, views to 85 degrees: at least 99.5% within 1e-3 texel.
 TEST(Gl, EnginePresetsMatchTheirCppTwins) {

@@ -1,0 +1,64 @@
+"""The report's section on presets (docs/methods.md "Engine presets"): per preset, the surface
+its defaults fit best (bias ratio), where its error grows most (view angle), what it does
+head-on, and its non-finite pixels: what each engine gets wrong and where. Figures: the report's error-against-angle
+panels (one per preset)."""
+import json
+
+from common import nice, np
+
+
+def _is_preset(params):
+    try:
+        return "preset" in json.loads(params)
+    except (TypeError, ValueError):
+        return False
+
+
+def _defect(r):
+    """The largest defect a row of the per-preset table shows, in words."""
+    found = []
+    if r["nonfinite"] > 0:
+        found.append((1e9, f"non-finite uv' on {int(r['nonfinite'])} pixels "
+                           f"(view angles {r['nonfinite_thetas']})"))
+    if np.isfinite(r["head_on"]) and r["head_on"] > 0.5:
+        found.append((r["head_on"], f"moves texels head-on ({nice(r['head_on'])} texels at theta 0)"))
+    found.append((r["worst"] / 10, f"error grows to {nice(r['worst'])} texels at theta "
+                                   f"{nice(r['worst_theta'])}"))
+    return max(found, key=lambda x: x[0])[1]
+
+
+def _row(label, g):
+    by_ratio = g.groupby("bias_ratio")["mean"].mean()
+    ratio = by_ratio.idxmin()
+    fit = g[g["bias_ratio"] == ratio]
+    by_theta = fit.groupby("theta")["mean"].mean()
+    bad = g[g["nonfinite"] > 0]
+    return {"label": label, "ratio": ratio, "fit_mean": by_ratio.min(),
+            "worst_theta": by_theta.idxmax(), "worst": by_theta.max(),
+            "head_on": by_theta.get(0, float("nan")),
+            "nonfinite": int(g["nonfinite"].sum()),
+            "nonfinite_thetas": ", ".join(nice(t) for t in sorted(bad["theta"].unique()))}
+
+
+def engine_lines(df):
+    """report.md's per-preset section; [] when the study has no preset."""
+    if "params" not in df.columns:
+        return []
+    presets = df[df["params"].map(_is_preset)]
+    if presets.empty:
+        return []
+    rows = [_row(label, g) for label, g in presets.groupby("label", sort=False)]
+    lines = ["## What each preset gets wrong, and where", "",
+             "Per preset (an engine's or a document's shipped defaults): the bias ratio b/s of "
+             "the surface it fits best and its mean error there, the view angle where that "
+             "error is largest, its error head-on, its non-finite pixels, and the largest of "
+             "these defects. Its error against view angle is its panel of the angle figure "
+             "above.", "",
+             "| preset | fits b/s | mean there | worst theta | mean there | head-on | "
+             "non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['label']} | {nice(r['ratio'])} | {nice(r['fit_mean'])} | "
+                     f"{nice(r['worst_theta'])} | {nice(r['worst'])} | {nice(r['head_on'])} | "
+                     f"{r['nonfinite']} | {_defect(r)} |")
+    lines.append("")
+    return lines

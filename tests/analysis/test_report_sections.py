@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""ctest: the report's per-preset and depth/shadow sections on synthetic results with known
+answers: the surface a preset fits (the bias ratio of its lowest mean), its worst view angle,
+its largest defect (non-finite pixels first, then texels moved head-on, then the growth with
+the angle), the depth table's ranking and the shadow shares. Arguments: PGT_BINARY SOURCE_DIR."""
+import json
+import os
+import sys
+import tempfile
+
+try:
+    import matplotlib  # noqa: F401
+    import pandas as pd
+except ImportError:
+    print("skipped: python3-pandas or python3-matplotlib missing")
+    sys.exit(77)
+
+sys.path.insert(0, os.path.join(sys.argv[2], "analysis"))
+from report_depth import depth_shadow_lines  # noqa: E402
+from report_engines import engine_lines  # noqa: E402
+
+
+def rows():
+    out = []
+    for label, method, preset in (("pom", "pom", None), ("shifty", "shifty", "shifty"),
+                                  ("nanny", "nanny", "nanny"), ("calm", "calm", "calm")):
+        params = json.dumps({"preset": preset} if preset else {"precision": "float"})
+        for theta in (0, 40, 80):
+            for ratio in (-0.5, -1.0):
+                mean = {"pom": 0.1, "calm": 0.2 + theta / 10 + (ratio == -0.5) * 5}.get(label, 2.0)
+                if label == "shifty" and theta == 0:
+                    mean = 3.0  # moves texels head-on
+                nonfinite = 7 if label == "nanny" and theta == 0 else 0
+                depth = 0.2 if label == "pom" else float("nan")
+                out.append({"case": 0, "theta": theta, "phi": 0, "scale": 0.05,
+                            "bias": ratio * 0.05, "bias_ratio": ratio, "method": method,
+                            "label": label, "params": params, "mean": mean, "ns_per_px": 10.0,
+                            "nonfinite": nonfinite, "depth_mean": depth, "depth_p90": depth,
+                            "depth_signed_mean": depth, "light_theta": 45.0, "light_phi": 0.0,
+                            "shadow_disagree": 0.25 if label == "pom" else float("nan"),
+                            "shadow_disagree_uv_right": 0.1, "shadow_disagree_uv_wrong": 0.5,
+                            "truth_shadowed": 0.3})
+    return pd.DataFrame(out)
+
+
+failures = []
+
+
+def check(cond, what):
+    if not cond:
+        failures.append(what)
+
+
+df = rows()
+lines = engine_lines(df)
+table = {l.split("|")[1].strip(): [c.strip() for c in l.split("|")[1:-1]]
+         for l in lines if l.startswith("| ") and not l.startswith("| preset")}
+check("pom" not in table, "a built-in is not a preset")
+check(table["calm"][1] == "-1", f"calm fits b/s -1, got {table['calm']}")
+check(table["calm"][3] == "80" and table["calm"][4] == "8.2", f"calm's worst angle: {table['calm']}")
+check("grows to 8.2 texels at theta 80" in table["calm"][7], f"calm's defect: {table['calm']}")
+check("non-finite uv' on 14 pixels (view angles 0)" in table["nanny"][7],
+      f"nanny's defect: {table['nanny']}")
+check("moves texels head-on (3 texels" in table["shifty"][7], f"shifty's defect: {table['shifty']}")
+check(engine_lines(df[df["label"] == "pom"]) == [], "no preset: no section")
+
+with tempfile.TemporaryDirectory() as figdir:
+    depth = depth_shadow_lines(df, figdir)
+    text = "\n".join(depth)
+    check("light at theta 45, phi 0" in text, "the light is named")
+    check("| pom | 0.1 | 0.2 | 0.2 | 0.2 | 25.0% | 10.0% | 50.0% | 30.0% |" in text,
+          "pom's depth and shadow row")
+    check(os.path.exists(os.path.join(figdir, "depth_vs_theta.png")), "depth figure drawn")
+    dark = df.drop(columns=[c for c in df.columns if c.startswith("depth")])
+    check(depth_shadow_lines(dark, figdir) == [], "no depth columns: no section")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"{'ok' if not failures else 'failed'}: {len(failures)} failures")
+sys.exit(1 if failures else 0)
