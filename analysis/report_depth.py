@@ -14,6 +14,14 @@ MEASURES = [("depth_mean", "mean depth error [texels]", "depth"),
             ("shadow_disagree", "share of pixels whose shadow differs from the truth's", "shadow")]
 
 
+def _save(fig, figdir, name):
+    """Lays the figure out, writes figures/NAME, closes it; returns NAME."""
+    fig.tight_layout()
+    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    plt.close(fig)
+    return name
+
+
 def has_depth(df):
     return "depth_mean" in df.columns and np.isfinite(df["depth_mean"]).any()
 
@@ -44,11 +52,7 @@ def _panels(df, column, ylabel, figdir, stem):
         ax.legend(fontsize=6)
     fig.supxlabel("view angle theta [degrees]", fontsize=9)
     fig.supylabel(ylabel, fontsize=9)
-    fig.tight_layout()
-    name = f"{stem}_vs_theta.png"
-    save_figure(fig, os.path.join(figdir, name), dpi=100)
-    plt.close(fig)
-    return name
+    return _save(fig, figdir, f"{stem}_vs_theta.png")
 
 
 def _against_light(df, figdir):
@@ -67,11 +71,7 @@ def _against_light(df, figdir):
     ax.set_xlabel("light angle from the normal [degrees]")
     ax.set_ylabel("share of pixels whose shadow differs from the truth's")
     ax.legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    name = "shadow_vs_light_theta.png"
-    save_figure(fig, os.path.join(figdir, name), dpi=100)
-    plt.close(fig)
-    return name
+    return _save(fig, figdir, "shadow_vs_light_theta.png")
 
 
 def _against_cost(agg, figdir):
@@ -92,11 +92,7 @@ def _against_cost(agg, figdir):
         ax.set_ylabel(ylabel)
         ax.tick_params(labelsize=7)
     axes[0].legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    name = "depth_shadow_vs_cost.png"
-    save_figure(fig, os.path.join(figdir, name), dpi=100)
-    plt.close(fig)
-    return name
+    return _save(fig, figdir, "depth_shadow_vs_cost.png")
 
 
 def depth_shadow_lines(df, figdir):
