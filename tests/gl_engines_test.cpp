@@ -181,6 +181,54 @@ Vec2f babylonTwin(const Texture& t, Vec2f uv, Vec3f V, bool occlusion) {
     return uv + cur;
 }
 
+// The _fixed variants' twins: jME steep with no offset head-on; Ogre's occlusion comparing each
+// step at its own layer; Babylon's occlusion with mix(15, 4, cos) samples and as many passes.
+Vec2f jmeSteepFixedTwin(const Texture& t, Vec2f uv, Vec3f V, float s) {
+    return V.x == 0 && V.y == 0 ? uv : jmeSteepTwin(t, uv, V, s);
+}
+
+Vec2f ogreFixedTwin(const Texture& t, Vec2f uv, Vec3f V, float s, int n) {
+    auto depth = [&](Vec2f p) { return 1.0f - height(t, p); };
+    const Vec3f e = glm::normalize(V);
+    const float L = 1.0f / float(n);
+    const Vec2f delta = Vec2f(e.x, e.y) * s / float(n);
+    Vec2f current = uv;
+    float d = depth(uv), layer = 0;
+    for (int i = 0; i < n && layer < d; ++i) {
+        current = uv - float(i + 1) * delta;
+        d = depth(current);
+        layer = float(i + 1) * L;
+    }
+    if (layer == 0) return uv;
+    const Vec2f prev = current + delta;
+    const float after = d - layer, before = depth(prev) - layer + L;
+    const float w = after / (after - before);
+    return current * (1.0f - w) + prev * w;
+}
+
+Vec2f babylonFixedTwin(const Texture& t, Vec2f uv, Vec3f V) {
+    const Vec3f v = glm::normalize(V);
+    if (v.x == 0 && v.y == 0) return uv;
+    const Vec2f maxOff = -Vec2f(v.x, v.y) / v.z * 0.05f;
+    const float samples = glslMix(15.0f, 4.0f, v.z);
+    const int passes = int(std::ceil(samples));
+    const float step = 1.0f / samples;
+    float ray = 1, prevHeight = 1;
+    Vec2f cur(0.0f), prevOff(0.0f);
+    for (int i = 0; i <= passes; ++i) {
+        const float h = height(t, uv + cur);
+        if (h > ray) {
+            const float d1 = h - ray, d2 = (ray + step) - prevHeight, q = d1 / (d1 + d2);
+            return uv + q * prevOff + (1.0f - q) * cur;
+        }
+        ray -= step;
+        prevOff = cur;
+        cur += step * maxOff;
+        prevHeight = h;
+    }
+    return uv + cur;
+}
+
 enum class Three { Basic, Steep, Occlusion, Relief };
 
 Vec2f threeTwin(const Texture& t, Vec2f uv, Vec3f V, Three mode, float s, float lo, float hi) {
@@ -263,6 +311,12 @@ std::vector<Engine> engines() {
          [](const Texture& t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, false); }},
         {"babylon_occlusion",
          [](const Texture& t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, true); }},
+        {"jme_steep_fixed",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return jmeSteepFixedTwin(t, uv, v, 0.05f); }},
+        {"ogre_pom_fixed",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return ogreFixedTwin(t, uv, v, 0.04f, 32); }},
+        {"babylon_occlusion_fixed",
+         [](const Texture& t, Vec2f uv, Vec3f v) { return babylonFixedTwin(t, uv, v); }},
         {"threejs_basic", three(Three::Basic)},
         {"threejs_steep", three(Three::Steep)},
         {"threejs_occlusion", three(Three::Occlusion)},
@@ -287,6 +341,9 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
     const GlslRun dpRelief = runPreset("darkplaces_relief", t, in);
     const GlslRun bjs = runPreset("babylon_offset", t, in);
     const GlslRun bjsPom = runPreset("babylon_occlusion", t, in);
+    const GlslRun ogreFixed = runPreset("ogre_pom_fixed", t, in);
+    const GlslRun bjsFixed = runPreset("babylon_occlusion_fixed", t, in);
+    const GlslRun pcLimited = runPreset("playcanvas_offset_limited", t, in);
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         const Vec2d uv0(in.uv0[k]);
         const Vec3d v = glm::normalize(Vec3d(in.view[k]));
@@ -324,6 +381,13 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
         // Babylon: offset + 0.05 h V.xy; occlusion reaches depth 1 - h only when its lowest ray
         // height 1 - 14 / (15 + 11 cos(theta)) is below h, else stops 15 steps down.
         EXPECT_LT(glm::length(Vec2d(bjs.uv[k]) - (uv0 + dir * 0.05 * h)), 1e-6);
+        // The fixed variants land exactly where their rays meet the flat height: Ogre's at
+        // uv - d S (no overshoot), Babylon's at depth 1 - h at every angle.
+        EXPECT_LT(glm::length(Vec2d(ogreFixed.uv[k]) - (uv0 - dir * (1 - h) * 0.04)), 1e-6) << k;
+        EXPECT_LT(glm::length(Vec2d(bjsFixed.uv[k]) - (uv0 + below * 0.05)), 1e-6 + 1e-5 * tanTheta)
+            << k;
+        // PlayCanvas beta.20: 0.1 (h - 1/2) along the unit V.
+        EXPECT_LT(glm::length(Vec2d(pcLimited.uv[k]) - (uv0 + dir * 0.1 * (h - 0.5))), 1e-6);
         const double samples = 15 + 11 * v.z, lowest = 1 - 14 / samples;
         if (std::fabs(lowest - h) > 1e-3) {
             const Vec2d want =

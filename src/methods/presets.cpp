@@ -94,6 +94,10 @@ std::vector<MethodPreset> enginePresetsA() {
                    "jMonkeyEngine 3 Lighting/PBRLighting: SteepParallax on, ParallaxHeight 0.05",
                    "presets/jme.glsl", "JmeSteepParallax", "heightMap", false,
                    {uniform("parallax_height", 0.05)}),
+        glslPreset("jme_steep_fixed",
+                   "jme_steep with no offset head-on instead of a NaN (pgt's variant)",
+                   "presets/jme.glsl", "JmeSteepParallaxFixed", "heightMap", false,
+                   {uniform("parallax_height", 0.05)}),
         glslPreset("playcanvas",
                    "PlayCanvas standard material to v2.22.0-beta.19: heightMapFactor 1 "
                    "(s 0.025), h s - s/2, V.xy / (V.z + 0.42), its v offset inverted",
@@ -116,6 +120,11 @@ std::vector<MethodPreset> enginePresetsA() {
                    "Ogre RTSS normal_map parallax_occlusion: height scale 0.04, 32 layers, "
                    "no division by V.z",
                    "presets/ogre.glsl", "OgreOcclusion", "heightMap", false,
+                   {uniform("height_scale", 0.04), uniform("layer_count", 32, true)}),
+        glslPreset("ogre_pom_fixed",
+                   "ogre_pom with each step compared at its own layer: no one-layer overshoot "
+                   "(pgt's variant)",
+                   "presets/ogre.glsl", "OgreOcclusionFixed", "heightMap", false,
                    {uniform("height_scale", 0.04), uniform("layer_count", 32, true)}),
     };
 }
@@ -147,6 +156,11 @@ std::vector<MethodPreset> enginePresetsB() {
                    "Babylon.js useParallaxOcclusion: parallaxScaleBias 0.05, 15 + 11 cos(theta) "
                    "samples, at most 15",
                    "presets/babylon.glsl", "BabylonOcclusion", "heightMap", false,
+                   {uniform("parallax_scale", 0.05)}),
+        glslPreset("babylon_occlusion_fixed",
+                   "babylon_occlusion as its comment intends: mix(15, 4, cos(theta)) samples, "
+                   "as many passes, no NaN head-on (pgt's variant)",
+                   "presets/babylon.glsl", "BabylonOcclusionFixed", "heightMap", false,
                    {uniform("parallax_scale", 0.05)}),
         threePreset("threejs_relief", "relief (the example's default mode)", "ThreeRelief"),
         threePreset("threejs_occlusion", "occlusion", "ThreeOcclusion"),

@@ -50,3 +50,31 @@ vec2 BabylonOcclusion(vec2 uv, vec3 V) {
     }
     return uv + curOff;
 }
+
+// pgt's variant beside BabylonOcclusion, what its comment intends: mix(15, 4, cos(theta))
+// samples (15 at grazing, 4 head-on), a loop as long as the count, and no offset head-on
+// instead of normalize(vec2(0))'s not-a-number.
+vec2 BabylonOcclusionFixed(vec2 uv, vec3 V) {
+    vec3 v = normalize(V);
+    if (v.x == 0.0 && v.y == 0.0) return uv;
+    vec2 maxOff = -v.xy / v.z * parallax_scale;
+    float samples = mix(15.0, 4.0, v.z);
+    int passes = int(ceil(samples));
+    float stepSize = 1.0 / samples;
+    float ray = 1.0, prevHeight = 1.0;
+    vec2 curOff = vec2(0.0), prevOff = vec2(0.0);
+    for (int i = 0; i <= passes; ++i) {
+        float h = babylonHeight(uv + curOff);
+        if (h > ray) {
+            float d1 = h - ray;
+            float d2 = (ray + stepSize) - prevHeight;
+            float r = d1 / (d1 + d2);
+            return uv + r * prevOff + (1.0 - r) * curOff;
+        }
+        ray -= stepSize;
+        prevOff = curOff;
+        curOff += stepSize * maxOff;
+        prevHeight = h;
+    }
+    return uv + curOff;
+}

@@ -42,3 +42,10 @@ vec2 JmeSteepParallax(vec2 uv, vec3 V) {
     float amount = (bound * d2 - (bound + delta) * d1) / (d2 - d1);
     return uv - P * (1.0 - amount);
 }
+
+// pgt's variant beside JmeSteepParallax: head-on (V.xy = 0) there is no offset, instead of
+// normalize(vec2(0))'s not-a-number; everything else as jME ships it.
+vec2 JmeSteepParallaxFixed(vec2 uv, vec3 V) {
+    if (V.x == 0.0 && V.y == 0.0) return uv;
+    return JmeSteepParallax(uv, V);
+}

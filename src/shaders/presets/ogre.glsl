@@ -40,3 +40,25 @@ vec2 OgreOcclusion(vec2 uv, vec3 V) {
     float w = after / (after - before);
     return mix(current, prev, w);
 }
+
+// pgt's variant beside OgreOcclusion: each step compares its own layer's depth (i + 1) L with
+// the depth where it moved, so the coordinate and the layer stay together (no one-layer
+// overshoot); everything else (no division by V.z, 32 layers) as Ogre ships it.
+vec2 OgreOcclusionFixed(vec2 uv, vec3 V) {
+    vec3 e = normalize(V);
+    float L = 1.0 / float(layer_count);
+    vec2 delta = e.xy * height_scale / float(layer_count);
+    vec2 current = uv;
+    float depth = ogreDepth(uv), layer = 0.0;
+    for (int i = 0; i < layer_count && layer < depth; ++i) {
+        current = uv - float(i + 1) * delta;
+        depth = ogreDepth(current);
+        layer = float(i + 1) * L;
+    }
+    if (layer == 0.0) return uv;
+    vec2 prev = current + delta;
+    float after = depth - layer;
+    float before = ogreDepth(prev) - layer + L;
+    float w = after / (after - before);
+    return mix(current, prev, w);
+}
