@@ -348,7 +348,7 @@ def main():
     lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
              + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
              + defaults_lines(table, table80, heat)
-             + engine_lines(df)
+             + engine_lines(df, figdir)
              + depth_shadow_lines(common, figdir)
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))

@@ -3,8 +3,12 @@ its defaults fit best (bias ratio), where its error grows most (view angle), wha
 head-on, and its non-finite pixels: what each engine gets wrong and where. Figures: the report's error-against-angle
 panels (one per preset)."""
 import json
+import math
+import os
 
-from common import nice, np
+from common import nice, np, plt, save_figure
+
+MARKERS = ["o", "s", "^", "v", "D", "P", "X"]
 
 
 def _is_preset(params):
@@ -40,8 +44,42 @@ def _row(label, g):
             "nonfinite_thetas": ", ".join(nice(t) for t in sorted(bad["theta"].unique()))}
 
 
-def engine_lines(df):
-    """report.md's per-preset section; [] when the study has no preset."""
+def _fig_engines(presets, rows, figdir):
+    """One panel per engine (the preset name before its first "_"), a line per preset: its
+    mean error against view angle on the surface it fits best (its bias ratio)."""
+    fit = {r["label"]: r["ratio"] for r in rows}
+    engines = {}
+    for label in fit:
+        engines.setdefault(label.split("_")[0], []).append(label)
+    cols = min(3, len(engines))
+    nrows = math.ceil(len(engines) / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(4.2 * cols, 2.9 * nrows), squeeze=False,
+                             sharey=True)
+    for ax in axes.flat[len(engines):]:
+        ax.set_visible(False)
+    for ax, (engine, labels) in zip(axes.flat, engines.items()):
+        for i, label in enumerate(labels):
+            g = presets[(presets["label"] == label) & (presets["bias_ratio"] == fit[label])]
+            r = g.groupby("theta")["mean"].mean()
+            ax.plot(r.index, r.values.clip(1e-4), marker=MARKERS[i % len(MARKERS)], ms=3,
+                    lw=max(0.8, 2.4 - 0.4 * i), label=f"{label} (b/s {nice(fit[label])})")
+        ax.set_yscale("log")
+        ax.axhline(1.0, color="k", lw=0.8, ls="--")
+        ax.set_title(engine, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.legend(fontsize=6)
+    fig.supxlabel("view angle theta [degrees]", fontsize=9)
+    fig.supylabel("mean UV error on the surface it fits best [texels]", fontsize=9)
+    fig.tight_layout()
+    name = "presets_vs_theta.png"
+    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    plt.close(fig)
+    return name
+
+
+def engine_lines(df, figdir=None):
+    """report.md's per-preset section (its figure drawn into `figdir` when given); [] when the
+    study has no preset."""
     if "params" not in df.columns:
         return []
     presets = df[df["params"].map(_is_preset)]
@@ -52,10 +90,13 @@ def engine_lines(df):
              "Per preset (an engine's or a document's shipped defaults): the bias ratio b/s of "
              "the surface it fits best and its mean error there, the view angle where that "
              "error is largest, its error head-on, its non-finite pixels, and the largest of "
-             "these defects. Its error against view angle is its panel of the angle figure "
-             "above.", "",
-             "| preset | fits b/s | mean there | worst theta | mean there | head-on | "
-             "non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|"]
+             "these defects. The figure draws each preset's error against view angle on the "
+             "surface it fits best, a panel per engine.", ""]
+    if figdir:
+        name = _fig_engines(presets, rows, figdir)
+        lines += [f"![{name}](figures/{name})", ""]
+    lines += ["| preset | fits b/s | mean there | worst theta | mean there | head-on | "
+              "non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['label']} | {nice(r['ratio'])} | {nice(r['fit_mean'])} | "
                      f"{nice(r['worst_theta'])} | {nice(r['worst'])} | {nice(r['head_on'])} | "
