@@ -88,7 +88,7 @@ def _against_cost(agg, figdir):
         ax.set_xscale("log")
         if key == "depth_mean":
             ax.set_yscale("log")
-        ax.set_xlabel("method time, shadow march included [ns per pixel, one C++ thread]")
+        ax.set_xlabel("method time, its shadow march left out [ns per pixel, one C++ thread]")
         ax.set_ylabel(ylabel)
         ax.tick_params(labelsize=7)
     axes[0].legend(fontsize=6, ncol=2)

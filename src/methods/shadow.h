@@ -3,8 +3,9 @@
 // along the light direction ... if any sample height exceeds the light ray's accumulated
 // depth, the fragment is considered occluded") and Tatarchuk's soft shadow (Dynamic Parallax
 // Occlusion Mapping with Approximate Soft Shadows, I3D 2006; the DirectX SDK sample's seven
-// weighted height differences). Both read the height map through the method's context, so
-// their fetches count as the method's.
+// weighted height differences). Both read the height map through the method's context; the
+// pipeline records the method's fetches before the march (docs/model.md §6c: a march is not
+// in the method's cost).
 #pragma once
 
 #include <algorithm>

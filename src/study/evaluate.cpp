@@ -147,7 +147,9 @@ Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const Fragm
 }
 
 // One method on one fragment, then its shadow march toward `light` (tangent space; zero:
-// the view has no light). The depth offset is -height / V.z (docs/model.md §6c).
+// the view has no light). The depth offset is -height / V.z (docs/model.md §6c). The cost
+// (fetches here, time in cppPass) is the method's alone, comparable with GLSL methods, which
+// run no march.
 template <class Real>
 MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0, Vec3<Real> v,
                    Real lod, Vec3<Real> light) {
@@ -158,8 +160,8 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
     p.covered = true;
     p.uv = Vec2d(uv);
     p.depth = float(-c.foundHeight / v.z);
+    p.fetches = uint32_t(c.fetches);  // the method's own: the shadow march's are not counted
     if (light != Vec3<Real>(0)) p.shadow = runShadow(cfg, c, uv, light);
-    p.fetches = uint32_t(c.fetches);
     p.flags = c.flags;
     // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
     if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y))) p.covered = false;
@@ -253,14 +255,13 @@ namespace {
 template <class Real>
 double cppPass(const MethodConfig& cfg, const MethodTextures& tex,
                const std::vector<Vec2<Real>>& uv0, const std::vector<Vec3<Real>>& view,
-               const std::vector<Real>& lod, const std::vector<Vec3<Real>>& light) {
+               const std::vector<Real>& lod) {
     double acc = 0;
     for (size_t k = 0; k < uv0.size(); ++k) {
         MethodContext<Real> c = makeMethodContext<Real>(tex);
         c.lod = lod[k];
         Vec2<Real> uv = runMethod<Real>(cfg, c, uv0[k], view[k]);
         acc += double(uv.x + uv.y);
-        if (light[k] != Vec3<Real>(0)) acc += double(runShadow(cfg, c, uv, light[k]));
     }
     return acc;
 }
@@ -271,8 +272,6 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     // The inputs rounded before the clock starts: the time is the method's alone.
     const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
     const auto view = toFloat<Vec3<Real>>(frags.view);
-    auto light = toFloat<Vec3<Real>>(frags.light);
-    light.resize(frags.size(), Vec3<Real>(0));
     std::vector<Real> lod(frags.size());
     for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(cfg, tex, frags, k);
     std::vector<double> samples;
@@ -280,7 +279,7 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     for (int r = 0; r < repeats; ++r) {
         throwIfCancelled();
         auto t0 = Clock::now();
-        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod, light);
+        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod);
         samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /
                           double(frags.size()));
     }
