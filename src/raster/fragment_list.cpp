@@ -11,13 +11,6 @@
 
 namespace pgt {
 
-namespace {
-// A list made by hand (tests) may leave its lights out: no light (zero) then.
-Vec3d lightOf(const std::vector<Vec3d>& lights, size_t k) {
-    return k < lights.size() ? lights[k] : Vec3d(0);
-}
-}  // namespace
-
 FragmentList compactFragments(const Image2D<Fragment>& frags) {
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
@@ -65,8 +58,8 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     uvDx.insert(uvDx.end(), from.uvDx.begin(), from.uvDx.end());
     uvDy.insert(uvDy.end(), from.uvDy.begin(), from.uvDy.end());
     for (size_t k = 0; k < from.size(); ++k) {
-        light.push_back(lightOf(from.light, k));
-        lightExact.push_back(lightOf(from.lightExact, k));
+        light.push_back(from.lightAt(k));
+        lightExact.push_back(from.lightAt(k, true));
     }
 }
 
@@ -78,8 +71,8 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.viewExact.push_back(from.viewExact[k]);
     to.uvDx.push_back(from.uvDx[k]);
     to.uvDy.push_back(from.uvDy[k]);
-    to.light.push_back(lightOf(from.light, k));
-    to.lightExact.push_back(lightOf(from.lightExact, k));
+    to.light.push_back(from.lightAt(k));
+    to.lightExact.push_back(from.lightAt(k, true));
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
@@ -88,8 +81,8 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.viewExact[slot] = from.viewExact[k];
     to.uvDx[slot] = from.uvDx[k];
     to.uvDy[slot] = from.uvDy[k];
-    to.light[slot] = lightOf(from.light, k);
-    to.lightExact[slot] = lightOf(from.lightExact, k);
+    to.light[slot] = from.lightAt(k);
+    to.lightExact[slot] = from.lightAt(k, true);
 }
 }  // namespace
 

@@ -23,6 +23,12 @@ struct FragmentList {
     std::vector<Vec2d> uvDx, uvDy;         // uv0's screen derivatives (Fragment::uvDx, uvDy)
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     size_t size() const { return pixel.size(); }
+    // Fragment k's light in either frame; zero (no light) where a list made by hand (tests)
+    // left the lights out.
+    Vec3d lightAt(size_t k, bool exactFrame = false) const {
+        const std::vector<Vec3d>& l = exactFrame ? lightExact : light;
+        return k < l.size() ? l[k] : Vec3d(0);
+    }
     // Appends `from`'s fragments, their pixel indices moved by `pixelOffset`.
     void append(const FragmentList& from, int32_t pixelOffset = 0);
 };

@@ -233,17 +233,15 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
-    const auto& lights = exactFrame ? frags.lightExact : frags.light;
-    // A list made by hand (tests) may leave the lights out: no light then.
-    auto light = [&](size_t k) { return k < lights.size() ? lights[k] : Vec3d(0); };
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision
-                    ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
-                                     fragmentLod<double>(cfg, tex, frags, k), light(k))
-                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
-                                    fragmentLod<float>(cfg, tex, frags, k), Vec3f(light(k)));
+                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
+                                                     fragmentLod<double>(cfg, tex, frags, k),
+                                                     frags.lightAt(k, exactFrame))
+                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
+                                                    fragmentLod<float>(cfg, tex, frags, k),
+                                                    Vec3f(frags.lightAt(k, exactFrame)));
         }
     });
     return out;

@@ -174,11 +174,11 @@ class BandPipeline {
         truthBand_ = &ownTruth_;
         if (truth_.surfaces)
             truth_.surfaces->truth->traceRect(r_.camera, band, ownTruth_);
-        else if (truth_.prepared)
-            ownTruth_ = truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
+        else if (truth_.prepared)  // its depths were set when it was prepared
+            truthBand_ = &truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
         else
             ownTruth_ = rowsOf(truth_.frames->truth, band);
-        setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
+        if (!truth_.prepared) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
         for (const TruthSample& t : truthBand_->data) r_.truthHits += t.hit;
         r_.timingsMs["trace"] += msSince(t0);
         if (!truth_.haveFine()) return;
@@ -371,6 +371,7 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
         std::copy_n(fragments.data.begin() + int64_t(y0) * W, b.fragments.size(),
                     b.fragments.data.begin());
         b.frags = compactFragments(b.fragments);
+        setTruthDepths(b.truth, b.fragments, scene.worldPerUv());
         v.bands.push_back(std::move(b));
     }
     return v;
