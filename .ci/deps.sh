@@ -8,7 +8,7 @@ packages=(
   fonts-dejavu-core
   clang-format clang libclang-rt-14-dev
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  glslang-dev spirv-tools libspirv-cross-c-shared-dev  # HLSL methods: HLSL -> SPIR-V -> GLSL
+  glslang-dev glslang-tools spirv-tools libspirv-cross-c-shared-dev  # HLSL -> SPIR-V -> GLSL; glslang-dev's CMake package names /usr/bin/glslangValidator
   libtinygltf-dev assimp-testmodels  # glTF 2.0 bases; real and broken glTF assets for the tests
   python3-numpy python3-matplotlib python3-pandas python3-openimageio
   python3-dev pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests

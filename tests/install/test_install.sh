@@ -63,7 +63,13 @@ mv "$tmp/prefix" "$tmp/moved"
 check_tree "$tmp/moved"
 
 echo "== cpack -G DEB, unpacked into a clean folder"
-(cd "$build" && cpack -G DEB -B "$tmp/deb" > "$tmp/cpack.log") || fail "cpack: $(cat "$tmp/cpack.log")"
+# CPack's own logs say why it failed (its preinstall build, its compression): shown on failure.
+cpack_logs() {
+  cat "$tmp/cpack.log"
+  find "$tmp/deb/_CPack_Packages" -name '*.log' -exec sh -c 'echo "== $1"; tail -n 30 "$1"' _ {} \; 2>/dev/null
+  df -h "$tmp" | tail -n 1
+}
+(cd "$build" && cpack -G DEB -B "$tmp/deb" > "$tmp/cpack.log" 2>&1) || fail "cpack: $(cpack_logs)"
 deb=$(ls "$tmp"/deb/pgt_*.deb)
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "Depends: $depends"
