@@ -4,9 +4,13 @@
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
+#include <array>
+#include <cstdlib>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+
+#include "core/error.h"
 
 namespace pgt {
 
@@ -24,12 +28,29 @@ void embreeError(void*, RTCError code, const char* message) {
             "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
 }
 
+// Embree's configuration string for PGT_EMBREE_ISA (docs/testing.md): "" for Embree's own
+// choice (the best kernels the CPU has), else "isa=NAME" for one of Embree's ISA names.
+std::string isaConfig() {
+    const char* env = std::getenv("PGT_EMBREE_ISA");
+    if (!env || !*env) return "";
+    static constexpr std::array<const char*, 5> kIsas = {"sse2", "sse4.2", "avx", "avx2", "avx512"};
+    for (const char* isa : kIsas)
+        if (std::string(env) == isa) return std::string("isa=") + isa;
+    throw InputError("environment", "PGT_EMBREE_ISA", env,
+                     "expected one of sse2, sse4.2, avx, avx2, avx512 (Embree's kernels), or "
+                     "unset for the best the CPU has");
+}
+
 }  // namespace
 
 RTCDevice embreeDevice() {
     static RTCDevice d = [] {
-        RTCDevice dev = rtcNewDevice(nullptr);
-        if (!dev) throw std::runtime_error("cannot create an Embree device");
+        const std::string config = isaConfig();
+        RTCDevice dev = rtcNewDevice(config.empty() ? nullptr : config.c_str());
+        if (!dev)
+            throw std::runtime_error("cannot create an Embree device" +
+                                     (config.empty() ? "" : " with " + config) +
+                                     " (an ISA the CPU lacks?)");
         rtcSetDeviceErrorFunction(dev, embreeError, nullptr);
         return dev;
     }();

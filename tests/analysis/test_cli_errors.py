@@ -69,7 +69,13 @@ with tempfile.TemporaryDirectory() as d:
                         "gpu0"], capture_output=True, text=True)
     if r.returncode != 2 or "--gl-device" not in r.stderr or os.path.exists(os.path.join(d, "gl")):
         failures.append(f"bad --gl-device: exit {r.returncode}, stderr {r.stderr!r}")
+    # An Embree kernel that does not exist: status 2 naming the variable, before any output.
+    r = subprocess.run([pgt, "render", path, "--out", os.path.join(d, "isa")],
+                       capture_output=True, text=True, env={**os.environ, "PGT_EMBREE_ISA": "avx9"})
+    if (r.returncode != 2 or "PGT_EMBREE_ISA" not in r.stderr or "avx9" not in r.stderr
+            or os.path.exists(os.path.join(d, "isa"))):
+        failures.append(f"bad PGT_EMBREE_ISA: exit {r.returncode}, stderr {r.stderr!r}")
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print(f"{len(cases) + 2} passed, 0 failed")
+print(f"{len(cases) + 3} passed, 0 failed")
