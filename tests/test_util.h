@@ -99,15 +99,14 @@ inline std::filesystem::path tempDir(const std::string& name) {
 }
 
 // The first crossing of the eye ray with s*h + b (docs/model.md §3), in double, sharing no code
-// with any method: 40,000 steps down from the top of the relief to its bottom (the map's
+// with any method: `n` (40,000) steps down from the top of the relief to its bottom (the map's
 // highest and lowest texels), then bisection. uv(z) = uv0 + V.xy / V.z * z at height z.
-inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v) {
+inline Vec2d firstHit(const Texture& t, double s, double b, Vec2d uv0, Vec3d v, int n = 40000) {
     const Vec2d dir = Vec2d(v.x, v.y) / v.z;
     double lo = INFINITY, hi = -INFINITY;
     for (float x : t.texels) lo = std::min(lo, double(x)), hi = std::max(hi, double(x));
     const double top = s >= 0 ? s * hi + b : s * lo + b, bottom = s >= 0 ? s * lo + b : s * hi + b;
     auto above = [&](double z) { return z - (s * sampleBilinear<double>(t, uv0 + dir * z) + b); };
-    const int n = 40000;
     double prev = top;
     for (int i = 1; i <= n; ++i) {
         const double z = top + (bottom - top) * i / n;

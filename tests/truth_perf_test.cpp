@@ -172,14 +172,14 @@ TEST(TruthPerf, VertexCountsAgreeWithTheTessellation) {
         return double(tessellatePlane(s.height, *s.plane(), 3, w)->vertexCount() +
                       tessellatePlane(s.height, *s.plane(), 6, w)->vertexCount());
     };
-    EXPECT_EQ(truthVertices(s, TruthWindow{}), count(TruthWindow{}));
+    EXPECT_EQ(truthVertices(s, TruthWindow{}, TruthWindow{}), count(TruthWindow{}));
     TruthWindow w;
     w.limited = true;
     w.uvMin = Vec2d(-0.213, 0.4017);  // an infinite plane's window may leave the tile
     w.uvMax = Vec2d(0.377, 1.52);
-    EXPECT_EQ(truthVertices(s, w), count(w));
+    EXPECT_EQ(truthVertices(s, w, w), count(w));
     s.truth.uncertainty = false;
-    EXPECT_EQ(truthVertices(s, TruthWindow{}),
+    EXPECT_EQ(truthVertices(s, TruthWindow{}, TruthWindow{}),
               double(tessellatePlane(s.height, *s.plane(), 3)->vertexCount()));
 }
 

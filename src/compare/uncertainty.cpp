@@ -13,6 +13,7 @@ void UncertaintyTally::add(const Image2D<TruthSample>& coarse, const Image2D<Tru
         const auto& a = coarse.data[k];
         const auto& b = fine.data[k];
         if (a.hit != b.hit) ++hitMismatch_;
+        holesFine_ += b.hole;
         if (!(a.hit && b.hit)) continue;
         if (a.shadow != kShadowNone && b.shadow != kShadowNone)
             ++shadowCompared_, shadowMismatch_ += a.shadow != b.shadow;
@@ -23,6 +24,7 @@ void UncertaintyTally::add(const Image2D<TruthSample>& coarse, const Image2D<Tru
 TruthUncertainty UncertaintyTally::finish() {
     TruthUncertainty u;
     u.hitMismatch = hitMismatch_;
+    u.holesFine = holesFine_;
     u.shadowMismatch = shadowMismatch_;
     u.shadowCompared = shadowCompared_;
     u.pixelsCompared = int64_t(diffs_.size());

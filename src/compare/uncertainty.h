@@ -17,6 +17,7 @@ struct TruthUncertainty {
     int rate = 0, rateFine = 0;
     int64_t pixelsCompared = 0;  // hit in both frames
     int64_t hitMismatch = 0;     // hit in one frame only (silhouette and border pixels)
+    int64_t holesFine = 0;       // the finer frame's holes (TruthSample::hole)
     // With a light: pixels hit in both whose shadow differs between the rates (docs/model.md
     // §5b), of `shadowCompared`; shadow disagreements below their share are the truth's own.
     int64_t shadowMismatch = 0, shadowCompared = 0;
@@ -32,7 +33,7 @@ class UncertaintyTally {
     TruthUncertainty finish();  // reorders the kept differences
 
   private:
-    int64_t hitMismatch_ = 0, shadowMismatch_ = 0, shadowCompared_ = 0;
+    int64_t hitMismatch_ = 0, holesFine_ = 0, shadowMismatch_ = 0, shadowCompared_ = 0;
     std::vector<float> diffs_;
 };
 

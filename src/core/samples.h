@@ -15,6 +15,9 @@ enum ShadowState : int8_t { kShadowNone = -1, kShadowLit = 0, kShadowDark = 1 };
 struct TruthSample {
     bool hit = false;
     int8_t shadow = kShadowNone;  // the hit toward the view's light (docs/model.md §5b)
+    // A miss where the sheet must be hit: a plane's ray that crossed the relief's whole slab
+    // over the built sheet (a hole between primitives; docs/model.md §5). Counted, never hidden.
+    bool hole = false;
     Vec2d uv{0};     // UV of the base point that was displaced to the first hit (docs/model.md §5)
     double t = NAN;  // the hit's distance along the pixel's ray (world units)
     // Depth offset (docs/model.md §5b): the hit's distance along the ray beyond the drawn base

@@ -26,13 +26,14 @@ int8_t hardShadow(MethodContext<Real>& c, Vec2<Real> uv, Real z0, Vec3<Real> lig
     if (!(light.z > Real(0))) return kShadowDark;
     const Real top = c.scale >= Real(0) ? c.scale + c.bias : c.bias;
     if (!(z0 < top)) return kShadowLit;  // also a NaN height: nothing to march from
-    const Real dz = (top - z0) / Real(steps);
-    const Vec2<Real> duv = Vec2<Real>(light.x, light.y) / light.z * dz;
-    Real z = z0;
-    for (int k = 0; k < steps; ++k) {
-        uv += duv;
-        z += dz;
-        if (c.h(uv) * c.scale + c.bias > z) return kShadowDark;
+    // Each sample's height from k directly, not by adding dz k times: the float sum can end
+    // below the top (a spurious shadow on a plateau at the top height), k = n is the top itself.
+    const Real rise = top - z0;
+    const Vec2<Real> slope = Vec2<Real>(light.x, light.y) / light.z;
+    for (int k = 1; k <= steps; ++k) {
+        const Real dz = k == steps ? rise : rise * Real(k) / Real(steps);
+        const Real z = k == steps ? top : z0 + dz;
+        if (c.h(uv + slope * dz) * c.scale + c.bias > z) return kShadowDark;
     }
     return kShadowLit;
 }

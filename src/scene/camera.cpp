@@ -6,8 +6,9 @@
 namespace pgt {
 
 Vec3d viewFromAngles(double thetaDegrees, double phiDegrees) {
-    double t = radians(thetaDegrees), p = radians(phiDegrees);
-    return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+    // Exact at multiples of 90 degrees (a light at the horizon, axis-aligned views).
+    const double st = sinDegrees(thetaDegrees), ct = cosDegrees(thetaDegrees);
+    return {st * cosDegrees(phiDegrees), st * sinDegrees(phiDegrees), ct};
 }
 
 Camera Camera::make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight, int width,

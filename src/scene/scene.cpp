@@ -384,14 +384,14 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view) {
     // docs/model.md §4: the camera looks along -V; image up is world +z made perpendicular to the
     // view direction, (-cos t cos p, -cos t sin p, sin t), which stays defined at theta = 0.
     Vec3d v = viewFromAngles(c.theta, c.phi);
-    double t = radians(c.theta), p = radians(c.phi);
-    Vec3d up(-std::cos(t) * std::cos(p), -std::cos(t) * std::sin(p), std::sin(t));
+    const double ct = cosDegrees(c.theta);
+    Vec3d up(-ct * cosDegrees(c.phi), -ct * sinDegrees(c.phi), sinDegrees(c.theta));
     if (c.frame == Framing::View)
         return Camera::orthographic(-v, c.target, up, c.viewHeight, c.width, c.height);
     if (c.frame == Framing::Fill) {
         // The image's vertical extent on the plane is foreshortened by cos(theta); 1e-4
         // keeps the view non-degenerate at exactly 90 degrees.
-        double height = c.fillSize * c.height / c.width * std::max(std::cos(t), 1e-4);
+        double height = c.fillSize * c.height / c.width * std::max(ct, 1e-4);
         return Camera::orthographic(-v, c.target, up, height, c.width, c.height);
     }
     // Fit the 8 corners of the relief slab; 2% margin so that the border stays visible.

@@ -143,12 +143,14 @@ Json truthJson(const Scene& scene, const RenderResult& r) {
                   // > 1: traced in blocks over windows; build is then the largest block's
                   {"blocks", r.truthBlocks}};
     truth["hit_pixels"] = r.truthHits;
+    truth["holes"] = r.truthHoles;  // 0 unless the sheet leaks (docs/model.md §5)
     if (r.haveUncertainty) {
         const TruthUncertainty& u = r.uncertainty;
         truth["uncertainty"] = {{"rate", u.rate},
                                 {"rate_fine", u.rateFine},
                                 {"pixels_compared", u.pixelsCompared},
                                 {"hit_mismatch", u.hitMismatch},
+                                {"holes_fine", u.holesFine},
                                 {"shadow_mismatch", u.shadowMismatch},
                                 {"shadow_compared", u.shadowCompared},
                                 {"p50_texels", finiteOrNull(u.p50Texels)},

@@ -179,7 +179,8 @@ class BandPipeline {
         else
             ownTruth_ = rowsOf(truth_.frames->truth, band);
         if (!truth_.prepared) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
-        for (const TruthSample& t : truthBand_->data) r_.truthHits += t.hit;
+        for (const TruthSample& t : truthBand_->data)
+            r_.truthHits += t.hit, r_.truthHoles += t.hole;
         r_.timingsMs["trace"] += msSince(t0);
         if (!truth_.haveFine()) return;
         auto t1 = Clock::now();
@@ -440,7 +441,7 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     double truth = 0;  // a plane's lattice (a mesh's truth is in its own estimate)
     if (scene.plane()) {
         TruthWindow whole;  // not limited: the whole base
-        truth = truthVertices(scene, whole) * kTruthBytesPerGridVertex;
+        truth = truthVertices(scene, whole, whole) * kTruthBytesPerGridVertex;
         if (m.truthInBlocks) {
             truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
             perPixel += 2.0 * sizeof(TruthSample);  // the blocks fill whole frames
@@ -468,7 +469,7 @@ double bytesBesideTruth(const Scene& scene, const Camera& camera, const FrameOpt
                           .keepsImages = frame.keepImages};
     TruthWindow tile;  // what estimateViewBytes counts for the lattice
     return estimateViewBytes(scene, camera.width(), camera.height(), view) -
-           truthVertices(scene, tile) * kTruthBytesPerGridVertex +
+           truthVertices(scene, tile, tile) * kTruthBytesPerGridVertex +
            2.0 * sizeof(TruthSample) * camera.width() * camera.height();
 }
 
@@ -482,7 +483,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
                             .seed = 1,
                             .glFragments = options.glTimingFragments};
     auto t0 = Clock::now();
-    if (const PlaneBase* plane = scene.plane()) {
+    if (scene.plane()) {
         // A block's lattice: truth.memory_mb, or what the memory limit leaves beside the rest
         // of the view when that is less.
         constexpr double kMiB = 1024.0 * 1024.0;
@@ -490,8 +491,9 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         const double budget = std::max(0.0, std::min(double(scene.truth.memoryMb) * kMiB,
                                                      double(memoryLimitMb()) * kMiB - beside)) /
                               kTruthBytesPerGridVertex;
-        TruthWindow whole = viewWindow(*plane, scene.height, scene.displacement, camera);
-        const double vertices = truthVertices(scene, whole);
+        // What the frame's truth builds (frameWindow: a grazing view of an infinite plane
+        // walks its tile, whatever area the view spans).
+        const double vertices = truthVertices(scene, camera);
         TruthFrames f;
         const bool blocks = vertices > budget && traceTruthInBlocks(scene, camera, budget, f);
         if (vertices > budget && !blocks)  // no split into at most 16 x 16 blocks fits

@@ -64,9 +64,10 @@ struct RenderResult {
     RasterStats raster;
     std::vector<MethodFrame> methods;
     std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
-    FragmentList timed;     // FrameOptions::deferTiming: the seeded subset to time methods on
-    int64_t truthHits = 0;  // pixels whose truth ray hit the surface
-    int truthBlocks = 1;    // > 1: the truth was traced block by block (TruthSpec::memoryMb)
+    FragmentList timed;      // FrameOptions::deferTiming: the seeded subset to time methods on
+    int64_t truthHits = 0;   // pixels whose truth ray hit the surface
+    int64_t truthHoles = 0;  // misses where a plane's sheet had to be hit (TruthSample::hole)
+    int truthBlocks = 1;     // > 1: the truth was traced block by block (TruthSpec::memoryMb)
 };
 
 // The frame is made in bands of rows (bandRows, the last one shorter): each band is

@@ -10,10 +10,11 @@
 
 namespace pgt {
 
-std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r) const {
+std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r,
+                                                                 const TruthWindow& window) const {
     const Texture& h = scene_.height;
     return std::visit(
-        Overloaded{[&](const PlaneBase& p) { return tessellatePlane(h, p, r, window_); },
+        Overloaded{[&](const PlaneBase& p) { return tessellatePlane(h, p, r, window); },
                    [&](const MeshBase& m) {
                        // The limit surface (the asset as meant) or the drawn triangles.
                        return m.truthSurface == MeshTruth::Limit
@@ -27,12 +28,8 @@ void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, P
     PGT_CHECK(!base_ && !fine_);
     const PlaneBase* plane = scene_.plane();
     if (!plane) return;  // windows are cells of a plane's lattice
-    window_ = viewWindow(*plane, scene_.height, disp, camera, block);
-    // A whole view's window is only worth it when it is clearly smaller than the tile.
-    const double T = plane->tiling;
-    const Vec2d extent = window_.uvMax - window_.uvMin;
-    if (window_.empty || (block.empty() && window_.limited && extent.x * extent.y >= 0.5 * T * T))
-        window_ = {};
+    window_ = frameWindow(*plane, scene_.height, disp, camera, block);
+    windowFine_ = frameWindow(*plane, scene_.height, disp, camera, block, 2);
 }
 
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
@@ -42,12 +39,13 @@ TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
     const TruthGeometry geometry = plane ? scene_.truth.geometry : TruthGeometry::Triangles;
     // A window of an infinite plane is traced as it is: it covers every hit of the view.
     const bool periodic = plane && plane->infinite && !window_.limited;
-    if (!base_) base_ = tessellate(rate);
+    if (!base_) base_ = tessellate(rate, window_);
     TruthPair p;
     p.truth = std::make_unique<TruthSurface>(base_, disp, geometry, periodic);
     if (withUncertainty) {
-        if (!fine_) fine_ = tessellate(2 * rate);
-        p.fine = std::make_unique<TruthSurface>(fine_, disp, geometry, periodic);
+        if (!fine_) fine_ = tessellate(2 * rate, windowFine_);
+        p.fine = std::make_unique<TruthSurface>(fine_, disp, geometry,
+                                                plane && plane->infinite && !windowFine_.limited);
     }
     return p;
 }
@@ -65,17 +63,24 @@ const TruthPair& TruthBuilder::update(const Displacement& disp, bool withUncerta
     return current_;
 }
 
-// Plane vertices of a truth (and its 2x-rate twin) over the whole tile or a window.
-double truthVertices(const Scene& scene, const TruthWindow& w) {
+// Plane vertices of a truth over a window and of its 2x-rate twin over its own.
+double truthVertices(const Scene& scene, const TruthWindow& window, const TruthWindow& fine) {
     const PlaneBase* plane = scene.plane();
     if (!plane) return 0;  // counted by the mesh's own estimate (scene/scene.cpp)
-    double sum = 0;
-    for (int r : {scene.truth.rate, scene.truth.uncertainty ? 2 * scene.truth.rate : 0}) {
-        if (r == 0) continue;
+    auto count = [&](int r, const TruthWindow& w) {
         PlaneLattice lattice(*plane, scene.height, r);
-        sum += w.limited ? lattice.vertices(w.uvMin, w.uvMax) : lattice.vertices();
-    }
-    return sum;
+        return w.limited ? lattice.vertices(w.uvMin, w.uvMax) : lattice.vertices();
+    };
+    return count(scene.truth.rate, window) +
+           (scene.truth.uncertainty ? count(2 * scene.truth.rate, fine) : 0.0);
+}
+
+double truthVertices(const Scene& scene, const Camera& camera, PixelRect block) {
+    const PlaneBase* plane = scene.plane();
+    if (!plane) return 0;
+    return truthVertices(scene,
+                         frameWindow(*plane, scene.height, scene.displacement, camera, block),
+                         frameWindow(*plane, scene.height, scene.displacement, camera, block, 2));
 }
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
@@ -93,7 +98,7 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
                 PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
                 TruthWindow w =
                     viewWindow(*scene.plane(), scene.height, scene.displacement, camera, b);
-                fits = w.limited && (w.empty || truthVertices(scene, w) <= budgetVertices);
+                fits = w.limited && (w.empty || truthVertices(scene, camera, b) <= budgetVertices);
                 if (w.empty) continue;  // sees no part of the plane: every pixel misses
                 blocks.push_back(b);
             }

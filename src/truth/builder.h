@@ -28,16 +28,17 @@ class TruthBuilder {
     // reallocation, refit where it is faster); built on first use. Valid until the next call.
     const TruthPair& update(const Displacement& disp, bool withUncertainty);
     // Planes: tessellate only the part of the plane this view can see at (s, b) (large maps
-    // framed closely). Call before the first build.
+    // framed closely), the finer pass over a window twice as wide (frameWindow's reach 2).
+    // Call before the first build.
     void limitToView(const Camera& camera, const Displacement& disp, PixelRect block = {});
     const TruthWindow& window() const { return window_; }
 
   private:
-    std::shared_ptr<const BaseTessellation> tessellate(int rate) const;
+    std::shared_ptr<const BaseTessellation> tessellate(int rate, const TruthWindow& window) const;
     const Scene& scene_;
     std::shared_ptr<const BaseTessellation> base_, fine_;
     TruthPair current_;
-    TruthWindow window_;
+    TruthWindow window_, windowFine_;
 };
 
 // The truth frames of a view traced block by block before the frame is made (the fine one
@@ -50,9 +51,12 @@ struct TruthFrames {
     int blocks = 1;  // > 1: traced block by block over windows (renderFrame)
 };
 
-// Plane vertices of a truth (and its 2x-rate twin when the scene asks for its uncertainty)
-// over the whole tile or a window: the one count the memory budget and the blocks use.
-double truthVertices(const Scene& scene, const TruthWindow& window);
+// Plane vertices of a truth over the whole tile or `window`, and of its 2x-rate twin over
+// `fine` when the scene asks for its uncertainty: the one count the memory budget and the
+// blocks use.
+double truthVertices(const Scene& scene, const TruthWindow& window, const TruthWindow& fine);
+// The same for the windows a frame (or a block of it) builds: frameWindow at reach 1 and 2.
+double truthVertices(const Scene& scene, const Camera& camera, PixelRect block = {});
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
 // block sees, so peak memory is one block's. Returns false (frames untouched) when no

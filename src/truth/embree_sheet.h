@@ -130,6 +130,7 @@ struct TruthSurface::Impl {
         Vec2d uvOffset{0};  // tile offset of this stretch
         Vec3d segOrg{0};    // the ray as given to Embree for this stretch, before rounding
         int guard = 0;
+        bool line = false;  // an orthographic ray: a whole line, no origin to start from
         bool done = false;
         TruthSample result;
         Vec3d ng{0};  // the hit triangle's geometric normal (unnormalised, either side)
@@ -140,6 +141,7 @@ struct TruthSurface::Impl {
         w.o = ray.origin - base->origin - shift;  // into the built sheet's frame, in double
         w.dir = ray.dir;
         w.guard = 0;
+        w.line = ray.line;
         w.done = false;
         w.result = TruthSample{};
         const double inf = std::numeric_limits<double>::infinity();
@@ -211,10 +213,36 @@ struct TruthSurface::Impl {
         }
         if (!periodic) {
             w.done = true;
+            w.result.hole = crossesSheet(w);
             return;
         }
         w.t += w.leave + 1e-9 * base->periodWorld;  // into the next tile (see tfar above)
-        if (++w.guard >= 100000 || w.t > w.tExit + margin) w.done = true;
+        if (w.t > w.tExit + margin) {
+            w.done = true;
+            w.result.hole = crossesSheet(w);
+        } else if (++w.guard >= 100000) {
+            w.done = true;  // not a hole: the walk gave up inside the slab
+        }
+    }
+
+    // Whether a ray that met nothing had to meet a plane's sheet: a plane's displaced sheet is
+    // a height field over its rectangle (a periodic one over the whole plane), so a ray that
+    // passes from above its highest vertex to below its lowest inside that rectangle crosses
+    // it. A miss there is a hole between primitives.
+    bool crossesSheet(const Walk& w) const {
+        if (!base->isGrid() || w.dir.z == 0) return false;
+        double tA = (boundsHi.z - w.o.z) / w.dir.z, tB = (boundsLo.z - w.o.z) / w.dir.z;
+        if (tA > tB) std::swap(tA, tB);
+        if (!w.line && tA < 0) return false;  // the eye is inside the slab
+        if (periodic) return true;
+        const double inset = 1e-7 * glm::length(boundsHi - boundsLo);
+        for (double t : {tA, tB}) {
+            const Vec3d p = w.o + w.dir * t;
+            if (!(p.x > boundsLo.x + inset && p.x < boundsHi.x - inset &&
+                  p.y > boundsLo.y + inset && p.y < boundsHi.y - inset))
+                return false;
+        }
+        return true;
     }
 
     // What the last Embree call of a trace saw, for the double-precision check.
@@ -248,6 +276,10 @@ struct TruthSurface::Impl {
     int8_t shadowAt(const Ray& eye, const TruthSample& s, Vec3d ng, Vec3d light,
                     RTCIntersectContext* ctx) const {
         if (!s.hit) return kShadowNone;
+        // A plane's relief under a light at or below its horizon (light theta >= 90) is dark
+        // everywhere, as the methods' marches say: a ray along the horizon would stay inside
+        // the relief's slab, walking an infinite plane's tiles without end.
+        if (base->isGrid() && !(glm::dot(light, base->grid->planeNormal) > 0)) return kShadowDark;
         if (glm::dot(ng, eye.dir) > 0) ng = -ng;
         const double len = glm::length(ng);
         if (!(len > 0)) return kShadowDark;  // a degenerate triangle: no side faces the light

@@ -24,7 +24,8 @@
 namespace pgt {
 
 TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                       const Camera& camera, PixelRect block, double marginTexels) {
+                       const Camera& camera, PixelRect block, double reach) {
+    constexpr double kMarginTexels = 2;
     if (block.empty()) block = {0, 0, camera.width(), camera.height()};
     TruthWindow w;
     float hMin = 1e30f, hMax = -1e30f;
@@ -48,13 +49,30 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
             lo = glm::min(lo, uv), hi = glm::max(hi, uv);
         }
     }
-    Vec2d margin = Vec2d(marginTexels / height.width, marginTexels / height.height);
+    // Shadow rays rise from a hit toward the light until they leave the slab: at most
+    // (z_hi - z_lo) / L.z along the light, L.xy / L.z per unit of height (docs/model.md §5b).
+    // A light at or below the horizon traces none (every hit is dark).
+    const Vec3d L = camera.light();
+    if (camera.hasLight() && L.z > 0) {
+        const Vec2d toward = Vec2d(L.x, L.y) * ((z[1] - z[0]) / L.z / l * reach);
+        lo = glm::min(lo, lo + toward), hi = glm::max(hi, hi + toward);
+    }
+    Vec2d margin = Vec2d(kMarginTexels / height.width, kMarginTexels / height.height) * reach;
     lo -= margin, hi += margin;
     if (!plane.infinite) lo = glm::max(lo, Vec2d(0)), hi = glm::min(hi, Vec2d(plane.tiling));
     w.limited = true;
     w.empty = !(lo.x < hi.x && lo.y < hi.y);
     w.uvMin = lo;
     w.uvMax = hi;
+    return w;
+}
+
+TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                        const Camera& camera, PixelRect block, double reach) {
+    TruthWindow w = viewWindow(plane, height, disp, camera, block, reach);
+    const double T = plane.tiling;
+    const Vec2d extent = w.uvMax - w.uvMin;
+    if (w.empty || (block.empty() && w.limited && extent.x * extent.y >= 0.5 * T * T)) return {};
     return w;
 }
 

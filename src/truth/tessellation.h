@@ -93,7 +93,12 @@ struct BaseTessellation {
 // The part of a plane's UV domain a frame can see: the texels under the camera's frustum
 // between the lowest and the highest displaced height (the displacement is along the
 // plane's normal, so a hit's UV lies under its ray's passage through that slab), plus a
-// margin. Unwrapped UV (may leave [0, tiling] on an infinite plane).
+// margin, and, when the camera carries a light above the plane's horizon, everything its
+// shadow rays can meet: the region moved toward the light by the slab's height over the light's
+// slope, (z_hi - z_lo) / L.z * L.xy. Unwrapped UV (may leave [0, tiling] on an infinite plane).
+// `reach` scales the margin and the light's reach: the truth's finer pass is built over a
+// window twice as wide, so that a window too small for a shadow shows as a disagreement
+// between the two passes (docs/model.md §5).
 struct TruthWindow {
     bool limited = false;  // false: the whole plane (tile)
     bool empty = false;    // limited to nothing: the view misses the plane
@@ -101,7 +106,14 @@ struct TruthWindow {
 };
 // A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame.
 TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                       const Camera& camera, PixelRect block = {}, double marginTexels = 2);
+                       const Camera& camera, PixelRect block = {}, double reach = 1);
+// The window a frame's truth is built over: viewWindow, or the whole plane (not limited) when
+// the window is not clearly smaller than the tile (at least half its area: a grazing view of
+// an infinite plane, whose tile is then walked periodically) or the view misses the plane.
+// The one rule for what is built and what the memory estimate counts. (A block's window is
+// kept: blocks need their windows.)
+TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                        const Camera& camera, PixelRect block = {}, double reach = 1);
 // Bytes per truth vertex of a plane's grid, Embree's BVH included (measured: 3.27 GB peak for
 // 84M grid vertices, a 4096^2 map at rates 1 and 2).
 constexpr double kTruthBytesPerGridVertex = 40;

@@ -60,10 +60,13 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     // a 2.1M-triangle sheet: refit 39-42 ms vs rebuild 311-333 ms, same trace speed
     // (BM_TruthUpdate, BM_TruthFrame). Grids gain nothing from a refit: one-level build.
     const bool refittable = geometry == TruthGeometry::Triangles;
-    if (refittable) {
-        rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_DYNAMIC);
-        rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
-    }
+    // Robust: without it a ray through a shared edge or a grid line can pass between the two
+    // primitives (Embree's fast box and triangle tests are not watertight there), which puts
+    // whole rows of holes into centred, power-of-two views of a sheet at a round height
+    // (docs/model.md §5). Its cost is in docs/performance.md.
+    rtcSetSceneFlags(m.scene, refittable ? RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST
+                                         : RTC_SCENE_FLAG_ROBUST);
+    if (refittable) rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
     m.geom = rtcNewGeometry(
         dev, geometry == TruthGeometry::Grid ? RTC_GEOMETRY_TYPE_GRID : RTC_GEOMETRY_TYPE_TRIANGLE);
     // rtcSetNewGeometryBuffer pads the buffer as Embree requires for its SIMD loads.
