@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/percentile.h"
 #include "gl/gl_api.h"
 #include "gl/program.h"
@@ -312,6 +313,35 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
     glUniform1f(uniformLocation(prog, spec, "pgt_b"), float(maps.bias));
 }
 
+// The first draw of an image, in strips of rows, each finished before the next: the cancel
+// flag (Ctrl-C in Python) is polled between them, so a slow shader on a software GL stops
+// within about a strip's time (aimed at 0.05-0.25 s: the strip doubles while it is faster,
+// halves while slower) instead of after the whole image's. Strips start on even rows, so no
+// 2x2 quad (its derivatives) is split.
+void drawInStrips(int w, int h) {
+    glEnable(GL_SCISSOR_TEST);
+    int rows = 8;
+    for (int y = 0; y < h;) {
+        const int n = std::min(rows, h - y);
+        const auto t0 = std::chrono::steady_clock::now();
+        glScissor(0, y, w, n);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glFinish();
+        y += n;
+        if (cancelRequested()) {
+            glDisable(GL_SCISSOR_TEST);
+            throw Cancelled();
+        }
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (s < 0.05 && rows < h)
+            rows *= 2;
+        else if (s > 0.25 && rows > 2)
+            rows /= 2;
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
 // Draws `img` once, or times it: one warm-up draw, then draws (each between two glFinish and
 // inside a GL_TIME_ELAPSED query; every draw writes the same outputs) until `plan`'s GL
 // time and repeats are reached. Sets `run`'s timing.
@@ -322,7 +352,7 @@ void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, 
     const float clear[4] = {NAN, NAN, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_COLOR, 1, clear + 2);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    drawInStrips(img.w, img.h);
     if (!plan) return;
     GLuint query = 0;
     glGenQueries(1, &query);
@@ -332,6 +362,10 @@ void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, 
     while (int(gpuNs.size()) < plan->maxRepeats &&
            (int(gpuNs.size()) < plan->minRepeats || totalMs < plan->minGpuMs)) {
         glFinish();
+        if (cancelRequested()) {  // between timed draws (each is whole: its time is the measure)
+            glDeleteQueries(1, &query);
+            throw Cancelled();
+        }
         auto t0 = std::chrono::steady_clock::now();
         glBeginQuery(GL_TIME_ELAPSED, query);
         glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -5,8 +5,6 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 #include <spirv_cross/spirv_cross_c.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -14,10 +12,13 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <regex>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/json_read.h"
+#include "core/process.h"
+#include "gl/shader_gate.h"
 
 namespace pgt::gl {
 
@@ -51,11 +52,11 @@ int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(),
 class Includer : public glslang::TShader::Includer {
   public:
     explicit Includer(std::string top) : top_(std::move(top)) {}
-    IncludeResult* includeLocal(const char* requested, const char* from, size_t) override {
-        return resolve(requested, from);
+    IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
+        return resolve(requested, from, depth);
     }
-    IncludeResult* includeSystem(const char* requested, const char* from, size_t) override {
-        return resolve(requested, from);
+    IncludeResult* includeSystem(const char* requested, const char* from, size_t depth) override {
+        return resolve(requested, from, depth);
     }
     void releaseInclude(IncludeResult* r) override {
         if (!r) return;
@@ -64,11 +65,18 @@ class Includer : public glslang::TShader::Includer {
     }
 
   private:
-    IncludeResult* resolve(const char* requested, const char* from) {
+    // Includes nest at most kMaxIncludeDepth deep: a file that includes itself (directly or
+    // round a cycle) is refused at that depth, naming the file, instead of expanding forever.
+    static constexpr size_t kMaxIncludeDepth = 32;
+    IncludeResult* resolve(const char* requested, const char* from, size_t depth) {
         const std::filesystem::path owner(from && *from ? from : top_);
         std::string name = (owner.parent_path() / requested).lexically_normal().string();
         auto* content = new std::string;
         try {
+            if (depth > kMaxIncludeDepth)
+                throw InputError(owner.string(), "#include", requested,
+                                 "includes nest more than " + std::to_string(kMaxIncludeDepth) +
+                                     " deep (a file that includes itself?)");
             *content = readTextFile(name, owner.string(), "#include", "HLSL include", 16u << 20);
         } catch (const std::exception& e) {
             *content = e.what();
@@ -165,67 +173,44 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
 }
 
 // glslang in a child process: glslang 12's HLSL front end crashes on some malformed input
-// (`1.0 -- x`), which must be an error naming the file, not a crash of pgt. The child writes
-// 'S' and the SPIR-V words, or 'E' and the error message, to a pipe and exits.
+// (`1.0 -- x`), and hostile input can make it run or grow without end; either must be an error
+// naming the file, not a crash or a hang of pgt. The child writes 'S' and the SPIR-V words, or
+// 'E' and the error message, to a pipe and exits; it is held to kCompileLimits.
 std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text, int userLines,
                                      int callLine) {
-    int fds[2];
-    if (::pipe(fds) != 0) return compileInProcess(spec, text, userLines, callLine);
-    const pid_t pid = ::fork();
-    if (pid < 0) {
-        ::close(fds[0]);
-        ::close(fds[1]);
-        return compileInProcess(spec, text, userLines, callLine);
-    }
-    if (pid == 0) {  // the child: no exception, no return, no atexit handlers
-        ::close(fds[0]);
-        std::string out;
-        try {
-            const std::vector<uint32_t> words = compileInProcess(spec, text, userLines, callLine);
-            out.assign(1, 'S');
-            out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
-        } catch (const std::exception& e) {
-            out.assign(1, 'E');
-            out.append(e.what());
-        }
-        for (size_t off = 0; off < out.size();) {
-            const ssize_t n = ::write(fds[1], out.data() + off, out.size() - off);
-            if (n <= 0) ::_exit(1);
-            off += size_t(n);
-        }
-        ::_exit(0);
-    }
-    ::close(fds[1]);
     std::string in;
-    char buf[65536];
-    for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) != 0;) {
-        if (n < 0 && errno == EINTR) continue;
-        if (n < 0) break;
-        in.append(buf, size_t(n));
-    }
-    ::close(fds[0]);
-    int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    if (!in.empty() && in[0] == 'S' && (in.size() - 1) % 4 == 0) {
+    const ChildLimits limits = compileLimits();
+    const ChildStatus st = runInChild(
+        [&](int fd) {
+            std::string out;
+            try {
+                const std::vector<uint32_t> words =
+                    compileInProcess(spec, text, userLines, callLine);
+                out.assign(1, 'S');
+                out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+            } catch (const std::exception& e) {
+                out.assign(1, 'E');
+                out.append(e.what());
+            }
+            return writeAll(fd, out) ? 0 : 1;
+        },
+        limits, &in);
+    if (st.end == ChildEnd::Exited && !in.empty() && in[0] == 'S' && (in.size() - 1) % 4 == 0) {
         std::vector<uint32_t> words((in.size() - 1) / 4);
         std::memcpy(words.data(), in.data() + 1, in.size() - 1);
         return words;
     }
-    if (!in.empty() && in[0] == 'E') {
+    if (st.end == ChildEnd::Exited && !in.empty() && in[0] == 'E') {
         // The child's InputError, rebuilt with its message (the file and field lead it).
         const std::string prefix = spec.path + ": hlsl: ";
         std::string message = in.substr(1);
         if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
         throw InputError(spec.path, "hlsl", "", message);
     }
-    throw InputError(
-        spec.path, "hlsl", "",
-        "glslang, the HLSL compiler, crashed on this file" +
-            std::string(WIFSIGNALED(status) ? " (signal " + std::to_string(WTERMSIG(status)) + ")"
-                                            : "") +
-            ": a construct it cannot parse (glslang 12 crashes on some malformed "
-            "expressions, such as 1.0 -- x); check the syntax");
+    throw InputError(spec.path, "hlsl", "",
+                     "glslang, the HLSL compiler, " + compileFailure(st, limits) +
+                         " (glslang 12 also crashes on some malformed expressions, such as "
+                         "1.0 -- x); check the syntax");
 }
 
 // SPIRV-Cross: a failure here is pgt's (the SPIR-V came from glslang), named as such.
@@ -317,9 +302,15 @@ std::string asWrapperPiece(const std::string& glsl) {
         if (line == "void main()") line = "void pgt_hlsl_main()";
         out << line << "\n";
     }
-    out << "vec2 " << kHlslCall << "(vec2 uv, vec3 v) {\n"
-        << "    pgt_hlsl_uv = uv;\n    pgt_hlsl_v = v;\n    pgt_hlsl_main();\n"
-        << "    return pgt_hlsl_out.xy;\n}\n";
+    // An input the shader never reads (a call that ignores V) was optimised away with its
+    // variable: only the inputs that are left are set.
+    auto declared = [&](const char* name) {
+        return std::regex_search(glsl, std::regex(std::string("\\b") + name + "\\b"));
+    };
+    out << "vec2 " << kHlslCall << "(vec2 uv, vec3 v) {\n";
+    if (declared("pgt_hlsl_uv")) out << "    pgt_hlsl_uv = uv;\n";
+    if (declared("pgt_hlsl_v")) out << "    pgt_hlsl_v = v;\n";
+    out << "    pgt_hlsl_main();\n    return pgt_hlsl_out.xy;\n}\n";
     return out.str();
 }
 

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "gl/hlsl.h"
+#include "gl/shader_gate.h"
 
 namespace pgt::gl {
 
@@ -308,6 +309,7 @@ GLuint programFor(const GlslSpec& spec) {
     const int callLine = spec.call.empty() || spec.hlsl ? 0 : first + count + pieces.callLineInGlue;
     std::string fs =
         prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
+    checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, callLine);
     GLuint prog = glCreateProgram();
