@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -23,6 +24,15 @@ namespace {
 // 1e3 bounds a typo without limiting any real setting.
 constexpr double kMaxOwnDisplacement = 1e3;
 
+// Whether a number written as an integer fits the GLSL int glUniform1i sets (32 bits: 3e9 and
+// 2^53 would wrap); a number written otherwise is not set as an int.
+bool fitsGlslInt(const Json& v) {
+    if (v.is_number_unsigned()) return v.get<uint64_t>() <= uint64_t(INT32_MAX);
+    if (v.is_number_integer())
+        return v.get<int64_t>() >= INT32_MIN && v.get<int64_t>() <= INT32_MAX;
+    return true;
+}
+
 // One uniform's value as an entry writes it: a number (int when written as an integer), 2 to
 // 4 numbers, or, where `binds`, "scale" / "bias" (the case's s / b). `fail(message)` throws.
 template <class Fail>
@@ -33,6 +43,11 @@ GlslSpec::Uniform uniformValue(const std::string& name, const Json& value, bool 
     } else if (value.is_number()) {
         un.values.push_back(value.get<double>());
         un.isInt = value.is_number_integer();
+        if (!fitsGlslInt(value))
+            fail(
+                "a number written as an integer sets an int uniform, a 32-bit int: it must "
+                "lie in [-2147483648, 2147483647] (for a float uniform, write it with a "
+                "decimal point or an exponent)");
     } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
         for (const auto& x : value) {
             if (!x.is_number()) fail("expected numbers");
@@ -54,8 +69,10 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
     for (const auto& [key, value] : u.items()) {
         const std::string field = "uniforms." + key;  // clang 14 captures no structured binding
-        out.push_back(uniformValue(key, value, true,
-                                   [&](const std::string& message) { f.fail(field, message); }));
+        const Json& given = value;
+        out.push_back(uniformValue(key, value, true, [&](const std::string& message) {
+            f.failValue(field, given, message);
+        }));
     }
     return out;
 }

@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -71,20 +72,33 @@ Shard readShard(const std::string& dir) {
     return s;
 }
 
-// What a row of the study may say in its plan-given columns: per case, the columns theta..
-// bias_ratio as pgt writes them; per label, its method name and params.
+// The columns a case fixes, in results.csv's order of them: theta..bias_ratio, then the
+// light's angles (`nan` without a light).
+const std::vector<std::string>& plannedColumns() {
+    static const std::vector<std::string> names = {"theta",      "phi",         "scale",    "bias",
+                                                   "bias_ratio", "light_theta", "light_phi"};
+    return names;
+}
+
+// What a row of the study may say in its plan-given columns: per case, plannedColumns() as
+// pgt writes them; per label, its method name and params.
 struct Plan {
-    std::vector<std::vector<std::string>> caseColumns;  // theta, phi, scale, bias, bias_ratio
+    std::vector<std::vector<std::string>> caseColumns;  // per case, plannedColumns()
+    std::vector<size_t> at;                             // their places in results.csv
     std::map<std::string, std::pair<std::string, std::string>> configs;  // label -> method, params
 };
 
 Plan readPlan(const Shard& s) {
     const std::string path = (fs::path(s.dir) / "study.json").string();
     Plan p;
+    for (const std::string& name : plannedColumns())
+        p.at.push_back(size_t(std::find(resultColumns().begin(), resultColumns().end(), name) -
+                              resultColumns().begin()));
     for (const StudyCase& c : planCases(s.identity, path))
         p.caseColumns.push_back({formatNumber(c.theta, 9), formatNumber(c.phi, 9),
                                  formatNumber(c.scale, 9), formatNumber(c.bias, 9),
-                                 formatNumber(c.biasRatio, 9)});
+                                 formatNumber(c.biasRatio, 9), formatNumber(c.lightTheta, 9),
+                                 formatNumber(c.lightPhi, 9)});
     const Json configs = s.identity.value("configurations", Json());
     std::vector<std::string> labels;
     for (const Json& cfg : configs.is_array() ? configs : Json::array()) {
@@ -118,11 +132,10 @@ int checkRow(const std::vector<std::string>& f, const Shard& s, const Plan& plan
     if (index >= s.cases || index % s.count != s.index)
         bad("case", text,
             "not a case of shard " + std::to_string(s.index) + " of " + std::to_string(s.count));
-    const char* planned[5] = {"theta", "phi", "scale", "bias", "bias_ratio"};
-    for (int k = 0; k < 5; ++k)
-        if (f[size_t(1 + k)] != plan.caseColumns[size_t(index)][size_t(k)])
-            bad(planned[k], f[size_t(1 + k)],
-                "case " + text + " has " + plan.caseColumns[size_t(index)][size_t(k)]);
+    const std::vector<std::string>& planned = plan.caseColumns[size_t(index)];
+    for (size_t k = 0; k < planned.size(); ++k)
+        if (f[plan.at[k]] != planned[k])
+            bad(plannedColumns()[k], f[plan.at[k]], "case " + text + " has " + planned[k]);
     auto it = plan.configs.find(f[7]);
     if (it == plan.configs.end()) bad("label", f[7], "not a configuration of the study");
     if (f[6] != it->second.first)

@@ -8,6 +8,7 @@
 
 #include "core/format.h"
 #include "core/json_fields.h"
+#include "core/json_read.h"
 #include "methods/config.h"
 #include "study/render.h"
 
@@ -17,21 +18,36 @@ namespace {
 
 std::string num(double x) { return formatNumber(x, 9); }
 
-// A list of values: [a, b, ...], a single number, or {"from": a, "to": b, "step": c}.
+// A list of values: [a, b, ...], a single number, or {"from": a, "to": b, "step": c}. Each
+// value once as results.csv prints it (9 significant digits, a case's key): a value given
+// twice would make two cases of one key, whose rows a resume could not tell apart.
 std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, double hi) {
     const Json& v = f.raw(key);
     std::vector<double> out;
+    std::map<std::string, std::string> given;  // printed -> the value as the list gives it
+    auto add = [&](double x, const Json& e) {
+        const std::string shown = shortDump(e);
+        auto [first, fresh] = given.emplace(num(x), shown);
+        if (!fresh)
+            f.failValue(key, e,
+                        (first->second == shown ? "is listed twice"
+                                                : "prints as " + num(x) + ", as " + first->second +
+                                                      " listed before it does") +
+                            " (results.csv's 9 significant digits): one case; give each value "
+                            "once");
+        out.push_back(x);
+    };
     auto check = [&](const Json& e) {
         if (!e.is_number()) f.failValue(key, v, "expected numbers");
         double x = e.get<double>();
         if (!std::isfinite(x) || x < lo || x > hi)
             f.failValue(key, v, "values must lie in [" + num(lo) + ", " + num(hi) + "]");
-        return x;
+        add(x, e);
     };
     if (v.is_number()) {
-        out.push_back(check(v));
+        check(v);
     } else if (v.is_array()) {
-        for (const auto& e : v) out.push_back(check(e));
+        for (const auto& e : v) check(e);
     } else if (v.is_object()) {
         JsonFields r(v, f.file(), f.fieldPath(key));
         double from = r.number("from", lo, hi), to = r.number("to", lo, hi);
@@ -40,7 +56,8 @@ std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, 
         if (to < from) f.failValue(key, v, "\"to\" is below \"from\"");
         if ((to - from) / step > 10000) f.failValue(key, v, "more than 10000 values");
         // `to` included despite the rounding of from + k * step.
-        for (int k = 0; from + k * step <= to + 1e-9 * step; ++k) out.push_back(from + k * step);
+        for (int k = 0; from + k * step <= to + 1e-9 * step; ++k)
+            add(from + k * step, from + k * step);
     } else {
         f.failValue(key, v, "expected a number, an array or {from, to, step}");
     }
@@ -51,7 +68,9 @@ std::vector<double> valueList(JsonFields& f, const std::string& key, double lo, 
 }  // namespace
 
 std::string StudyCase::key() const {
-    std::string k = num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias);
+    // The ratio too: at s = 0 every b / s gives b = 0 (the rows differ in bias_ratio only).
+    std::string k =
+        num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias) + ";" + num(biasRatio);
     if (std::isfinite(lightTheta)) k += ";light " + num(lightTheta) + ";" + num(lightPhi);
     return k;
 }
@@ -144,6 +163,31 @@ std::vector<std::string> readParameterLists(JsonFields& f, const Scene& scene,
     return dotted;
 }
 
+// A value of a shader's list names its configuration by its label part (6 significant
+// digits): a value giving an earlier one's part is the same configuration, refused.
+void checkDistinctPart(std::map<std::string, std::string>& parts, const std::string& part,
+                       const Json& value, const std::string& file, const std::string& field) {
+    const std::string shown = shortDump(value);
+    auto [first, fresh] = parts.emplace(part, shown);
+    if (fresh) return;
+    throw InputError(file, field, shown,
+                     (first->second == shown ? "is listed twice"
+                                             : "makes the label part \"" + part + "\" as " +
+                                                   first->second + " listed before it does") +
+                         " (a label shows 6 significant digits): one configuration; give each "
+                         "value once");
+}
+
+// A generated label over kMaxGeneratedLabel bytes (long uniform names and values) is cut and
+// given 8 hex digits of its SHA-1: labels name files (LABEL_error.png, with the hidden
+// temporary's 34 bytes more) and EXR channels, 255 bytes at most; the params column keeps
+// every value.
+constexpr size_t kMaxGeneratedLabel = 200;
+std::string boundedLabel(const std::string& label) {
+    if (label.size() <= kMaxGeneratedLabel) return label;
+    return label.substr(0, kMaxGeneratedLabel - 9) + "_" + textSha1(label).substr(0, 8);
+}
+
 // A GLSL/HLSL method's or preset's configurations: the product of the lists under its label
 // (or name), each varying "scale", "bias" or "uniforms.NAME" (setShaderParameter); a varied
 // configuration's label is its own with each value appended ("pom_hlsl_max_layers16").
@@ -163,24 +207,56 @@ std::vector<MethodConfig> expandShaderConfig(JsonFields& f, const MethodConfig& 
                 f.fail(prefix + "." + param, "the lists of \"" + prefix + "\" make more than " +
                                                  std::to_string(kMaxStudyConfigs) +
                                                  " configurations");
+            const std::string field = f.fieldPath(prefix + "." + param);
             std::vector<std::pair<MethodConfig, std::string>> next;
-            for (const auto& [c, label] : configs)
+            for (const auto& [c, label] : configs) {
+                std::map<std::string, std::string> parts;  // label part -> the value giving it
                 for (const Json& v : values) {
                     MethodConfig one = c;
-                    const std::string part = setShaderParameter(one, param, v, f.file(),
-                                                                f.fieldPath(prefix + "." + param));
+                    const std::string part = setShaderParameter(one, param, v, f.file(), field);
+                    checkDistinctPart(parts, part, v, f.file(), field);
                     next.push_back({std::move(one), label + "_" + part});
                 }
+            }
             configs = std::move(next);
         }
         break;  // the label's lists, else the name's
     }
     std::vector<MethodConfig> out;
     for (auto& [c, label] : configs) {
-        if (configs.size() > 1) c.label = label;
+        if (configs.size() > 1) c.label = boundedLabel(label);
         out.push_back(std::move(c));
     }
     return out;
+}
+
+// `configs`, each once per value of the list "PREFIX.PARAM" of a built-in: validated as the
+// method entry would be, naming the sweep key; a value that gives an earlier value's
+// configuration (8 and 8.0) is refused.
+std::vector<MethodConfig> varyBuiltIn(const JsonFields& f, const std::vector<MethodConfig>& configs,
+                                      const std::string& prefix, const std::string& param,
+                                      const Json& values) {
+    std::vector<MethodConfig> next;
+    for (const MethodConfig& c : configs) {
+        std::map<std::string, std::string> made;  // the configuration -> the value making it
+        for (const Json& v : values) {
+            const Json entry = {{param, v}};
+            JsonFields p(entry, f.file(), "sweep." + prefix);
+            MethodConfig one = c;
+            readMethodParameters(p, one);
+            p.finish();
+            auto [first, fresh] = made.emplace(toJson(one).dump(), shortDump(v));
+            if (!fresh)
+                throw InputError(
+                    f.file(), p.fieldPath(param), shortDump(v),
+                    (first->second == shortDump(v)
+                         ? "is listed twice"
+                         : "gives the configuration of " + first->second + ", listed before it") +
+                        ": give each value once");
+            next.push_back(std::move(one));
+        }
+    }
+    return next;
 }
 
 // The configurations of a study: each built-in method times the product of its lists
@@ -205,18 +281,7 @@ std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
                     f.fail(prefix + "." + param,
                            "the parameter lists of \"" + prefix + "\" make more than " +
                                std::to_string(kMaxStudyConfigs) + " configurations");
-                std::vector<MethodConfig> next;
-                for (const MethodConfig& c : configs)
-                    for (const Json& v : values) {
-                        // Validated as the method entry would be, naming the sweep key.
-                        const Json entry = {{param, v}};
-                        JsonFields p(entry, f.file(), "sweep." + prefix);
-                        MethodConfig one = c;
-                        readMethodParameters(p, one);
-                        p.finish();
-                        next.push_back(std::move(one));
-                    }
-                configs = std::move(next);
+                configs = varyBuiltIn(f, configs, prefix, param, values);
                 varied = true;
             }
         }

@@ -100,7 +100,7 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         StudyCase c;
         try {
             c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
-            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]);
+            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]), c.biasRatio = std::stod(f[5]);
             c.lightTheta = std::stod(f[lightColumn]), c.lightPhi = std::stod(f[lightColumn + 1]);
         } catch (const std::exception&) {
             dropped = true;

@@ -3,7 +3,9 @@
 (docs/testing.md "What pgt promises"): rows land per case, merge never loses a finished
 study, shards are checked against their plan, clusters' task ids map to shards. Arguments:
 PGT_BINARY SOURCE_DIR CLASS."""
+import csv
 import fcntl
+import io
 import json
 import os
 import shutil
@@ -223,6 +225,207 @@ def small_options(d):
         expect_error(" ".join(args), sweep(path, out, *args), 2, [word], out)
 
 
+def _no_gl(name, r):
+    """Whether `r` failed for want of a GL (the check is then skipped, as gl_texture_limit
+    skips)."""
+    if r.returncode != 0 and ("no GL" in r.stderr or "EGL" in r.stderr):
+        print(f"skipped {name}: no GL here:", r.stderr.strip())
+        return True
+    return False
+
+
+INT_SHADER = ("uniform sampler2D depthMap;\nuniform int uMaxLayers;\nuniform float k;\n"
+              "vec2 F(vec2 uv, vec3 V) {\n"
+              "    return uv - V.xy / V.z * k * texture(depthMap, uv).r * float(uMaxLayers);\n}\n")
+
+
+def _int_uniforms(d):
+    """An int uniform is a 32-bit int: 3e9, 2^53, -3e9 and 2^64 - 1 written as integers (in
+    the method entry, a preset's uniforms, a sweep's list alike; pgt.render's dict in
+    tests/python) are exit 2 naming methods[i].uniforms.NAME, the value and the range, before
+    any GL; 2^31 - 1 still renders."""
+    shader = write(d, "int.glsl", INT_SHADER)
+    out = os.path.join(d, "int_out")
+    for value in (3000000000, 2**53, -3000000000, 2**64 - 1):
+        scene = copy(GOOD)
+        scene["methods"] = ["parallax", {"name": "mine", "glsl": shader, "function": "F",
+                                         "uniforms": {"uMaxLayers": value, "k": 0.0}}]
+        path = write(d, "int.json", json.dumps(scene))
+        expect_error(f"int uniform {value}", run(["render", path, "--out", out]), 2,
+                     [path, f"methods[1].uniforms.uMaxLayers = {value}", "2147483647"], out)
+    scene = copy(GOOD)
+    scene["methods"] = [{"preset": "bevy_relief", "uniforms": {"max_steps": 3000000000}}]
+    path = write(d, "preset.json", json.dumps(scene))
+    expect_error("a preset's int uniform 3e9", run(["render", path, "--out", out]), 2,
+                 [path, "methods[0].uniforms.max_steps = 3000000000", "2147483647"], out)
+    scene = copy(SWEEP)
+    scene["methods"] = [{"name": "mine", "glsl": shader, "function": "F",
+                         "uniforms": {"uMaxLayers": 1, "k": 0.0}}]
+    scene["sweep"]["mine.uniforms.uMaxLayers"] = [8, 2**53]
+    path = write(d, "int_sweep.json", json.dumps(scene))
+    expect_error("a swept int uniform 2^53", sweep(path, out), 2,
+                 [path, f"sweep.mine.uniforms.uMaxLayers = {2**53}", "2147483647"], out)
+    scene = copy(GOOD)
+    scene["methods"] = [{"name": "mine", "glsl": shader, "function": "F",
+                         "uniforms": {"uMaxLayers": 2147483647, "k": 0.0}}]
+    path = write(d, "int_max.json", json.dumps(scene))
+    r = run(["render", path, "--out", out])
+    if not _no_gl("int uniform 2^31 - 1", r):
+        check("int uniform 2^31 - 1 renders", r.returncode == 0, r.stderr)
+
+
+def _csv_edit(column, value, row=0):
+    """An edit of results.csv's lines: row `row`'s `column` set to `value` (a real CSV
+    reader: the params column holds commas)."""
+    def edit(lines):
+        records = list(csv.reader([l for l in lines if l]))
+        records[1 + row][records[0].index(column)] = value
+        buf = io.StringIO()
+        csv.writer(buf, lineterminator="\n").writerows(records)
+        return buf.getvalue().split("\n")
+    return edit
+
+
+def _merge_light_columns(d):
+    """A shard's hand-edited light_theta / light_phi is checked against the case's planned
+    light as theta..bias_ratio are: a value of no case, or another case's, is exit 2 naming
+    the shard's results.csv, the line and the column."""
+    scene = copy(SWEEP)
+    scene["light"] = {"theta": 45, "phi": 90}
+    scene["sweep"].update(theta=[0, 40], light_theta=[20, 60], light_phi=[0, 90])
+    _, dirs = shards_of(d, scene, 2, "light")
+    first = rows_of(os.path.join(dirs[0], "results.csv"))[0]
+    check("case 0's planned light", (first["light_theta"], first["light_phi"]) == ("20", "0"),
+          f"{first['light_theta']}, {first['light_phi']}")
+    for column, value in [("light_theta", "21"), ("light_theta", "60"), ("light_phi", "45"),
+                          ("light_phi", "90"), ("light_theta", "nan")]:
+        name = f"{column}_{value}"
+        copies = edited(d, dirs, name, edit_csv=_csv_edit(column, value))
+        out = os.path.join(d, "light_out")
+        expect_error(f"edited {column} {value}", merge(copies, out), 2,
+                     ["results.csv", f"line 2: {column} = {value}", "case 0 has"], out)
+    r = merge(dirs, os.path.join(d, "merged"))
+    check("the unedited light shards merge", r.returncode == 0, r.stderr)
+
+
+def _repeated_values(d):
+    """A value listed twice, or two that print alike in results.csv (9 significant digits,
+    a case's key), would make two cases of one key: exit 2 naming sweep.LIST and the value;
+    as does a method list's value giving an earlier one's configuration or label."""
+    shader = write(d, "float.glsl", INT_SHADER)
+    base = copy(SWEEP)
+    base["light"] = {"theta": 45, "phi": 90}
+    base["methods"].append({"name": "mine", "glsl": shader, "function": "F",
+                            "uniforms": {"uMaxLayers": 1, "k": 0.5}})
+    out = os.path.join(d, "repeated_out")
+    lists = [("theta", [30, 30], "30"), ("theta", [45, 45.0000000001], "45.0000000001"),
+             ("theta", {"from": 80, "to": 80.00000001, "step": 1e-9}, "sweep.theta"),
+             ("phi", [0, 0.0], "0.0"), ("scale", [0.05, 0.02, 0.05000000001], "0.05000000001"),
+             ("bias_ratio", [0, -0.5, -0.5], "-0.5"), ("bias", [-0.01, -0.01], "-0.01"),
+             ("light_theta", [45, 45], "45"), ("light_phi", [90, 90.00000000001], "90.00000000001"),
+             ("pom.max_layers", [8, 16, 8], "8"), ("pom.max_layers", [8, 8.0], "8.0"),
+             ("mine.uniforms.k", [0.5, 0.5], "0.5"),
+             ("mine.uniforms.k", [0.5, 0.5000000001], "0.5000000001"),
+             ("mine.uniforms.uMaxLayers", [2, 2], "2")]
+    for key, values, shown in lists:
+        scene = copy(base)
+        scene["sweep"][key] = values
+        path = write(d, "repeated.json", json.dumps(scene))
+        expect_error(f"sweep.{key} = {values}", sweep(path, out), 2,
+                     [path, f"sweep.{key}", shown, "once"], out)
+
+
+def _resume_equals_whole(d):
+    """Distinct values that are close (45, 45.001) and a zero scale with several b/s (every
+    ratio gives b = 0 there) are cases of their own: the study runs, and one stopped after
+    K cases (--max-cases) or SIGKILLed, then resumed, equals the uninterrupted run row for
+    row, each case once."""
+    scene = copy(SWEEP)
+    scene["heightmap"]["size"] = [32, 32]
+    scene["camera"]["resolution"] = [48, 48]
+    scene["light"] = {"theta": 45, "phi": 90}
+    scene["truth"] = {"rate": 2}
+    scene["sweep"] = {"theta": [0, 45, 45.001], "scale": [0, 0.05],
+                      "bias_ratio": [0, -0.5, -1], "light_theta": [30, 30.0001],
+                      "timing": {"repeats": 1, "fragments": 64}}
+    path = write(d, "distinct.json", json.dumps(scene))
+    whole = os.path.join(d, "whole")
+    r = sweep(path, whole)
+    check("distinct close values run", r.returncode == 0, r.stderr)
+    want = key_rows(os.path.join(whole, "results.csv"))
+    pairs = {(x["case"], x["label"]) for x in rows_of(os.path.join(whole, "results.csv"))}
+    check("one row per case and method", len(want) == 36 * 2 and len(pairs) == 36 * 2,
+          f"{len(want)} rows")
+    stopped = os.path.join(d, "stopped")
+    for k in (7, 6, 12):  # the first surfaces (s = 0) end part-way
+        r = sweep(path, stopped, "--max-cases", str(k))
+        check(f"--max-cases {k}", r.returncode == 0, r.stderr)
+    r = sweep(path, stopped)
+    check("resumed after --max-cases", r.returncode == 0 and "resumed" in r.stdout, r.stderr)
+    check("resumed after --max-cases equals uninterrupted",
+          key_rows(os.path.join(stopped, "results.csv")) == want)
+    killed = os.path.join(d, "killed")
+    csv_path = os.path.join(killed, "results.csv")
+    p = subprocess.Popen([PGT, "sweep", path, "--out", killed, "--no-report"],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while time.time() < deadline and p.poll() is None:
+        if os.path.exists(csv_path) and sum(1 for _ in open(csv_path)) > 1 + 2 * 3:
+            break
+        time.sleep(0.005)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    r = sweep(path, killed)
+    check("resumed after SIGKILL", r.returncode == 0, r.stderr)
+    check("resumed after SIGKILL equals uninterrupted", key_rows(csv_path) == want)
+
+
+def _long_labels(d):
+    """A uniform sweep's generated label (label, uniform name and value) over 200 bytes is cut
+    to 200 with 8 hex digits of its SHA-1: --images writes LABEL_error.png (a label of 249
+    bytes made a 259-byte name: exit 3), the labels differ, and a second run makes the same."""
+    name = "u" + "x" * 239
+    shader = write(d, "long.glsl", "uniform sampler2D depthMap;\nuniform float " + name + ";\n"
+                   "vec2 F(vec2 uv, vec3 V) {\n    return uv - V.xy / V.z * " + name +
+                   " * texture(depthMap, uv).r;\n}\n")
+    scene = copy(SWEEP)
+    scene["methods"] = ["parallax", {"name": "mine", "glsl": shader, "function": "F",
+                                     "uniforms": {name: 0.02}}]
+    scene["sweep"] = {"theta": [0, 40], "scale": [0.05], f"mine.uniforms.{name}": [0.02, 0.05],
+                      "timing": {"repeats": 1, "fragments": 16}}
+    path = write(d, "long.json", json.dumps(scene))
+    labels = []
+    for out in (os.path.join(d, "long_a"), os.path.join(d, "long_b")):
+        r = sweep(path, out, "--images")
+        if _no_gl("long labels", r):
+            return
+        check("long labels: sweep --images", r.returncode == 0, r.stderr)
+        if r.returncode != 0:
+            return
+        labels.append(sorted({x["label"] for x in rows_of(os.path.join(out, "results.csv"))}))
+        names = [f for _, _, files in os.walk(out) for f in files]
+        check("file names within 255 bytes", max(len(f.encode()) for f in names) <= 255,
+              max(names, key=len))
+    mine = [x for x in labels[0] if x.startswith("mine_")]
+    check("two labels of 200 bytes, cut with a hash", len(mine) == 2 and
+          all(len(x) == 200 and x.startswith("mine_" + name[:100]) for x in mine) and
+          mine[0][:191] == mine[1][:191] and mine[0] != mine[1], f"{mine}")
+    check("the same labels again", labels[0] == labels[1], f"{labels}")
+    r = sweep(path, os.path.join(d, "long_a"), "--images")
+    check("long labels: resumed complete", r.returncode == 0 and "resumed" in r.stdout, r.stderr)
+
+
+def study_hostile3(d):
+    """An outside tester's third round: int uniforms beyond 32 bits, merged shards with edited
+    light angles, sweep lists with a value twice (or two that print alike), and uniform
+    sweeps whose generated labels made file names over 255 bytes."""
+    _int_uniforms(d)
+    _merge_light_columns(d)
+    _repeated_values(d)
+    _resume_equals_whole(d)
+    _long_labels(d)
+
+
 if __name__ == "__main__":
     main([rows_per_case, merge_data_loss, merge_edited_shards, merge_memory, slurm_semantics,
-          small_options])
+          small_options, study_hostile3])

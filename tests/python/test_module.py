@@ -209,6 +209,19 @@ def test_timing_arguments_are_checked_as_the_cli_checks_them(scenes):
             pgt.render(scene, **{name: value})
 
 
+def test_an_int_uniform_beyond_32_bits_is_refused(scenes):
+    """3e9 and 2^53 written as integers set an int uniform, which holds 32 bits: refused as
+    the CLI refuses them, naming methods[i].uniforms.NAME, the value and the range."""
+    scene = small_scene(scenes)
+    for value in (3000000000, 2**53):
+        scene["methods"] = ["parallax", {"name": "mine", "glsl": "pgt:refined.glsl",
+                                         "function": "SecantRelief",
+                                         "uniforms": {"layers": value}}]
+        with pytest.raises(pgt.InputError,
+                           match=rf"methods\[1\]\.uniforms\.layers = {value}: .*2147483647"):
+            pgt.render(scene)
+
+
 def test_a_path_with_a_nul_is_refused(scenes, tmp_path):
     """A NUL would cut the path in C++ and read another file: refused, naming the path."""
     real = os.path.join(scenes, "default.json")
