@@ -98,6 +98,24 @@ GlslSpec::Layout layoutNamed(const std::string& name) {
     return GlslSpec::Layout(std::find(n.begin(), n.end(), name) - n.begin());
 }
 
+// A define's value and a call are each one line of shader text placed into pgt's wrapper: a
+// line break, a carriage return, a NUL or another control character, or a backslash (a line
+// continuation) would break the wrapper's lines and blame them, so they are refused by name.
+// A call is one expression: at most 64 KiB.
+void checkShaderLine(JsonFields& f, const std::string& field, const std::string& text) {
+    for (char ch : text) {
+        const unsigned char c = static_cast<unsigned char>(ch);
+        if ((c < 0x20 && c != '\t') || c == 0x7f || c == '\\')
+            f.failValue(field, Json(text),
+                        "holds a line break, a control character or a backslash: it is one "
+                        "line of shader text");
+    }
+    constexpr size_t kMaxLine = 64 * 1024;
+    if (text.size() > kMaxLine)
+        f.fail(field, "is " + std::to_string(text.size()) + " bytes long; at most " +
+                          std::to_string(kMaxLine) + " (one expression)");
+}
+
 // "defines": {NAME: "VALUE" | number}, each an identifier.
 std::vector<std::pair<std::string, std::string>> parseDefines(JsonFields& f) {
     std::vector<std::pair<std::string, std::string>> out;
@@ -112,7 +130,7 @@ std::vector<std::pair<std::string, std::string>> parseDefines(JsonFields& f) {
             text = value.dump();
         else
             f.fail("defines." + name, "expected a string or a number");
-        if (text.find('\n') != std::string::npos) f.fail("defines." + name, "holds a line break");
+        checkShaderLine(f, "defines." + name, text);
         out.emplace_back(name, text);
     }
     return out;
@@ -209,7 +227,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
     spec->layout = layoutNamed(f.choice("texture", layoutNames(), "height"));
     spec->call = f.string("call", "");
-    if (spec->call.find('\n') != std::string::npos) f.fail("call", "holds a line break");
+    checkShaderLine(f, "call", spec->call);
     if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     spec->stepsUniform = f.string("steps_uniform", "");

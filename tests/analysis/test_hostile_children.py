@@ -46,12 +46,12 @@ def shader_bounds(d):
          ["chain1k.glsl", "1002 functions in a chain of calls (the bound is 64)"]),
         ("a call of 20,000 terms", shader_scene(
             d, "call", "vec2 ParallaxMapping(vec2 uv, vec3 V) { return uv; }\n",
-            call="uv + vec2(0.0 * (" + " + ".join(["V.x"] * 20000) + "))"),
+            call="uv + vec2(0.0 * (" + "+".join(["s"] * 20000) + "))"),
          [], ["call.glsl", "nested more than 2000 levels"]),
         ("a 1 MB call", shader_scene(
             d, "bigcall", "vec2 ParallaxMapping(vec2 uv, vec3 V) { return uv; }\n",
             call="uv + vec2(0.0 * (" + "+".join(["V.x"] * 250000) + "))"),
-         [], ["bigcall.glsl", "refused before the GL compiles it"]),
+         [], ["bigcall.json", "call", "at most 65536"]),
         ("a 22-level macro bomb", shader_scene(
             d, "macro", macro + "\nvec2 ParallaxMapping(vec2 uv, vec3 V) { float x = M22; "
             "return uv + vec2(x * 0.0); }\n"),
@@ -82,6 +82,20 @@ def shader_bounds(d):
     r = run(["render", ok, "--out", os.path.join(d, "fine_out")], timeout=200)
     check("within the bounds: renders", "refused before the GL" not in r.stderr,
           f"exit {r.returncode}, {r.stderr[:400]!r}")
+    # A define's value or a call holding a line break, a CR, a NUL or a backslash: one line
+    # naming the field (it was a compiler's multi-line message naming neither).
+    for what, text in (("CR", "1\r2"), ("LF", "1\n2"), ("NUL", "1\u00002"), ("backslash", "1 \\"),
+                       ("escape", "1\u001b")):
+        path = shader_scene(d, "def", "vec2 ParallaxMapping(vec2 uv, vec3 V) { return uv; }\n",
+                            defines={"X": text})
+        expect_error(f"defines holding a {what}", run(["render", path, "--out",
+                                                       os.path.join(d, "o")]), 2,
+                     ["def.json", "defines.X", "one line of shader text"], os.path.join(d, "o"))
+        path = shader_scene(d, "callt", "vec2 ParallaxMapping(vec2 uv, vec3 V) { return uv; }\n",
+                            call="uv + " + text)
+        expect_error(f"a call holding a {what}", run(["render", path, "--out",
+                                                      os.path.join(d, "o")]), 2,
+                     ["callt.json", "call", "one line of shader text"], os.path.join(d, "o"))
     # An HLSL call that does not read V (its input optimised away) compiles: it failed with
     # "pgt_hlsl_v undeclared".
     for call in ("uv + 0.0 * s", "uv + 0.0 * V.xy"):
