@@ -12,7 +12,7 @@ packages=(
   libtinygltf-dev assimp-testmodels  # glTF 2.0 bases; real and broken glTF assets for the tests
   python3-numpy python3-matplotlib python3-pandas python3-openimageio
   python3-dev pybind11-dev python3-pybind11 python3-pytest  # the Python module and its tests
-  dpkg-dev  # cpack -G DEB: dpkg-shlibdeps finds the .deb's dependencies
+  dpkg-dev file  # cpack -G DEB: dpkg-shlibdeps finds the .deb's dependencies, CPackDeb runs `file`
   slurmctld slurmd slurm-client munge  # studies on a cluster; the distributed ctest
 )
 missing=()

@@ -39,9 +39,12 @@ def sbin(name):
 
 
 def slurm_conf(t, host):
+    """The cluster on loopback: controller and node at 127.0.0.1 by address, so no host name is
+    looked up (a root without /etc/hosts, as a fresh debootstrap has, hung every sinfo on DNS)."""
     cpus = os.cpu_count() or 1
     return "\n".join([
-        "ClusterName=pgttest", f"SlurmctldHost={host}", "SlurmUser=root", "SlurmdUser=root",
+        "ClusterName=pgttest", f"SlurmctldHost={host}(127.0.0.1)", "SlurmUser=root",
+        "SlurmdUser=root",
         f"SlurmctldPort={free_port()}", f"SlurmdPort={free_port()}",
         f"StateSaveLocation={t}/state", f"SlurmdSpoolDir={t}/spool",
         f"SlurmctldPidFile={t}/slurmctld.pid", f"SlurmdPidFile={t}/slurmd.pid",
@@ -53,7 +56,7 @@ def slurm_conf(t, host):
         "SelectTypeParameters=CR_Core", "AccountingStorageType=accounting_storage/none",
         "JobCompType=jobcomp/none", "JobAcctGatherType=jobacct_gather/none",
         "SlurmctldTimeout=30", "SlurmdTimeout=30", "InactiveLimit=0", "MinJobAge=300",
-        f"NodeName={host} CPUs={cpus} State=UNKNOWN",
+        f"NodeName={host} NodeAddr=127.0.0.1 CPUs={cpus} State=UNKNOWN",
         f"PartitionName=pgt Nodes={host} Default=YES MaxTime=INFINITE State=UP", ""])
 
 
