@@ -52,6 +52,64 @@ void reap(pid_t pid, int* status) {
 
 }  // namespace
 
+namespace {
+
+// Reads the child's pipe to its end and reaps it, polling the cancel flag, the clock and the
+// child's memory meanwhile (a limit reached kills it with SIGKILL and says which).
+ChildStatus waitForChild(pid_t pid, int fd, const ChildLimits& limits, std::string* out) {
+    const auto t0 = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    ChildStatus st;
+    bool eof = false, killed = false;
+    int status = 0;
+    double lastMemoryPoll = -1;
+    for (;;) {
+        if (!eof) {
+            pollfd p{fd, POLLIN, 0};
+            if (::poll(&p, 1, 20) > 0) {
+                char buf[65536];
+                const ssize_t n = ::read(fd, buf, sizeof buf);
+                if (n > 0 && out) out->append(buf, size_t(n));
+                if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) eof = true;
+            }
+        } else {
+            const pid_t w = ::waitpid(pid, &status, WNOHANG);
+            if (w == pid || (w < 0 && errno != EINTR)) break;
+            ::usleep(10000);
+        }
+        if (killed) continue;
+        if (cancelRequested()) {
+            ::kill(pid, SIGKILL);
+            reap(pid, &status);
+            throw Cancelled();
+        }
+        const double now = elapsed();
+        if (limits.seconds > 0 && now > limits.seconds) {
+            ::kill(pid, SIGKILL);
+            killed = true, st.end = ChildEnd::TimedOut;
+        } else if (limits.memoryMb > 0 && now - lastMemoryPoll >= 0.05) {
+            lastMemoryPoll = now;
+            st.peakMb = std::max(st.peakMb, privateMb(pid));
+            if (st.peakMb > limits.memoryMb) {
+                ::kill(pid, SIGKILL);
+                killed = true, st.end = ChildEnd::OverMemory;
+            }
+        }
+    }
+    st.seconds = elapsed();
+    if (!killed) {
+        st.end = WIFEXITED(status) ? ChildEnd::Exited : ChildEnd::Signalled;
+        st.code = WIFEXITED(status)     ? WEXITSTATUS(status)
+                  : WIFSIGNALED(status) ? WTERMSIG(status)
+                                        : -1;
+    }
+    return st;
+}
+
+}  // namespace
+
 ChildStatus runInChild(const std::function<int(int fd)>& body, const ChildLimits& limits,
                        std::string* out) {
     int fds[2];
@@ -74,57 +132,14 @@ ChildStatus runInChild(const std::function<int(int fd)>& body, const ChildLimits
         ::_exit(code);
     }
     ::close(fds[1]);
-    const auto t0 = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    };
-    ChildStatus st;
-    bool eof = false, killed = false;
-    int status = 0;
-    double lastMemoryPoll = -1;
-    for (;;) {
-        if (!eof) {
-            pollfd p{fds[0], POLLIN, 0};
-            if (::poll(&p, 1, 20) > 0) {
-                char buf[65536];
-                const ssize_t n = ::read(fds[0], buf, sizeof buf);
-                if (n > 0 && out) out->append(buf, size_t(n));
-                if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) eof = true;
-            }
-        } else {
-            const pid_t w = ::waitpid(pid, &status, WNOHANG);
-            if (w == pid || (w < 0 && errno != EINTR)) break;
-            ::usleep(10000);
-        }
-        if (killed) continue;
-        if (cancelRequested()) {
-            ::kill(pid, SIGKILL);
-            reap(pid, &status);
-            ::close(fds[0]);
-            throw Cancelled();
-        }
-        const double now = elapsed();
-        if (limits.seconds > 0 && now > limits.seconds) {
-            ::kill(pid, SIGKILL);
-            killed = true, st.end = ChildEnd::TimedOut;
-        } else if (limits.memoryMb > 0 && now - lastMemoryPoll >= 0.05) {
-            lastMemoryPoll = now;
-            st.peakMb = std::max(st.peakMb, privateMb(pid));
-            if (st.peakMb > limits.memoryMb) {
-                ::kill(pid, SIGKILL);
-                killed = true, st.end = ChildEnd::OverMemory;
-            }
-        }
+    try {
+        const ChildStatus st = waitForChild(pid, fds[0], limits, out);
+        ::close(fds[0]);
+        return st;
+    } catch (...) {
+        ::close(fds[0]);
+        throw;
     }
-    ::close(fds[0]);
-    st.seconds = elapsed();
-    if (!killed) {
-        st.end = WIFEXITED(status) ? ChildEnd::Exited : ChildEnd::Signalled;
-        st.code = WIFEXITED(status)     ? WEXITSTATUS(status)
-                  : WIFSIGNALED(status) ? WTERMSIG(status)
-                                        : -1;
-    }
-    return st;
 }
 
 int runProgram(const std::vector<std::string>& argv, bool quiet) {

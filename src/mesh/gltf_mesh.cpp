@@ -3,10 +3,12 @@
 // accessors against their buffers.
 #include "mesh/gltf_mesh.h"
 
+#include <OpenImageIO/hash.h>
 #include <tiny_gltf.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -15,6 +17,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/json_read.h"
 #include "mesh/gltf_file.h"
 #include "mesh/mikktspace.h"
@@ -34,7 +37,6 @@ std::string toString(MeshFrames frames) {
 namespace {
 
 using Fail = GltfFail;
-constexpr size_t kMaxTriangles = size_t(1) << 24;
 
 // A number as a message shows it: 0, 1, -0.5, 1e-07 (not 0.000000).
 std::string shortNumber(double x) {
@@ -124,7 +126,8 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index,
              " components; " + attribute + " has " + std::to_string(components));
     const AccessorBytes at = locate(model, a, name, components, fail);
     std::vector<double> out(a.count * size_t(components));
-    for (size_t e = 0; e < a.count; ++e)
+    for (size_t e = 0; e < a.count; ++e) {
+        if ((e & 0xffff) == 0) throwIfCancelled();  // Ctrl-C in Python: millions of vertices
         for (size_t c = 0; c < size_t(components); ++c) {
             const double x = component(at.base + at.stride * e + at.componentBytes * c,
                                        a.componentType, a.normalized);
@@ -133,6 +136,7 @@ std::vector<double> readAccessor(const tinygltf::Model& model, int index,
                      ")");
             out[e * size_t(components) + c] = x;
         }
+    }
     return out;
 }
 
@@ -148,14 +152,14 @@ int attribute(const tinygltf::Primitive& prim, const std::string& name) {
     return it == prim.attributes.end() ? -1 : it->second;
 }
 
-// An attribute's elements, checked to be as many as POSITION's `n`.
+// An attribute's elements, checked to be as many as POSITION's `n` before they are read.
 std::vector<double> readAttribute(const tinygltf::Model& model, int acc, const std::string& what,
                                   int components, size_t n, const Fail& fail) {
-    std::vector<double> v = readAccessor(model, acc, what, components, fail);
-    if (v.size() / size_t(components) != n)
-        fail(accessorName(acc, what) + " has " + std::to_string(v.size() / size_t(components)) +
-             " elements; POSITION has " + std::to_string(n));
-    return v;
+    if (acc >= 0 && size_t(acc) < model.accessors.size() && model.accessors[size_t(acc)].count != n)
+        fail(accessorName(acc, what) + " has " +
+             std::to_string(model.accessors[size_t(acc)].count) + " elements; POSITION has " +
+             std::to_string(n));
+    return readAccessor(model, acc, what, components, fail);
 }
 
 // The triangles' vertex indices (0, 1, 2, ... without an index accessor), each below `n`.
@@ -184,7 +188,7 @@ std::vector<uint32_t> readIndices(const tinygltf::Model& model, const tinygltf::
         fail("the primitive has " + std::to_string(tri.size()) +
              (prim.indices >= 0 ? " indices" : " vertices and no indices") +
              ", not a whole number of triangles");
-    if (tri.size() / 3 > kMaxTriangles)
+    if (tri.size() / 3 > kMaxGltfTriangles)
         fail("the primitive has " + std::to_string(tri.size() / 3) + " triangles (more than 2^24)");
     return tri;
 }
@@ -376,6 +380,23 @@ const tinygltf::Primitive& selectPrimitive(const tinygltf::Model& model, GltfSel
     return prim;
 }
 
+// A mesh of several primitives draws one: the scene that did not choose it is told which, on
+// stderr (a notice, not an error), with how many there are and how to choose another.
+void noteOtherPrimitives(const tinygltf::Model& model, const GltfSelection& which,
+                         const Fail& fail) {
+    const tinygltf::Mesh& mesh = model.meshes[size_t(which.mesh)];
+    if (mesh.primitives.size() < 2) return;
+    const size_t dot = fail.field.rfind('.');
+    const std::string key = (dot == std::string::npos ? "" : fail.field.substr(0, dot + 1));
+    std::fprintf(stderr,
+                 "pgt: note: %s: %s = %s: mesh %d%s has %zu primitives; primitive %d is drawn, "
+                 "the others are not (%sprimitive chooses one)\n",
+                 printable(fail.sceneFile, 480).c_str(), printable(fail.field, 120).c_str(),
+                 printable(fail.path, 120).c_str(), which.mesh,
+                 mesh.name.empty() ? "" : (" \"" + printable(mesh.name, 60) + "\"").c_str(),
+                 mesh.primitives.size(), which.primitive, key.c_str());
+}
+
 // MikkTSpace per corner, in the asset's own space: vertices whose corners got different
 // frames (a mirror seam) are split.
 void mikkTangents(Attributes& at, MikkFrames* stats) {
@@ -461,7 +482,7 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
                       const std::string& sceneFile, const std::string& field) {
     const Fail fail{sceneFile, field, path};
     std::string fileSha1;
-    const tinygltf::Model model = readGltfModel(path, fail, &fileSha1);
+    const tinygltf::Model model = readGltfModel(path, selection, frames, fail, &fileSha1);
     checkNodeGraph(model, fail);
     GltfSelection which = selection;
     const tinygltf::Primitive& prim = selectPrimitive(model, which, fail);
@@ -489,8 +510,7 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
     }
     out.cage = weldedCage(out.drawn.mesh);
     std::string hashed = fileSha1;  // the file, then every buffer (a .bin beside it)
-    for (const auto& b : model.buffers)
-        hashed += textSha1(std::string(b.data.begin(), b.data.end()));
+    for (const auto& b : model.buffers) hashed += OIIO::SHA1::digest(b.data.data(), b.data.size());
     out.cage.sourceSha1 = textSha1(hashed);
     const std::string& name = model.meshes[size_t(which.mesh)].name;
     out.description = "mesh " + std::to_string(which.mesh) +
@@ -498,6 +518,7 @@ GltfMesh loadGltfMesh(const std::string& path, const GltfSelection& selection, M
                       std::to_string(which.primitive) + ", TEXCOORD_" +
                       std::to_string(which.uvSet) + ", " +
                       (which.node >= 0 ? "node " + std::to_string(which.node) : "no node");
+    if (!which.primitiveGiven) noteOtherPrimitives(model, which, fail);  // once all is read
     return out;
 }
 

@@ -19,6 +19,7 @@ struct GltfSelection {
     std::string meshName;  // when set, chosen over `mesh`
     bool meshGiven = false;
     int primitive = 0;
+    bool primitiveGiven = false;  // else a mesh of several primitives gets a notice on stderr
     int uvSet = 0;
     int node = -1;
     std::string nodeName;  // when set, chosen over `node`

@@ -13,6 +13,8 @@
 #include <map>
 #include <tuple>
 
+#include "core/interrupt.h"
+
 namespace pgt {
 
 namespace {
@@ -51,6 +53,7 @@ int64_t triangleDirections(const MikkInput& in, std::vector<Vec3d>& dirU,
     orient.assign(nTri, 0);
     int64_t degenerate = 0;
     for (size_t t = 0; t < nTri; ++t) {
+        if ((t & 0xffff) == 0) throwIfCancelled();  // Ctrl-C in Python: millions of triangles
         const uint32_t* i = &in.triangles[3 * t];
         const Vec3d d1 = in.positions[i[1]] - in.positions[i[0]];
         const Vec3d d2 = in.positions[i[2]] - in.positions[i[0]];

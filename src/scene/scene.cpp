@@ -161,6 +161,7 @@ void parseGltfBase(const Scene& s, JsonFields& f, MeshBase& m) {
     which.meshGiven = indexOrName("mesh", which.mesh, which.meshName);
     indexOrName("node", which.node, which.nodeName);
     which.primitive = f.integer("primitive", 0, 0, 1 << 30);
+    which.primitiveGiven = f.has("primitive");
     which.uvSet = f.integer("uv", 0, 0, 1 << 20);
     const std::string frames = f.choice("frames", {"asset", "mikktspace", "pgt"}, "asset");
     const MeshFrames kind = frames == "pgt"          ? MeshFrames::Pgt
