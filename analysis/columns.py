@@ -1,7 +1,7 @@
 """results.csv's measured columns: times and where they were taken, which differ between runs
 and machines (docs/outputs.md). Every other column is computed and equal between runs of the
 same study, whether run whole, resumed after a kill or merged from shards. The C++ list
-(study/sweep.h measuredResultColumns) is checked against this one by the test suite."""
+(study/result_columns.h measuredResultColumns) is checked against this one by the test suite."""
 
 MEASURED_COLUMNS = ("ns_per_px", "precompute_ms", "timing_backend", "ns_per_px_p25",
                     "ns_per_px_p75", "timing_repeats", "timing_fragments", "timing_case")

@@ -144,7 +144,7 @@ template <class Real>
 Vec2<Real> cone(const MethodTextures& tex, Vec2d uv0, Vec3d v, const std::string& json,
                 int* fetches = nullptr, uint32_t* flags = nullptr) {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
-    Vec2<Real> uv = runMethod<Real>(method(json), c, Vec2<Real>(uv0), Vec3<Real>(v));
+    Vec2<Real> uv = runMethod<Real>(*method(json).builtin(), c, Vec2<Real>(uv0), Vec3<Real>(v));
     if (fetches) *fetches = c.fetches;
     if (flags) *flags = c.flags;
     return uv;
@@ -334,7 +334,7 @@ TEST(RelaxedCone, RaysThroughTexelsEnterAtMostOnceInsideTheCone) {
 template <class Real>
 Vec2<Real> relaxed(const MethodTextures& tex, Vec2d uv0, Vec3d v, const std::string& json) {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
-    return runMethod<Real>(method(json), c, Vec2<Real>(uv0), Vec3<Real>(v));
+    return runMethod<Real>(*method(json).builtin(), c, Vec2<Real>(uv0), Vec3<Real>(v));
 }
 
 // Head-on: uv0. Flat map: exact. More cone steps and more binary steps never hurt on a smooth
@@ -374,7 +374,7 @@ TEST(RelaxedCone, ClosedFormsAndConvergence) {
     EXPECT_LT(err[2], err[1]);
     uint32_t flags = 0;
     MethodContext<double> c = makeMethodContext<double>(tex);
-    Vec2d r = runMethod<double>(method(json), c, Vec2d(0.5), Vec3d(0.6, 0, -0.8));
+    Vec2d r = runMethod<double>(*method(json).builtin(), c, Vec2d(0.5), Vec3d(0.6, 0, -0.8));
     flags = c.flags;
     EXPECT_TRUE(std::isnan(r.x));
     EXPECT_TRUE(flags & kFlagZeroDivide);

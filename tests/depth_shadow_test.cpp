@@ -25,7 +25,7 @@ Answer runAt(const MethodConfig& cfg, MethodTextureCache& cache, const Displacem
              Vec3f v) {
     MethodContext<float> c = makeMethodContext<float>(cache.get(cfg, d));
     Answer a;
-    a.uv = runMethod<float>(cfg, c, uv0, v);
+    a.uv = runMethod<float>(*cfg.builtin(), c, uv0, v);
     a.depth = -c.foundHeight / v.z;
     return a;
 }

@@ -154,7 +154,7 @@ std::vector<Case> randomCases(int n, double maxTheta, unsigned seed) {
 
 Vec2f ours(const MethodConfig& cfg, const MethodTextures& tex, Case c) {
     MethodContext<float> ctx = makeMethodContext<float>(tex);
-    return runMethod<float>(cfg, ctx, c.uv0, c.v);
+    return runMethod<float>(*cfg.builtin(), ctx, c.uv0, c.v);
 }
 
 class Documents : public ::testing::Test {

@@ -38,8 +38,8 @@ TEST(Gpu8, WeightsOnTheLatticeAreExactAndOthersMoveByAtMostHalfAStep) {
 TEST(Gpu8, MethodsReadTheQuantisedFilterOnlyWhenAsked) {
     MethodConfig exact = test::method(R"({"name":"pom"})");
     MethodConfig gpu8 = test::method(R"({"name":"pom","filter":"gpu8"})");
-    EXPECT_FALSE(exact.gpu8Filter);
-    EXPECT_TRUE(gpu8.gpu8Filter);
+    EXPECT_FALSE(exact.builtin()->gpu8Filter);
+    EXPECT_TRUE(gpu8.builtin()->gpu8Filter);
     EXPECT_EQ(toJson(gpu8).value("filter", ""), "gpu8");
     EXPECT_FALSE(toJson(exact).contains("filter"));  // older studies keep their identity
     std::vector<MethodConfig> both = parseMethods(
@@ -65,7 +65,7 @@ TEST(Gpu8, MethodsReadTheQuantisedFilterOnlyWhenAsked) {
             c.height = &t;
             c.scale = 0.05f;
             c.bias = -0.05f;
-            return runMethod<float>(cfg, c, uv0, v);
+            return runMethod<float>(*cfg.builtin(), c, uv0, v);
         };
         EXPECT_EQ(run(exact, flat), run(gpu8, flat)) << q;
         largest = std::max(largest, double(glm::length(run(exact, ramp) - run(gpu8, ramp))) * 64);

@@ -33,14 +33,14 @@ inline Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Te
     const ConeMap relaxedCone =
         needs(cpu).has(MapKind::RelaxedCone) ? buildRelaxedConeMap(t, cone) : ConeMap{};
     const MapRefs maps{&t, &dm.normal, &dm.parallax, &pyramid, &cone, &relaxedCone};
-    GlslRun run = runGlsl(*gl.glsl, maps, s, b, in.uv0, in.view);
+    GlslRun run = runGlsl(*gl.shader(), maps, s, b, in.uv0, in.view);
     Agreement a;
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         MethodContext<float> c;
         static_cast<MapRefs&>(c) = maps;
         c.scale = float(s);
         c.bias = float(b);
-        Vec2f want = runMethod<float>(cpu, c, in.uv0[k], in.view[k]);
+        Vec2f want = runMethod<float>(*cpu.builtin(), c, in.uv0[k], in.view[k]);
         double d = uvErrorTexels(Vec2d(run.uv[k]), Vec2d(want), t.width, t.height, Address::Clamp);
         // Relative to the offset too: tangent_plane divides by dot(n, V), which magnifies
         // the last-bit difference of GL's normalize where the normal tilts towards the eye

@@ -24,7 +24,7 @@ GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragmen
         test::method(R"({"preset":")" + name + "\"" +
                      (uniforms.empty() ? "" : R"(,"uniforms":{)" + uniforms + "}") + "}");
     EXPECT_EQ(cfg.preset, name);
-    return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
+    return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
 }
 
 // The twins: float, the shaders' order of operations.

@@ -57,8 +57,8 @@ TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     MethodConfig dy = inlineGlsl("dy", "vec2 F(vec2 uv, vec3 V) { return dFdyFine(uv); }\n",
                                  R"(, "sampler": "")");
     const GlslInputs in = screenInputs(f, cam.width(), cam.height());
-    GlslRun rx = runGlsl(*dx.glsl, GlslMaps{{.height = &t}}, in),
-            ry = runGlsl(*dy.glsl, GlslMaps{{.height = &t}}, in);
+    GlslRun rx = runGlsl(*dx.shader(), GlslMaps{{.height = &t}}, in),
+            ry = runGlsl(*dy.shader(), GlslMaps{{.height = &t}}, in);
     double worst = 0;
     for (size_t k = 0; k < f.size(); ++k) {
         worst = std::max(worst, double(glm::length(Vec2d(rx.uv[k]) - f.uvDx[k])));
@@ -70,7 +70,7 @@ TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     // neighbour beyond the one-row image: dFdy is not the rasteriser's.
     GlslInputs packed = in;
     packed.frameWidth = 0;
-    GlslRun py = runGlsl(*dy.glsl, GlslMaps{{.height = &t}}, packed);
+    GlslRun py = runGlsl(*dy.shader(), GlslMaps{{.height = &t}}, packed);
     int far = 0;
     for (size_t k = 0; k < f.size(); ++k)
         far += glm::length(Vec2d(py.uv[k]) - f.uvDy[k]) > 1e-3 * glm::length(f.uvDy[k]);
@@ -114,7 +114,7 @@ TEST(Gl, TrilinearFilterMatchesTheCpp) {
     }
     auto maps = [](const Texture& map) { return GlslMaps{{.height = &map}, 0, 0, nullptr, true}; };
     const Texture probe = lodProbe(64);
-    GlslRun lambda = runGlsl(*m.glsl, maps(probe), in), run = runGlsl(*m.glsl, maps(t), in);
+    GlslRun lambda = runGlsl(*m.shader(), maps(probe), in), run = runGlsl(*m.shader(), maps(t), in);
     int over = 0;
     double worst = 0, worstLod = 0;
     const double slope = 0.35 * 2 * 3.1416 * 2 / 64;  // smoothTexture's steepest, per texel

@@ -21,7 +21,7 @@ namespace {
 GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragments& in) {
     MethodConfig cfg = test::method(R"({"preset":")" + name + "\"}");
     EXPECT_EQ(cfg.preset, name);
-    return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
+    return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
 }
 
 // A preset's shader with its sample counts set to n (min = max).
@@ -30,7 +30,7 @@ GlslRun runWithSamples(const std::string& file, const std::string& function,
     MethodConfig cfg = test::method(R"({"name":"p","glsl":")" + shaderDir() + "/presets/" + file +
                                     R"(","function":")" + function +
                                     R"(","sampler":"heightMap","uniforms":{)" + uniforms + "}}");
-    return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
+    return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
 }
 
 // On a flat height h both land exactly where the ray meets it: uv0 - V.xy / V.z * A (1 - h),

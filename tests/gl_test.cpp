@@ -47,7 +47,7 @@ TEST(Gl, ContextIsHeadlessOpenGl) {
     std::printf("GL_RENDERER: %s; GL_VERSION: %s\n", gl.renderer.c_str(), gl.version.c_str());
 }
 
-// Every built-in against its twin, as the method table names it (twinEntry): a built-in
+// Every built-in against its twin, as the method table names it (glslTwin): a built-in
 // without one fails here. The inputs are bit-identical; the differences come from the GL's
 // arithmetic (its bilinear filter, fused multiply-adds, 1/x and normalize). The single-fetch
 // methods and the Lengyel ones must agree within 1e-3 texel (or 1e-5 of the offset)
@@ -59,9 +59,13 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
     Inputs in = randomInputs(20000, 5);
     for (const MethodKindInfo& kind : methodKinds()) {
         MethodConfig cpu = parseMethod(nlohmann::json{{"name", kind.name}}, "test", "m");
-        const nlohmann::json entry = twinEntry(cpu);
-        ASSERT_TRUE(entry.is_object()) << kind.name << " has no GLSL twin in the method table";
-        MethodConfig gl = glslMethod(entry.dump());
+        ASSERT_TRUE(kind.twin.file) << kind.name << " has no GLSL twin in the method table";
+        MethodConfig gl = glslTwin(cpu);
+        // The twin made directly is the one its scene entry parses to (labelled by its name,
+        // as assignLabels labels a GLSL entry).
+        MethodConfig parsed = glslMethod(twinEntry(cpu).dump());
+        parsed.label = parsed.name;
+        EXPECT_EQ(toJson(gl), toJson(parsed)) << kind.name;
         Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
         std::printf(
             "%-15s fragments %lld, over the tolerance %lld, max within it %.2e texel, "
@@ -111,7 +115,7 @@ TEST(Gl, HeadOnShadersReturnUv0) {
         glslMethod(R"({"name":"g","glsl":"layered.glsl","function":"ParallaxOcclusion",
         "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.05,"min_layers":8.0,
         "max_layers":32.0,"max_steps":0}})");
-    GlslRun run = runGlsl(*pom.glsl, MapRefs{.height = &t}, 0.05, -0.05, in.uv0, in.view);
+    GlslRun run = runGlsl(*pom.shader(), MapRefs{.height = &t}, 0.05, -0.05, in.uv0, in.view);
     for (size_t k = 0; k < in.uv0.size(); ++k)
         EXPECT_LT(glm::length(Vec2d(run.uv[k]) - Vec2d(in.uv0[k])), 2e-7) << k;
 }
@@ -125,8 +129,8 @@ TEST(Gl, MapUploadsAreOwnedAndFreed) {
         glslMethod(R"({"name":"g","glsl":"parallax.glsl","function":"ParallaxMapping",
         "sampler":"heightMap","uniforms":{"height_scale":0.05,"height_bias":-0.025}})");
     auto run = [&](const Texture& map, GlMapUploads* uploads) {
-        return runGlsl(*parallax.glsl, MapRefs{.height = &map}, 0.05, -0.025, in.uv0, in.view, 0,
-                       uploads);
+        return runGlsl(*parallax.shader(), MapRefs{.height = &map}, 0.05, -0.025, in.uv0, in.view,
+                       0, uploads);
     };
     const GlslRun fresh = run(t, nullptr);
     const size_t before = GlMapUploads::liveTextures();
@@ -167,7 +171,7 @@ TEST(Gl, CompileErrorNamesFileAndLine) {
     Inputs in = randomInputs(4, 1);
     Texture t = test::smoothTexture(8, 8);
     try {
-        runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+        runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
         FAIL() << "no error";
     } catch (const InputError& e) {
         std::string what = e.what();
@@ -189,7 +193,7 @@ TEST(Gl, MissingSamplerOrUniformIsNamed) {
         MethodConfig cfg = parseMethod(
             nlohmann::json::parse(R"({"name":"mine","glsl":")" + path + "\"" + extra + "}"),
             "scene.json", "methods[0]");
-        return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+        return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
     };
     EXPECT_NO_THROW(run(R"(,"uniforms":{"height_scale":0.1})"));
     try {
@@ -230,8 +234,9 @@ TEST(Gl, EsDialectsRunUnchangedAndEqualTheBuiltIn) {
     const double s = 0.05, b = -0.025;
     Inputs in = randomInputs(20000, 5);
     const MethodConfig cpu = parseMethod(nlohmann::json{{"name", "pom"}}, "test", "m");
-    const MethodConfig twin = glslMethod(twinEntry(cpu).dump());
-    const GlslRun twinRun = runGlsl(*twin.glsl, MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
+    const MethodConfig twin = glslTwin(cpu);
+    const GlslRun twinRun =
+        runGlsl(*twin.shader(), MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
     for (const auto& [file, version] :
          {std::pair<std::string, std::string>{"pom_es100.glsl", "100"},
           {"pom_es300.glsl", "300 es"}}) {
@@ -245,9 +250,10 @@ TEST(Gl, EsDialectsRunUnchangedAndEqualTheBuiltIn) {
                                         {"min_layers", 8.0},
                                         {"max_layers", 32.0}}}};
         const MethodConfig gl = glslMethod(entry.dump());
-        EXPECT_EQ(gl.glsl->version, version) << file;
+        EXPECT_EQ(gl.shader()->version, version) << file;
         const Agreement a = agree(cpu, gl, bricks, s, b, in, 1e-3);
-        const GlslRun run = runGlsl(*gl.glsl, MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
+        const GlslRun run =
+            runGlsl(*gl.shader(), MapRefs{.height = &bricks}, s, b, in.uv0, in.view);
         double maxFromTwin = 0;
         for (size_t k = 0; k < in.uv0.size(); ++k)
             maxFromTwin =
@@ -276,8 +282,8 @@ TEST(Gl, DialectsAreNamedOrReadAndUnknownOnesRefused) {
                           R"(","uniforms":{"height_scale":0.1})" + extra + "}");
     };
     const MethodConfig desktop = entry(own, "");
-    EXPECT_EQ(desktop.glsl->version, "330");
-    const GlslRun r = runGlsl(*desktop.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+    EXPECT_EQ(desktop.shader()->version, "330");
+    const GlslRun r = runGlsl(*desktop.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         const float d = 1.0f - sampleBilinear<float>(t, in.uv0[k]);
         const Vec2f want = in.uv0[k] - Vec2f(in.view[k].x, in.view[k].y) * d * 0.1f;
@@ -286,9 +292,9 @@ TEST(Gl, DialectsAreNamedOrReadAndUnknownOnesRefused) {
     }
     // Named ES 1.00, its own texture2D meets the legacy name: a compile error in its file.
     const MethodConfig legacy = entry(own, R"(,"version":"100")");
-    EXPECT_EQ(legacy.glsl->version, "100");
+    EXPECT_EQ(legacy.shader()->version, "100");
     try {
-        runGlsl(*legacy.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+        runGlsl(*legacy.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
         FAIL() << "no error";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find(own + ":7"), std::string::npos) << e.what();
@@ -312,10 +318,10 @@ TEST(Gl, DialectsAreNamedOrReadAndUnknownOnesRefused) {
     }
     const MethodConfig newer = entry(own, R"(,"version":"460")");
     if (glContext().glslVersion >= 460) {
-        EXPECT_NO_THROW(runGlsl(*newer.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view));
+        EXPECT_NO_THROW(runGlsl(*newer.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view));
     } else {
         try {
-            runGlsl(*newer.glsl, MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+            runGlsl(*newer.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
             FAIL() << "460 accepted by a GL with GLSL " << glContext().glslVersion;
         } catch (const InputError& e) {
             EXPECT_EQ(e.field(), "version");
@@ -337,7 +343,7 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
             parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
                         "scene.json", "methods[0]");
         EXPECT_EQ(cfg.preset, name);
-        return runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
+        return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
     };
     GlslRun godot = preset("godot"), deep = preset("godot_deep");
     GlslRun occlusion = preset("bevy_occlusion"), relief = preset("bevy_relief");
@@ -363,17 +369,17 @@ TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
                            "scene.json", "methods[0]");
     };
     MethodConfig welsh = preset("welsh");
-    EXPECT_EQ(welsh.kind, MethodKind::Parallax);
+    EXPECT_EQ(welsh.builtin()->kind, MethodKind::Parallax);
     EXPECT_EQ(welsh.scale, 0.04);
     EXPECT_EQ(welsh.bias, -0.02);
     MethodConfig blog = preset("deferred_blog");
-    EXPECT_EQ(blog.kind, MethodKind::Steep);
-    EXPECT_EQ(blog.maxLayers, 100);
-    EXPECT_EQ(blog.maxSteps, 100);
+    EXPECT_EQ(blog.builtin()->kind, MethodKind::Steep);
+    EXPECT_EQ(blog.builtin()->maxLayers, 100);
+    EXPECT_EQ(blog.builtin()->maxSteps, 100);
     EXPECT_EQ(blog.scale, 0.15);
     EXPECT_EQ(blog.label, "deferred_blog");
     MethodConfig lpom = preset("learnopengl_pom");
-    EXPECT_EQ(lpom.kind, MethodKind::Pom);
+    EXPECT_EQ(lpom.builtin()->kind, MethodKind::Pom);
     EXPECT_EQ(lpom.scale, 0.1);
     EXPECT_EQ(lpom.bias, -0.1);
     EXPECT_THROW(preset("unreal"), InputError);

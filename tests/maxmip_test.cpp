@@ -28,7 +28,7 @@ template <class Real>
 Vec2<Real> trace(const MethodTextures& tex, Vec2d uv0, Vec3d v, int* fetches = nullptr,
                  uint32_t* flags = nullptr, const char* json = R"({"name":"maxmip"})") {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
-    Vec2<Real> uv = runMethod<Real>(method(json), c, Vec2<Real>(uv0), Vec3<Real>(v));
+    Vec2<Real> uv = runMethod<Real>(*method(json).builtin(), c, Vec2<Real>(uv0), Vec3<Real>(v));
     if (fetches) *fetches = c.fetches;
     if (flags) *flags = c.flags;
     return uv;

@@ -17,7 +17,7 @@ using test::method;
 Vec2f runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2d uv0, Vec3d v,
              int* fetches = nullptr) {
     MethodContext<float> c = makeMethodContext<float>(tex);
-    Vec2f uv = runMethod<float>(cfg, c, Vec2f(uv0), Vec3f(v));
+    Vec2f uv = runMethod<float>(*cfg.builtin(), c, Vec2f(uv0), Vec3f(v));
     if (fetches) *fetches = c.fetches;
     return uv;
 }
@@ -109,11 +109,11 @@ TEST(Searches, FetchCounts) {
 
 TEST(Searches, DefaultsAreTheSources) {
     MethodConfig sec = method(R"({"name":"secant"})");
-    EXPECT_EQ(sec.linearSteps, 10);
-    EXPECT_EQ(sec.secantSteps, 3);
+    EXPECT_EQ(sec.builtin()->linearSteps, 10);
+    EXPECT_EQ(sec.builtin()->secantSteps, 3);
     MethodConfig con = method(R"({"name":"contact"})");
-    EXPECT_EQ(con.minLayers, 16);
-    EXPECT_EQ(con.maxLayers, 16);
+    EXPECT_EQ(con.builtin()->minLayers, 16);
+    EXPECT_EQ(con.builtin()->maxLayers, 16);
 }
 
 }  // namespace

@@ -125,8 +125,8 @@ TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
                                            {"sampler", "map"},
                                            {"texture", layout},
                                            {"uniforms", {{"pair", pair}}}});
-            const GlslRun run = runGlsl(*m.glsl, MapRefs{.height = &t, .normal = &dm.normal}, s, b,
-                                        in.uv0, in.view);
+            const GlslRun run = runGlsl(*m.shader(), MapRefs{.height = &t, .normal = &dm.normal}, s,
+                                        b, in.uv0, in.view);
             for (size_t k = 0; k < in.uv0.size(); ++k) {
                 const float h = t.texels[texel[k]], a = depth ? 1.0f - h : h;
                 float want[4] = {a, 0.0f, 0.0f, 1.0f};
@@ -169,7 +169,7 @@ TEST(OwnShader, PackedLayoutsHaveMipmaps) {
                                        {"sampler", "map"},
                                        {"texture", "normal+depth"},
                                        {"uniforms", {{"pair", pair}}}});
-        const GlslRun run = runGlsl(*m.glsl, MapRefs{.height = &t, .normal = &dm.normal}, 0.07,
+        const GlslRun run = runGlsl(*m.shader(), MapRefs{.height = &t, .normal = &dm.normal}, 0.07,
                                     -0.03, in.uv0, in.view);
         for (size_t k = 0; k < in.uv0.size(); ++k)
             got[pair][k][0] = run.uv[k].x, got[pair][k][1] = run.uv[k].y;
@@ -204,7 +204,7 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
     auto errorOf = [&](const nlohmann::json& entry) -> std::string {
         try {
             const MethodConfig m = method(entry);
-            runGlsl(*m.glsl, MapRefs{.height = &t}, 0.05, 0, in.uv0, in.view);
+            runGlsl(*m.shader(), MapRefs{.height = &t}, 0.05, 0, in.uv0, in.view);
         } catch (const InputError& e) {
             return e.what();
         }

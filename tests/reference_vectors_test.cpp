@@ -56,8 +56,9 @@ TEST_F(ReferenceVectors, MethodsMatchAtNativeSettings) {
             nlohmann::json entry = it.value()["params"];
             entry["name"] = it.key();
             MethodConfig cfg = parseMethod(entry, "vectors", "method");
-            bool layered = cfg.kind == MethodKind::Steep || cfg.kind == MethodKind::Pom ||
-                           cfg.kind == MethodKind::Relief;
+            const MethodKind kind = cfg.builtin()->kind;
+            bool layered =
+                kind == MethodKind::Steep || kind == MethodKind::Pom || kind == MethodKind::Relief;
             int caseFlips = 0;
             for (size_t k = 0; k < c["uv0"].size(); ++k) {
                 Vec2d uv0(c["uv0"][k][0].get<double>(), c["uv0"][k][1].get<double>());
@@ -65,7 +66,7 @@ TEST_F(ReferenceVectors, MethodsMatchAtNativeSettings) {
                            it.value()["uv"][k][1].get<double>());
                 int wantFetches = it.value()["fetches"][k];
                 MethodContext<float> ctx = makeMethodContext<float>(mt);
-                Vec2f got = runMethod<float>(cfg, ctx, Vec2f(uv0), Vec3f(vd));
+                Vec2f got = runMethod<float>(*cfg.builtin(), ctx, Vec2f(uv0), Vec3f(vd));
                 double du = std::fabs(got.x - want.x), dv = std::fabs(got.y - want.y);
                 ++compared;
                 if (layered && (du > 2e-5 || dv > 2e-5 || ctx.fetches != wantFetches)) {

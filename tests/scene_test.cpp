@@ -46,10 +46,10 @@ TEST(Scene, ShippedShaderPrefixReadsFromTheDataFolder) {
     std::string json = kValid;
     json.replace(json.find(R"("parallax")"), 10, method);
     Scene s = parseScene(nlohmann::json::parse(json), "/nowhere/scene.json");
-    ASSERT_TRUE(s.methods[0].glsl);
-    EXPECT_EQ(s.methods[0].glsl->path,
+    ASSERT_TRUE(s.methods[0].shader());
+    EXPECT_EQ(s.methods[0].shader()->path,
               (std::filesystem::path(dataDir()) / "shaders/parallax.glsl").lexically_normal());
-    EXPECT_NE(s.methods[0].glsl->source.find("ParallaxMapping"), std::string::npos);
+    EXPECT_NE(s.methods[0].shader()->source.find("ParallaxMapping"), std::string::npos);
     json.replace(json.find("pgt:parallax"), 12, "pgt:no_such_");
     const std::string e = errorOf(json);
     EXPECT_NE(e.find("methods[0].glsl"), std::string::npos) << e;

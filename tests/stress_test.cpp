@@ -38,7 +38,7 @@ TEST(Stress, MethodsTerminateWhenVzIsZeroOrNegative) {
             for (const char* m : kAll) {
                 MethodConfig cfg = test::method(m);
                 MethodContext<float> c = makeMethodContext<float>(tex);
-                Vec2f uv = runMethod<float>(cfg, c, Vec2f(0.3f, 0.6f), v);
+                Vec2f uv = runMethod<float>(*cfg.builtin(), c, Vec2f(0.3f, 0.6f), v);
                 // Terminated: a march fetches at most its layers + 2 (or the safety cap).
                 EXPECT_LE(c.fetches, 64 + 2) << m << " V " << v.x << "," << v.z;
                 (void)uv;
@@ -57,7 +57,7 @@ TEST(Stress, PomZeroDenominatorIsFlaggedAndCounted) {
     MethodContext<float> c = makeMethodContext<float>(tex);
     // D = V.xy / V.z * s / n = (-1) * 0.5 = -0.5 in u: from texel 0's centre to texel 1's.
     Vec3f v(-std::sqrt(0.5f), 0, std::sqrt(0.5f));
-    Vec2f uv = runMethod<float>(cfg, c, Vec2f(0.25f, 0.5f), v);
+    Vec2f uv = runMethod<float>(*cfg.builtin(), c, Vec2f(0.25f, 0.5f), v);
     EXPECT_TRUE(c.flags & kFlagZeroDivide);
     EXPECT_FALSE(std::isfinite(uv.x) && std::isfinite(uv.y));
     // Through the comparator: counted as non-finite and diverged, statistics stay NaN-free.

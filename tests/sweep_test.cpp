@@ -446,8 +446,8 @@ TEST(Sweep, GlslUniformsAreSweptAndPresetsOverridden) {
     ASSERT_EQ(study.configs.size(), 4u);
     EXPECT_EQ(study.configs[1].label, "mine_height_scale0.03");
     EXPECT_EQ(study.configs[2].label, "mine_height_scale0.06");
-    EXPECT_EQ(study.configs[2].glsl->uniforms.at(0).values, std::vector<double>{0.06});
-    EXPECT_EQ(study.configs[3].glsl->uniforms.at(0).values, std::vector<double>{2.5});
+    EXPECT_EQ(study.configs[2].shader()->uniforms.at(0).values, std::vector<double>{0.06});
+    EXPECT_EQ(study.configs[3].shader()->uniforms.at(0).values, std::vector<double>{2.5});
     SweepOptions opt;
     opt.outDir = (dir / "out").string();
     opt.progress = false;

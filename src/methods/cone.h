@@ -48,7 +48,7 @@ bool eyeAbove(MethodContext<Real>& c, Vec3<Real> v) {
 // (refine_steps 0) never passes the first intersection.
 template <class Real>
 Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                      const MethodConfig& cfg) {
+                      const BuiltinMethod& cfg) {
     const ConeMap& m = *c.cone;
     if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
     const ConeRay<Real> ray(m, c, uv0, v);
@@ -82,7 +82,7 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // v): deeper where the point is above the surface, back up where not; one fetch each.
 template <class Real>
 Vec2<Real> methodRelaxedCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                             const MethodConfig& cfg) {
+                             const BuiltinMethod& cfg) {
     const ConeMap& m = *c.relaxedCone;
     if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
     const ConeRay<Real> ray(m, c, uv0, v);

@@ -12,6 +12,7 @@
 
 #include "core/format.h"
 #include "core/json_read.h"
+#include "core/overloaded.h"
 #include "methods/glsl_spec.h"
 #include "methods/presets.h"
 #include "methods/registry.h"
@@ -147,17 +148,8 @@ bool knownGlslVersion(const std::string& v) {
 
 // The dialect: the entry's "version" (a string, or a desktop number such as 330), else the
 // file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
-std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
-    if (f.has("version")) {
-        const Json& v = f.raw("version");
-        std::string named = v.is_number_integer() ? std::to_string(v.get<int64_t>())
-                            : v.is_string()       ? v.get<std::string>()
-                                                  : v.dump();
-        if (!knownGlslVersion(named))
-            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (" +
-                                  kGlslVersionsNamed + ")");
-        return named;
-    }
+// The dialect a file's #version line names ("110" without one, GLSL's own default).
+std::string versionOfSource(const GlslSpec& spec) {
     std::istringstream lines(spec.source);
     std::string line;
     for (int n = 1; std::getline(lines, line); ++n) {
@@ -173,6 +165,20 @@ std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
         return named;
     }
     return "110";
+}
+
+std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
+    if (f.has("version")) {
+        const Json& v = f.raw("version");
+        std::string named = v.is_number_integer() ? std::to_string(v.get<int64_t>())
+                            : v.is_string()       ? v.get<std::string>()
+                                                  : v.dump();
+        if (!knownGlslVersion(named))
+            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (" +
+                                  kGlslVersionsNamed + ")");
+        return named;
+    }
+    return versionOfSource(spec);
 }
 
 // The shader file an entry's `key` names: relative to the scene file's folder, or
@@ -204,7 +210,6 @@ std::string shaderPath(JsonFields& f, const std::string& key, const std::string&
 //  now (shaderPath).
 MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     MethodConfig cfg;
-    cfg.kind = MethodKind::Glsl;
     cfg.name = f.string("name", "");
     checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
     auto spec = std::make_shared<GlslSpec>();
@@ -243,7 +248,7 @@ MethodConfig parseGlslMethod(JsonFields& f, const std::string& file) {
     cfg.label = f.string("label", "");
     if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
     f.finish();
-    cfg.glsl = std::move(spec);
+    cfg.method = ShaderMethod{std::move(spec)};
     return cfg;
 }
 
@@ -253,7 +258,7 @@ const std::vector<std::string>& shadowNames() {
 }
 
 // "shadow" and "shadow_steps": the march toward the view's light (docs/model.md §6c).
-void readShadowParameters(JsonFields& f, MethodConfig& cfg) {
+void readShadowParameters(JsonFields& f, BuiltinMethod& cfg) {
     const std::string& current = shadowNames()[size_t(cfg.shadow)];
     const std::string name = f.choice("shadow", shadowNames(), current);
     cfg.shadow = ShadowMarch(std::find(shadowNames().begin(), shadowNames().end(), name) -
@@ -275,7 +280,7 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
         if (p.name == name) cfg = presetConfig(p, label, file, f.fieldPath("preset"));
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
-    if (cfg.kind != MethodKind::Glsl) readShadowParameters(f, cfg);
+    if (BuiltinMethod* b = cfg.builtin()) readShadowParameters(f, *b);
     if (f.has("uniforms")) {
         const Json& u = f.raw("uniforms");
         if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
@@ -287,21 +292,27 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     return cfg;
 }
 
-// The parameters of a generated label: the kind's own, then precision, discard and (s, b).
+// The parameters of a generated label: a built-in's own and its precision and filter, then
+// the level of detail, discard, a built-in's shadow march and (s, b).
 std::string parameterSuffix(const MethodConfig& c) {
-    const MethodKindInfo* info = kindInfo(c.kind);
-    std::string s = info && info->labelParameters ? info->labelParameters(c) : "";
+    std::string s;
     auto add = [&s](const char* part, const std::string& value = "") {
         if (!s.empty()) s += '_';
         s += part;
         s += value;
     };
-    if (c.doublePrecision) add("f64");
-    if (c.gpu8Filter) add("gpu8");
+    const BuiltinMethod* b = c.builtin();
+    if (b) {
+        const MethodKindInfo& info = kindInfo(b->kind);
+        s = info.labelParameters ? info.labelParameters(*b) : "";
+        if (b->doublePrecision) add("f64");
+        if (b->gpu8Filter) add("gpu8");
+    }
     if (c.lodGrad) add("grad");
     if (c.discardOutside) add("discard");
-    if (c.shadow != ShadowMarch::Hard) add("shadow_", shadowNames()[size_t(c.shadow)]);
-    if (c.shadowSteps != MethodConfig{}.shadowSteps) add("ss", std::to_string(c.shadowSteps));
+    if (b && b->shadow != ShadowMarch::Hard) add("shadow_", shadowNames()[size_t(b->shadow)]);
+    if (b && b->shadowSteps != BuiltinMethod{}.shadowSteps)
+        add("ss", std::to_string(b->shadowSteps));
     // Numbers as an ostream's default %g shows them.
     if (std::isfinite(c.scale)) add("s", formatNumber(c.scale, 6));
     if (std::isfinite(c.bias)) add("b", formatNumber(c.bias, 6));
@@ -316,8 +327,8 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         throw InputError(file, field, shortDump(value), message);
     };
     if (param == "scale" || param == "bias") {
-        if (cfg.glsl && !cfg.glsl->takesScale())
-            fail("the method's own " + param + " would not reach " + cfg.glsl->path +
+        if (cfg.shader() && !cfg.shader()->takesScale())
+            fail("the method's own " + param + " would not reach " + cfg.shader()->path +
                  ": no uniform is bound to \"scale\"/\"bias\" and there is no call (a "
                  "preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
                  "docs/methods.md)");
@@ -330,10 +341,10 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
     const std::string prefix = "uniforms.";
     if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
         fail("a GLSL/HLSL method or preset varies \"scale\", \"bias\" or \"uniforms.NAME\"");
-    if (!cfg.glsl) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
+    if (!cfg.shader()) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
     const std::string name = param.substr(prefix.size());
     const GlslSpec::Uniform un = uniformValue(name, value, false, fail);
-    auto spec = std::make_shared<GlslSpec>(*cfg.glsl);  // configurations share no spec
+    auto spec = std::make_shared<GlslSpec>(*cfg.shader());  // configurations share no spec
     auto it = std::find_if(spec->uniforms.begin(), spec->uniforms.end(),
                            [&](const GlslSpec::Uniform& u) { return u.name == name; });
     if (it != spec->uniforms.end())
@@ -342,7 +353,7 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         spec->uniforms.push_back(un);
     else
         fail("the shader " + spec->path + " has no uniform \"" + name + "\"");
-    cfg.glsl = std::move(spec);
+    cfg.method = ShaderMethod{std::move(spec)};
     std::string part = name;
     for (size_t k = 0; k < un.values.size(); ++k) {
         if (k > 0) part += '_';
@@ -352,21 +363,20 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
 }
 
 void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
-    if (const MethodKindInfo* info = kindInfo(cfg.kind))
-        for (const IntParameter& p : info->parameters) {
-            if (!f.has(p.key)) continue;
-            cfg.*p.field = f.integer(p.key, p.lo, p.hi);
-            if (p.alsoField) cfg.*p.alsoField = cfg.*p.field;
-        }
+    BuiltinMethod& b = *cfg.builtin();  // a shader's parameters are setShaderParameter's
+    for (const IntParameter& p : kindInfo(b.kind).parameters) {
+        if (!f.has(p.key)) continue;
+        b.*p.field = f.integer(p.key, p.lo, p.hi);
+        if (p.alsoField) b.*p.alsoField = b.*p.field;
+    }
     cfg.discardOutside = f.boolean("discard_outside", cfg.discardOutside);
     cfg.scale = f.number("scale", cfg.scale, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", cfg.bias, -kMaxOwnDisplacement, kMaxOwnDisplacement);
-    cfg.doublePrecision = f.choice("precision", {"float", "double"},
-                                   cfg.doublePrecision ? "double" : "float") == "double";
-    cfg.gpu8Filter =
-        f.choice("filter", {"exact", "gpu8"}, cfg.gpu8Filter ? "gpu8" : "exact") == "gpu8";
+    b.doublePrecision = f.choice("precision", {"float", "double"},
+                                 b.doublePrecision ? "double" : "float") == "double";
+    b.gpu8Filter = f.choice("filter", {"exact", "gpu8"}, b.gpu8Filter ? "gpu8" : "exact") == "gpu8";
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, cfg.lodGrad ? "grad" : "zero") == "grad";
-    readShadowParameters(f, cfg);
+    readShadowParameters(f, b);
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -378,9 +388,10 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
     if (object.contains("glsl") || object.contains("hlsl")) return parseGlslMethod(f, file);
     MethodConfig cfg;
     cfg.name = f.choice("name", methodNames(), "");
+    BuiltinMethod& b = *cfg.builtin();
     for (const auto& k : methodKinds())
-        if (cfg.name == k.name) cfg.kind = k.kind;
-    applyKindDefaults(cfg);
+        if (cfg.name == k.name) b.kind = k.kind;
+    applyKindDefaults(b);
     readMethodParameters(f, cfg);
     cfg.label = f.string("label", "");
     if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
@@ -440,52 +451,64 @@ void checkLabel(const std::string& label, const std::string& file, const std::st
                              "and files)");
 }
 
+namespace {
+
+// A shader's entry as JSON: its file, entry, samplers, layout, call, defines, uniforms and
+// the SHA-1 of its text.
+void shaderJson(const GlslSpec& g, Json& j) {
+    j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+    if (g.call.empty()) j["function"] = g.function;
+    // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
+    if (!g.hlsl && g.version != "110") j["version"] = g.version;
+    // Every sampler it names (the height map's always: "" says it reads none).
+    for (const MapKindInfo& m : kMapKindTable)
+        if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
+            j[m.samplerKey] = g.sampler(m.kind);
+    j["texture"] = layoutNames()[size_t(g.layout)];
+    if (!g.call.empty()) j["call"] = g.call;
+    if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
+    for (const auto& [name, value] : g.defines) j["defines"][name] = value;
+    Json u = Json::object();
+    for (const auto& un : g.uniforms)
+        u[un.name] = !un.bind.empty()        ? Json(un.bind)
+                     : un.values.size() == 1 ? Json(un.values[0])
+                                             : Json(un.values);
+    j["uniforms"] = u;
+    // The shader's text is part of the identity: an edited file is another method.
+    j["source_sha1"] = textSha1(g.source);
+    j["precision"] = "float";
+}
+
+// A built-in's parameters, precision, filter and shadow march (absent at their defaults:
+// older studies keep their identity).
+void builtinJson(const BuiltinMethod& b, Json& j) {
+    for (const IntParameter& p : kindInfo(b.kind).parameters)
+        if (p.written) j[p.key] = b.*p.field;
+    j["precision"] = b.doublePrecision ? "double" : "float";
+    if (b.gpu8Filter) j["filter"] = "gpu8";
+    if (b.shadow != ShadowMarch::Hard) j["shadow"] = shadowNames()[size_t(b.shadow)];
+    if (b.shadowSteps != BuiltinMethod{}.shadowSteps) j["shadow_steps"] = b.shadowSteps;
+}
+
+}  // namespace
+
 Json toJson(const MethodConfig& c) {
     Json j = {{"name", c.name}, {"label", c.label}};
     if (!c.preset.empty()) j["preset"] = c.preset;
-    if (c.glsl) {
-        j["glsl"] = c.glsl->path;
-        if (c.glsl->call.empty()) j["function"] = c.glsl->function;
-        // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
-        if (!c.glsl->hlsl && c.glsl->version != "110") j["version"] = c.glsl->version;
-        // Every sampler it names (the height map's always: "" says it reads none).
-        for (const MapKindInfo& m : kMapKindTable)
-            if (m.kind == MapKind::Height || !c.glsl->sampler(m.kind).empty())
-                j[m.samplerKey] = c.glsl->sampler(m.kind);
-        j["texture"] = layoutNames()[size_t(c.glsl->layout)];
-        if (c.glsl->hlsl) j["hlsl"] = j["glsl"], j.erase("glsl");
-        if (!c.glsl->call.empty()) j["call"] = c.glsl->call;
-        if (!c.glsl->stepsUniform.empty()) j["steps_uniform"] = c.glsl->stepsUniform;
-        for (const auto& [name, value] : c.glsl->defines) j["defines"][name] = value;
-        Json u = Json::object();
-        for (const auto& un : c.glsl->uniforms)
-            u[un.name] = !un.bind.empty()        ? Json(un.bind)
-                         : un.values.size() == 1 ? Json(un.values[0])
-                                                 : Json(un.values);
-        j["uniforms"] = u;
-        // The shader's text is part of the identity: an edited file is another method.
-        j["source_sha1"] = textSha1(c.glsl->source);
-    }
-    if (const MethodKindInfo* info = kindInfo(c.kind))
-        for (const IntParameter& p : info->parameters)
-            if (p.written) j[p.key] = c.*p.field;
+    std::visit(Overloaded{[&](const BuiltinMethod& b) { builtinJson(b, j); },
+                          [&](const ShaderMethod& m) { shaderJson(*m.spec, j); }},
+               c.method);
     j["discard_outside"] = c.discardOutside;
     if (std::isfinite(c.scale)) j["scale"] = c.scale;
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
-    j["precision"] = c.doublePrecision ? "double" : "float";
-    // Absent at their defaults: older studies keep their identity.
-    if (c.gpu8Filter) j["filter"] = "gpu8";
     if (c.lodGrad) j["lod"] = "grad";
-    if (c.kind != MethodKind::Glsl) {
-        if (c.shadow != ShadowMarch::Hard) j["shadow"] = shadowNames()[size_t(c.shadow)];
-        if (c.shadowSteps != MethodConfig{}.shadowSteps) j["shadow_steps"] = c.shadowSteps;
-    }
     return j;
 }
 
 Json twinEntry(const MethodConfig& builtIn) {
-    const MethodKindInfo* info = kindInfo(builtIn.kind);
-    if (!info || !info->twin.file) return nullptr;
+    const BuiltinMethod* b = builtIn.builtin();
+    if (!b || !kindInfo(b->kind).twin.file) return nullptr;
+    const MethodKindInfo* info = &kindInfo(b->kind);
     const GlslTwin& twin = info->twin;
     Json j = {{"name", builtIn.label + "_gl"},
               {"glsl", std::string(kShippedShaderPrefix) + twin.file},
@@ -499,11 +522,79 @@ Json twinEntry(const MethodConfig& builtIn) {
         if (!p.written) continue;
         const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
                                        p.key) != twin.floatParameters.end();
-        u[p.key] = asFloat ? Json(double(builtIn.*p.field)) : Json(builtIn.*p.field);
+        u[p.key] = asFloat ? Json(double(b->*p.field)) : Json(b->*p.field);
     }
     if (!u.empty()) j["uniforms"] = u;
     if (builtIn.lodGrad) j["lod"] = "grad";
     return j;
 }
+
+MethodConfig glslTwin(const MethodConfig& builtIn) {
+    const BuiltinMethod& b = *builtIn.builtin();
+    const MethodKindInfo& info = kindInfo(b.kind);
+    PGT_CHECK(info.twin.file != nullptr);
+    const GlslTwin& twin = info.twin;
+    auto spec = std::make_shared<GlslSpec>();
+    spec->path = (std::filesystem::path(shaderDir()) / twin.file).lexically_normal().string();
+    spec->source = readTextFile(spec->path, spec->path, "glsl", "shader file", 16u << 20);
+    spec->function = twin.function;
+    spec->version = versionOfSource(*spec);
+    for (const MapKindInfo& m : kMapKindTable)
+        spec->samplers[size_t(m.kind)] = twin.maps.has(m.kind) ? m.twinSampler : "";
+    if (twin.scaleBias)
+        spec->uniforms = {{"height_bias", {}, false, "bias"}, {"height_scale", {}, false, "scale"}};
+    for (const IntParameter& p : info.parameters) {
+        if (!p.written) continue;
+        const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
+                                       p.key) != twin.floatParameters.end();
+        spec->uniforms.push_back({p.key, {double(b.*p.field)}, !asFloat, ""});
+    }
+    MethodConfig cfg;
+    cfg.name = cfg.label = builtIn.label + "_gl";
+    cfg.lodGrad = builtIn.lodGrad;
+    cfg.method = ShaderMethod{std::move(spec)};
+    return cfg;
+}
+
+MapSet needs(const MethodConfig& cfg) {
+    return std::visit(Overloaded{[](const BuiltinMethod& b) { return kindInfo(b.kind).maps; },
+                                 [](const ShaderMethod& m) {
+                                     MapSet named;
+                                     for (const MapKindInfo& k : kMapKindTable)
+                                         if (!m.spec->sampler(k.kind).empty()) named.add(k.kind);
+                                     // a packed layout's RGB is the normal map
+                                     if (m.spec->packedNormal()) named.add(MapKind::Normal);
+                                     return named;
+                                 }},
+                      cfg.method);
+}
+
+bool hasStepCount(const MethodConfig& cfg) {
+    return std::visit(
+        Overloaded{[](const BuiltinMethod& b) { return !!kindInfo(b.kind).stepKey; },
+                   [](const ShaderMethod& m) { return !m.spec->stepsUniform.empty(); }},
+        cfg.method);
+}
+
+bool setStepCount(MethodConfig& cfg, int steps) {
+    if (BuiltinMethod* b = cfg.builtin()) return setBuiltinStepCount(*b, steps);
+    const std::string& uniform = cfg.shader()->stepsUniform;  // its "steps_uniform"
+    if (uniform.empty()) return false;
+    setShaderParameter(cfg, "uniforms." + uniform, steps, "", "steps");
+    return true;
+}
+
+Fittable fittable(const MethodConfig& cfg) {
+    if (!cfg.preset.empty()) return Fittable::Preset;
+    const GlslSpec* g = cfg.shader();
+    return g && !g->takesScale() ? Fittable::ScaleUnused : Fittable::Yes;
+}
+
+bool readsDisplacement(const MethodConfig& cfg) {
+    const BuiltinMethod* b = cfg.builtin();
+    return !b || b->kind != MethodKind::None;
+}
+
+bool variedAsShader(const MethodConfig& cfg) { return cfg.shader() || !cfg.preset.empty(); }
 
 }  // namespace pgt

@@ -19,9 +19,9 @@ std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::st
                                        const std::string& path);
 MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
                          const std::string& path);
-// Reads the parameters of `cfg`'s kind that `f` holds (its integer parameters, scale, bias,
-// discard_outside, precision) over cfg's current values. The caller calls f.finish(), which
-// rejects every other key. A study varies a configuration through this.
+// Reads the parameters of a built-in `cfg`'s kind that `f` holds (its integer parameters,
+// scale, bias, discard_outside, precision) over cfg's current values. The caller calls f.finish(),
+// which rejects every other key. A study varies a configuration through this.
 void readMethodParameters(JsonFields& f, MethodConfig& cfg);
 // Sets one parameter of a GLSL/HLSL method or a preset as a study varies it
 // ("LABEL.PARAM": [values]) or a preset entry overrides it: "scale" or "bias" (the method's
@@ -37,9 +37,30 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param,
 void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
                   const std::string& path);
 nlohmann::json toJson(const MethodConfig& cfg);
-// A built-in configuration's GLSL twin as a scene's method entry (its row of the method
-// table, methods/registry.h: "LABEL_gl", the shipped shader, its samplers, s and b and the
-// configuration's parameters as uniforms); null when the kind has no twin.
+
+// What differs between a built-in and a shader for parsing, JSON, studies and fits (the
+// rest is study/evaluate.h's: running, timing, compiling).
+// The maps a configuration reads: a built-in's from its row of the method table
+// (methods/registry.h), a shader's the kinds whose samplers its entry names.
+MapSet needs(const MethodConfig& cfg);
+// A fit's step count: a built-in's step parameter, a shader's "steps_uniform". setStepCount
+// sets it (every field it sets); false where there is none.
+bool hasStepCount(const MethodConfig& cfg);
+bool setStepCount(MethodConfig& cfg, int steps);
+// Whether `pgt fit` can vary its (s, b): not a preset (a fixed configuration), not a shader
+// its (s, b) do not reach (no uniform bound to "scale"/"bias", no call).
+enum class Fittable { Yes, Preset, ScaleUnused };
+Fittable fittable(const MethodConfig& cfg);
+// Whether its answer depends on (s, b) at all (every method but `none`).
+bool readsDisplacement(const MethodConfig& cfg);
+// Whether a study varies it through "LABEL.scale|bias|uniforms.NAME" (setShaderParameter: a
+// shader or a preset) rather than through a built-in's own parameters (readMethodParameters).
+bool variedAsShader(const MethodConfig& cfg);
+// A built-in configuration's GLSL twin (its row of the method table, methods/registry.h:
+// "LABEL_gl", the shipped shader, its samplers, s and b and the configuration's parameters as
+// uniforms), made directly; the built-in's kind must have one. twinEntry writes the same as a
+// scene's method entry (scenes/glsl_twins.json lists them); null when the kind has none.
+MethodConfig glslTwin(const MethodConfig& builtIn);
 nlohmann::json twinEntry(const MethodConfig& builtIn);
 
 // A label a user writes (or a GLSL method's name): 1..kMaxLabelLength characters of

@@ -32,7 +32,7 @@ struct SteepMarch {
 // currentLayerDepth < currentDepthMapValue. max_steps bounds it as 004's for-loop does.
 template <class Real>
 SteepMarch<Real> steepMarch(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                            const MethodConfig& cfg) {
+                            const BuiltinMethod& cfg) {
     SteepMarch<Real> m;
     Real numLayers = glslMix(Real(cfg.maxLayers), Real(cfg.minLayers), std::fabs(v.z));
     m.layerDepth = Real(1) / numLayers;
@@ -65,7 +65,7 @@ inline Real marchHeight(const MethodContext<Real>& c, Real t) {
 
 template <class Real>
 Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                       const MethodConfig& cfg) {
+                       const BuiltinMethod& cfg) {
     SteepMarch<Real> m = steepMarch(c, uv0, v, cfg);
     c.foundHeight = marchHeight(c, m.layer);
     return m.uv;
@@ -74,7 +74,7 @@ Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // 002/004 tail: interpolate between the layers before and after the crossing.
 template <class Real>
 Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                     const MethodConfig& cfg) {
+                     const BuiltinMethod& cfg) {
     SteepMarch<Real> m = steepMarch(c, uv0, v, cfg);
     Vec2<Real> prev = m.uv + m.delta;
     Real after = m.depthValue - m.layer;
@@ -91,7 +91,7 @@ Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // runs, as in the shader.
 template <class Real>
 Vec2<Real> methodRelief(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                        const MethodConfig& cfg) {
+                        const BuiltinMethod& cfg) {
     Vec2<Real> dp = reliefTopEntry(uv0, v, c.scale, c.bias);
     Vec2<Real> ds = -Vec2<Real>(v.x, v.y) / v.z * c.scale;
     Real size = Real(1) / Real(cfg.linearSteps);

@@ -13,7 +13,7 @@ namespace pgt {
 // Our P already holds s (UV units) and the bias, so scale = 1/k (Eq. 7.52 without s, r, 2).
 template <class Real>
 Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                           const MethodConfig& cfg) {
+                           const BuiltinMethod& cfg) {
     Vec2<Real> pdir = Vec2<Real>(v.x, v.y) / Real(cfg.iterations);
     Vec2<Real> uv = uv0;
     Real sum = Real(0);
@@ -29,7 +29,7 @@ Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // 003 Eq. 7.50: offset = V.xy * (n_z h) / dot(n, V) with n the normalised bilinear normal.
 template <class Real>
 Vec2<Real> methodTangentPlane(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                              const MethodConfig&) {
+                              const BuiltinMethod&) {
     Vec3<Real> n = glm::normalize(c.normalMap(uv0));
     Real parallax = c.parallaxMap(uv0);
     Real ndotv = glm::dot(n, v);

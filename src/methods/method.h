@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "core/math.h"
@@ -16,6 +17,7 @@
 
 namespace pgt {
 
+// The built-in methods (docs/model.md §6b; methods/registry.h has a row for each).
 enum class MethodKind {
     None,
     Parallax,
@@ -29,8 +31,7 @@ enum class MethodKind {
     Contact,
     MaxMip,
     Cone,
-    RelaxedCone,
-    Glsl
+    RelaxedCone
 };
 
 struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
@@ -39,10 +40,10 @@ struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
 // hard march of the POM literature, or Tatarchuk's soft shadow (DirectX SDK sample).
 enum class ShadowMarch { None, Hard, Soft };
 
-struct MethodConfig {
+// A built-in method: its kind and what only built-ins read (their parameters, precision,
+// filter and shadow march). Its C++ function is its kind's row of methods/registry.h.
+struct BuiltinMethod {
     MethodKind kind = MethodKind::None;
-    std::string name;                       // "pom"
-    std::string label;                      // unique within a scene: "pom" or "pom_32"
     int minLayers = 8, maxLayers = 32;      // steep, pom (LearnOpenGL's defaults)
     int maxSteps = 0;                       // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
@@ -50,22 +51,46 @@ struct MethodConfig {
     int secantSteps = 3;                    // secant (Risser et al. 2007)
     int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
     int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
-    bool discardOutside = false;   // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     bool gpu8Filter = false;       // "filter": "gpu8": bilinear weights of 8 fractional bits
+    // Self-shadowing, run after the method from the point it found when the view has a light.
+    ShadowMarch shadow = ShadowMarch::Hard;
+    int shadowSteps = 16;           // the hard march's samples toward the light
+    double shadowSoftening = 0.58;  // the soft shadow's g_fShadowSoftening
+};
+
+// A shader run in OpenGL: a user's GLSL or HLSL file, or an engine preset's GLSL
+// (methods/glsl_spec.h: its text, function, samplers and uniforms). Configurations share
+// no spec: a varied one gets a copy.
+struct ShaderMethod {
+    std::shared_ptr<const GlslSpec> spec;
+};
+
+// One method as a scene lists it: what every method has (its name, label, own (s, b), the
+// preset it came from, discard and level of detail), and the method itself, a built-in or a
+// shader. What differs by the two is decided in two places: methods/config.h (parse, JSON,
+// labels, parameters a study varies, step counts, maps) and study/evaluate.h (running,
+// timing, compiling).
+struct MethodConfig {
+    std::string name;             // "pom"
+    std::string label;            // unique within a scene: "pom" or "pom_32"
+    std::string preset;           // the engine/document preset it came from, if any
+    bool discardOutside = false;  // LearnOpenGL: discard when uv' leaves [0, tiling]^2
     // "lod": "grad": fetches filter trilinearly at uv0's level of detail (textureGrad with the
     // original uv's derivatives; needs "mipmaps"); "zero" (false): level 0, bilinear.
     bool lodGrad = false;
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (docs/model.md §3).
     double scale = NAN, bias = NAN;
-    // Glsl: the shader file, function, sampler and uniforms (its name is the user's).
-    std::shared_ptr<const GlslSpec> glsl;
-    std::string preset;  // the engine/document preset it came from, if any
-    // Self-shadowing, run after the method from the point it found when the view has a light.
-    ShadowMarch shadow = ShadowMarch::Hard;
-    int shadowSteps = 16;           // the hard march's samples toward the light
-    double shadowSoftening = 0.58;  // the soft shadow's g_fShadowSoftening
+    std::variant<BuiltinMethod, ShaderMethod> method;
+
+    // The built-in (null for a shader), and the shader's spec (null for a built-in).
+    const BuiltinMethod* builtin() const { return std::get_if<BuiltinMethod>(&method); }
+    BuiltinMethod* builtin() { return std::get_if<BuiltinMethod>(&method); }
+    const GlslSpec* shader() const {
+        const ShaderMethod* s = std::get_if<ShaderMethod>(&method);
+        return s ? s->spec.get() : nullptr;
+    }
 };
 
 // Stiff-case flags a method raises (counted per frame, never thrown).
@@ -121,8 +146,5 @@ inline Real glslMix(Real x, Real y, Real a) {
 
 std::string toString(MethodKind kind);
 const std::vector<std::string>& methodNames();
-// The maps a configuration reads: a built-in's from its row of the method table
-// (methods/registry.h), a GLSL method's the kinds whose samplers its entry names.
-MapSet needs(const MethodConfig& cfg);
 
 }  // namespace pgt

@@ -15,7 +15,7 @@ namespace {
 // A single-fetch built-in (parallax, offset_limited) with its own (s, b).
 MethodConfig singleFetch(MethodKind kind, double scale, double bias) {
     MethodConfig c;
-    c.kind = kind;
+    c.method = BuiltinMethod{.kind = kind};
     c.name = toString(kind);
     c.scale = scale, c.bias = bias;
     return c;
@@ -25,13 +25,14 @@ MethodConfig singleFetch(MethodKind kind, double scale, double bias) {
 MethodConfig layered(MethodKind kind, int minLayers, int maxLayers, int maxSteps, double scale,
                      double bias) {
     MethodConfig c = singleFetch(kind, scale, bias);
-    c.minLayers = minLayers, c.maxLayers = maxLayers, c.maxSteps = maxSteps;
+    BuiltinMethod& m = *c.builtin();
+    m.minLayers = minLayers, m.maxLayers = maxLayers, m.maxSteps = maxSteps;
     return c;
 }
 
 // Tatarchuk's soft shadow (methods/shadow.h) in place of the hard march.
 MethodConfig softShadowed(MethodConfig c) {
-    c.shadow = ShadowMarch::Soft;
+    c.builtin()->shadow = ShadowMarch::Soft;
     return c;
 }
 
@@ -48,7 +49,6 @@ MethodPreset glslPreset(const char* name, const char* source, const char* file,
                         const char* function, const char* sampler, bool depthTexture,
                         std::vector<GlslSpec::Uniform> uniforms) {
     MethodPreset p{name, source, {}, {}, file};
-    p.config.kind = MethodKind::Glsl;
     p.glsl.function = function;
     p.glsl.samplers[size_t(MapKind::Height)] = sampler;
     p.glsl.layout = depthTexture ? GlslSpec::Layout::Depth : GlslSpec::Layout::Height;
@@ -242,13 +242,13 @@ MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
     MethodConfig cfg = preset.config;
     cfg.label = label;
     cfg.preset = preset.name;
-    if (cfg.kind == MethodKind::Glsl) {
+    if (!preset.shaderFile.empty()) {  // a GLSL preset: its shader, read now
         cfg.name = preset.name;
         auto spec = std::make_shared<GlslSpec>(preset.glsl);
         spec->path = (std::filesystem::path(shaderDir()) / preset.shaderFile).lexically_normal();
         // A shader is a few KB; 16 MiB bounds a stray file.
         spec->source = readTextFile(spec->path, file, field, "shader file", 16u << 20);
-        cfg.glsl = std::move(spec);
+        cfg.method = ShaderMethod{std::move(spec)};
     }
     return cfg;
 }

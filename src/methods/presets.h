@@ -12,9 +12,11 @@
 
 namespace pgt {
 
+// A built-in preset is its configuration; a GLSL preset its shader file, the spec of it
+// (everything but the source text, read by presetConfig) and what every method has.
 struct MethodPreset {
     std::string name, source;
-    MethodConfig config;     // a built-in's configuration (kind != Glsl), or the GLSL method's
+    MethodConfig config;     // a built-in's configuration; a GLSL preset's common part
     GlslSpec glsl;           // GLSL presets: everything but the source text
     std::string shaderFile;  // GLSL presets: the file under shaderDir(); "" for built-ins
 };

@@ -5,8 +5,6 @@
 
 #include "core/error.h"
 #include "methods/cone.h"
-#include "methods/config.h"
-#include "methods/glsl_spec.h"
 #include "methods/layered.h"
 #include "methods/lengyel.h"
 #include "methods/maxmip.h"
@@ -22,7 +20,7 @@ namespace {
 constexpr int kMaxLayers = 4096;
 
 // Steep and pom: "32" when the layer count is fixed, "8_32" for a range, "_s100" with a cap.
-std::string layerLabel(const MethodConfig& c) {
+std::string layerLabel(const BuiltinMethod& c) {
     std::string s = c.minLayers == c.maxLayers
                         ? std::to_string(c.maxLayers)
                         : std::to_string(c.minLayers) + "_" + std::to_string(c.maxLayers);
@@ -30,63 +28,63 @@ std::string layerLabel(const MethodConfig& c) {
     return s;
 }
 
-std::string reliefLabel(const MethodConfig& c) {
+std::string reliefLabel(const BuiltinMethod& c) {
     return std::to_string(c.linearSteps) + "_" + std::to_string(c.binarySteps);
 }
 
-std::string iterativeLabel(const MethodConfig& c) { return std::to_string(c.iterations); }
+std::string iterativeLabel(const BuiltinMethod& c) { return std::to_string(c.iterations); }
 
-std::string secantLabel(const MethodConfig& c) {
+std::string secantLabel(const BuiltinMethod& c) {
     return std::to_string(c.linearSteps) + "_" + std::to_string(c.secantSteps);
 }
 
-std::string contactLabel(const MethodConfig& c) { return std::to_string(c.minLayers); }
+std::string contactLabel(const BuiltinMethod& c) { return std::to_string(c.minLayers); }
 
 const std::vector<IntParameter> kLayerParameters = {
-    {"min_layers", &MethodConfig::minLayers, nullptr, 1, kMaxLayers},
-    {"max_layers", &MethodConfig::maxLayers, nullptr, 1, kMaxLayers},
+    {"min_layers", &BuiltinMethod::minLayers, nullptr, 1, kMaxLayers},
+    {"max_layers", &BuiltinMethod::maxLayers, nullptr, 1, kMaxLayers},
     // A fixed layer count: min = max. Read after the two above, so it wins.
-    {"layers", &MethodConfig::minLayers, &MethodConfig::maxLayers, 1, kMaxLayers, false},
-    {"max_steps", &MethodConfig::maxSteps, nullptr, 0, kSafetyStepCap},
+    {"layers", &BuiltinMethod::minLayers, &BuiltinMethod::maxLayers, 1, kMaxLayers, false},
+    {"max_steps", &BuiltinMethod::maxSteps, nullptr, 0, kSafetyStepCap},
 };
 
 const std::vector<IntParameter> kReliefParameters = {
-    {"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
-    {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64},  // 64 halvings: past a double
+    {"linear_steps", &BuiltinMethod::linearSteps, nullptr, 1, kMaxLayers},
+    {"binary_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64},  // 64 halvings: past a double
 };
 
 const std::vector<IntParameter> kSecantParameters = {
-    {"linear_steps", &MethodConfig::linearSteps, nullptr, 1, kMaxLayers},
-    {"secant_steps", &MethodConfig::secantSteps, nullptr, 0, 64},
+    {"linear_steps", &BuiltinMethod::linearSteps, nullptr, 1, kMaxLayers},
+    {"secant_steps", &BuiltinMethod::secantSteps, nullptr, 0, 64},
 };
 
 // Contact refinement's one layer count serves both of its marches (Riccardi 2018: 16).
 const std::vector<IntParameter> kContactParameters = {
-    {"layers", &MethodConfig::minLayers, &MethodConfig::maxLayers, 1, kMaxLayers, true, 16},
+    {"layers", &BuiltinMethod::minLayers, &BuiltinMethod::maxLayers, 1, kMaxLayers, true, 16},
 };
 
 const std::vector<IntParameter> kMaxMipParameters = {
-    {"max_iterations", &MethodConfig::maxIterations, nullptr, 1, 1 << 24},
+    {"max_iterations", &BuiltinMethod::maxIterations, nullptr, 1, 1 << 24},
 };
 
 // Dummer's cone step mapping: 32 cone steps; 5 bisections after them (pgt's refinement).
 const std::vector<IntParameter> kConeParameters = {
-    {"steps", &MethodConfig::coneSteps, nullptr, 0, kMaxLayers, true, 32},
-    {"refine_steps", &MethodConfig::binarySteps, nullptr, 0, 64, true, 5},
+    {"steps", &BuiltinMethod::coneSteps, nullptr, 0, kMaxLayers, true, 32},
+    {"refine_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64, true, 5},
 };
 
 // Policarpo & Oliveira's relaxed cone stepping: 15 cone steps, 6 binary steps (listing 18-3).
 const std::vector<IntParameter> kRelaxedConeParameters = {
-    {"cone_steps", &MethodConfig::coneSteps, nullptr, 0, kMaxLayers, true, 15},
-    {"binary_steps", &MethodConfig::binarySteps, nullptr, 0, 64, true, 6},
+    {"cone_steps", &BuiltinMethod::coneSteps, nullptr, 0, kMaxLayers, true, 15},
+    {"binary_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64, true, 6},
 };
 
-std::string coneLabel(const MethodConfig& c) {
+std::string coneLabel(const BuiltinMethod& c) {
     return std::to_string(c.coneSteps) + "_" + std::to_string(c.binarySteps);
 }
 
 const std::vector<IntParameter> kIterativeParameters = {
-    {"iterations", &MethodConfig::iterations, nullptr, 1, 1024},
+    {"iterations", &BuiltinMethod::iterations, nullptr, 1, 1024},
 };
 
 }  // namespace
@@ -248,16 +246,13 @@ const std::vector<MethodKindInfo>& methodKinds() {
     return kinds;
 }
 
-const MethodKindInfo* kindInfo(MethodKind kind) {
+const MethodKindInfo& kindInfo(MethodKind kind) {
     const auto& kinds = methodKinds();
-    const size_t i = size_t(kind);
-    return i < kinds.size() ? &kinds[i] : nullptr;  // Glsl is not in the table
+    PGT_CHECK_LT(size_t(kind), kinds.size());
+    return kinds[size_t(kind)];
 }
 
-std::string toString(MethodKind kind) {
-    const MethodKindInfo* info = kindInfo(kind);
-    return info ? info->name : "glsl";
-}
+std::string toString(MethodKind kind) { return kindInfo(kind).name; }
 
 const std::vector<std::string>& methodNames() {
     static const std::vector<std::string> names = [] {
@@ -268,60 +263,40 @@ const std::vector<std::string>& methodNames() {
     return names;
 }
 
-MapSet needs(const MethodConfig& cfg) {
-    if (cfg.glsl) {
-        MapSet named;
-        for (const MapKindInfo& m : kMapKindTable)
-            if (!cfg.glsl->sampler(m.kind).empty()) named.add(m.kind);
-        if (cfg.glsl->packedNormal()) named.add(MapKind::Normal);  // the layout's RGB
-        return named;
-    }
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    return info ? info->maps : MapSet{};
-}
-
-void applyKindDefaults(MethodConfig& cfg) {
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    if (!info) return;
-    for (const IntParameter& p : info->parameters) {
+void applyKindDefaults(BuiltinMethod& m) {
+    for (const IntParameter& p : kindInfo(m.kind).parameters) {
         if (!p.byDefault) continue;
-        cfg.*p.field = *p.byDefault;
-        if (p.alsoField) cfg.*p.alsoField = *p.byDefault;
+        m.*p.field = *p.byDefault;
+        if (p.alsoField) m.*p.alsoField = *p.byDefault;
     }
 }
 
-bool setStepCount(MethodConfig& cfg, int steps) {
-    if (cfg.glsl) {  // its "steps_uniform"
-        if (cfg.glsl->stepsUniform.empty()) return false;
-        setShaderParameter(cfg, "uniforms." + cfg.glsl->stepsUniform, steps, "", "steps");
-        return true;
-    }
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    if (!info || !info->stepKey) return false;
-    for (const IntParameter& p : info->parameters) {
-        if (std::string(p.key) != info->stepKey) continue;
-        cfg.*p.field = steps;
-        if (p.alsoField) cfg.*p.alsoField = steps;
+bool setBuiltinStepCount(BuiltinMethod& m, int steps) {
+    const MethodKindInfo& info = kindInfo(m.kind);
+    if (!info.stepKey) return false;
+    for (const IntParameter& p : info.parameters) {
+        if (std::string(p.key) != info.stepKey) continue;
+        m.*p.field = steps;
+        if (p.alsoField) m.*p.alsoField = steps;
         return true;
     }
     return false;
 }
 
 template <class Real>
-Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Real> uv0,
+Vec2<Real> runMethod(const BuiltinMethod& m, MethodContext<Real>& ctx, Vec2<Real> uv0,
                      Vec3<Real> v) {
-    const MethodKindInfo* info = kindInfo(cfg.kind);
-    if (!info) return uv0;  // a GLSL method runs in OpenGL (study/evaluate.cpp), never here
-    ctx.gpu8 = cfg.gpu8Filter;
+    const MethodKindInfo& info = kindInfo(m.kind);
+    ctx.gpu8 = m.gpu8Filter;
     if constexpr (std::is_same_v<Real, float>)
-        return info->runFloat(ctx, uv0, v, cfg);
+        return info.runFloat(ctx, uv0, v, m);
     else
-        return info->runDouble(ctx, uv0, v, cfg);
+        return info.runDouble(ctx, uv0, v, m);
 }
 
-template Vec2<float> runMethod<float>(const MethodConfig&, MethodContext<float>&, Vec2<float>,
+template Vec2<float> runMethod<float>(const BuiltinMethod&, MethodContext<float>&, Vec2<float>,
                                       Vec3<float>);
-template Vec2<double> runMethod<double>(const MethodConfig&, MethodContext<double>&, Vec2<double>,
+template Vec2<double> runMethod<double>(const BuiltinMethod&, MethodContext<double>&, Vec2<double>,
                                         Vec3<double>);
 
 }  // namespace pgt

@@ -1,6 +1,7 @@
 // The method kinds in one table: each kind's scene name, its integer parameters (scene key,
 // range, the configuration field they set), the step count a fit varies, how a generated
-// label shows its parameters, whether it reads 003's derived maps, and its function.
+// label shows its parameters, whether it reads 003's derived maps, and its function. (A
+// shader method has no row: methods/glsl_spec.h describes it.)
 // Parsing (methods/config.h), labels, JSON, the fit and the dispatch all read this table; a
 // new built-in method is one row here and one function in methods/.
 #pragma once
@@ -15,17 +16,17 @@ namespace pgt {
 
 // One integer parameter of a method kind.
 struct IntParameter {
-    const char* key;                         // the scene's key: "min_layers"
-    int MethodConfig::*field;                // the configuration field it sets
-    int MethodConfig::*alsoField = nullptr;  // a second field set to the same value, or null
-    int lo = 1, hi = 1;                      // accepted range
+    const char* key;                          // the scene's key: "min_layers"
+    int BuiltinMethod::*field;                // the configuration field it sets
+    int BuiltinMethod::*alsoField = nullptr;  // a second field set to the same value, or null
+    int lo = 1, hi = 1;                       // accepted range
     bool written = true;  // part of the configuration's JSON (an alias like "layers" is not)
     std::optional<int> byDefault = std::nullopt;  // the kind's own default, if not MethodConfig's
 };
 
 template <class Real>
 using MethodFunction = Vec2<Real> (*)(MethodContext<Real>&, Vec2<Real>, Vec3<Real>,
-                                      const MethodConfig&);
+                                      const BuiltinMethod&);
 
 // A built-in's GLSL twin among the shaders shipped with pgt (src/shaders/): what the twin
 // test runs against the C++ method and scenes/glsl_twins.json lists (twinEntry writes its
@@ -49,30 +50,30 @@ struct MethodKindInfo {
     std::vector<IntParameter> parameters = {};
     const char* stepKey = nullptr;  // the key of `parameters` a fit varies, or null
     // The parameters shown in a generated label ("8_32" for pom), "" when there are none.
-    std::string (*labelParameters)(const MethodConfig&) = nullptr;
+    std::string (*labelParameters)(const BuiltinMethod&) = nullptr;
     MethodFunction<float> runFloat = nullptr;
     MethodFunction<double> runDouble = nullptr;
     MapSet maps = {};  // the maps it reads (methods/maps.h)
     GlslTwin twin = {};
 };
 
-// Every built-in kind, in MethodKind order (GLSL methods are not a built-in kind).
+// Every built-in kind, in MethodKind order.
 const std::vector<MethodKindInfo>& methodKinds();
-// The row of a built-in kind; null for MethodKind::Glsl.
-const MethodKindInfo* kindInfo(MethodKind kind);
+// The row of a built-in kind.
+const MethodKindInfo& kindInfo(MethodKind kind);
 // Sets the parameters whose default is the kind's own (contact's 16 layers, not pom's 8-32).
-void applyKindDefaults(MethodConfig& cfg);
+void applyKindDefaults(BuiltinMethod& m);
 // The parameter a fit varies set to `steps` (every field it sets); false when the kind has none.
-bool setStepCount(MethodConfig& cfg, int steps);
+bool setBuiltinStepCount(BuiltinMethod& m, int steps);
 
-// Runs one method on one fragment. Never throws; stiff cases land in ctx.flags.
+// Runs one built-in on one fragment. Never throws; stiff cases land in ctx.flags.
 template <class Real>
-Vec2<Real> runMethod(const MethodConfig& cfg, MethodContext<Real>& ctx, Vec2<Real> uv0,
+Vec2<Real> runMethod(const BuiltinMethod& m, MethodContext<Real>& ctx, Vec2<Real> uv0,
                      Vec3<Real> viewTangent);
 
-extern template Vec2<float> runMethod<float>(const MethodConfig&, MethodContext<float>&,
+extern template Vec2<float> runMethod<float>(const BuiltinMethod&, MethodContext<float>&,
                                              Vec2<float>, Vec3<float>);
-extern template Vec2<double> runMethod<double>(const MethodConfig&, MethodContext<double>&,
+extern template Vec2<double> runMethod<double>(const BuiltinMethod&, MethodContext<double>&,
                                                Vec2<double>, Vec3<double>);
 
 }  // namespace pgt

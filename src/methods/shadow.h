@@ -61,7 +61,8 @@ int8_t softShadow(MethodContext<Real>& c, Vec2<Real> uv, Vec3<Real> light, Real 
 
 // The configured march from the method's answer (uv', c.foundHeight).
 template <class Real>
-int8_t runShadow(const MethodConfig& cfg, MethodContext<Real>& c, Vec2<Real> uv, Vec3<Real> light) {
+int8_t runShadow(const BuiltinMethod& cfg, MethodContext<Real>& c, Vec2<Real> uv,
+                 Vec3<Real> light) {
     switch (cfg.shadow) {
         case ShadowMarch::Hard:
             return hardShadow(c, uv, c.foundHeight, light, cfg.shadowSteps);

@@ -10,8 +10,11 @@
 #include "core/clock.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "core/overloaded.h"
 #include "core/percentile.h"
 #include "gl/glsl_method.h"
+#include "methods/config.h"
+#include "methods/glsl_spec.h"
 #include "methods/registry.h"
 #include "methods/shadow.h"
 
@@ -102,7 +105,7 @@ double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& 
     for (const MethodConfig& cfg : configs) {
         const MapSet want = needs(cfg);
         read |= want;
-        if (cfg.kind == MethodKind::Glsl) inGl |= want, inGl.add(MapKind::Height);
+        if (runsInGl(cfg)) inGl |= want, inGl.add(MapKind::Height);
         if (want.has(MapKind::Normal) || want.has(MapKind::Parallax))
             displacements.insert({std::isfinite(cfg.scale) ? cfg.scale : 1e300,
                                   std::isfinite(cfg.bias) ? cfg.bias : 1e300});
@@ -151,17 +154,17 @@ Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const Fragm
 // (fetches here, time in cppPass) is the method's alone, comparable with GLSL methods, which
 // run no march.
 template <class Real>
-MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real> uv0, Vec3<Real> v,
-                   Real lod, Vec3<Real> light) {
+MethodPixel runOne(const MethodConfig& cfg, const BuiltinMethod& b, const MethodTextures& tex,
+                   Vec2<Real> uv0, Vec3<Real> v, Real lod, Vec3<Real> light) {
     MethodContext<Real> c = makeMethodContext<Real>(tex);
     c.lod = lod;
-    Vec2<Real> uv = runMethod<Real>(cfg, c, uv0, v);
+    Vec2<Real> uv = runMethod<Real>(b, c, uv0, v);
     MethodPixel p;
     p.covered = true;
     p.uv = Vec2d(uv);
     p.depth = float(-c.foundHeight / v.z);
     p.fetches = uint32_t(c.fetches);  // the method's own: the shadow march's are not counted
-    if (light != Vec3<Real>(0)) p.shadow = runShadow(cfg, c, uv, light);
+    if (light != Vec3<Real>(0)) p.shadow = runShadow(b, c, uv, light);
     p.flags = c.flags;
     // LearnOpenGL's discard: x > 1 || y > 1 || x < 0 || y < 0 (NaN is not discarded).
     if (cfg.discardOutside && !tex.uvExtent.contains(double(uv.x), double(uv.y))) p.covered = false;
@@ -170,8 +173,14 @@ MethodPixel runOne(const MethodConfig& cfg, const MethodTextures& tex, Vec2<Real
 
 }  // namespace
 
+bool runsInGl(const MethodConfig& cfg) { return cfg.shader() != nullptr; }
+
+void compileMethod(const MethodConfig& cfg) {
+    if (const GlslSpec* g = cfg.shader()) compileGlsl(*g);
+}
+
 std::string timingBackend(const MethodConfig& cfg) {
-    if (cfg.kind != MethodKind::Glsl) return "cpu";
+    if (!runsInGl(cfg)) return "cpu";
     const GlInfo& gl = glContext();
     return gl.software ? "gl wall clock: " + gl.renderer + " (software renderer, not a GPU time)"
                        : "gl timer query: " + gl.renderer;
@@ -207,12 +216,13 @@ GlslInputs glslInputs(const FragmentList& frags, bool exactFrame, int width = 0,
 
 }  // namespace
 
-Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
-                                  const MethodTextures& tex, int width, int height,
-                                  bool exactFrame) {
+namespace {
+
+Image2D<MethodPixel> evaluateShader(const MethodConfig& cfg, const GlslSpec& spec,
+                                    const FragmentList& frags, const MethodTextures& tex, int width,
+                                    int height, bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run =
-        runGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, exactFrame, width, height));
+    GlslRun run = runGlsl(spec, glslMaps(cfg, tex), glslInputs(frags, exactFrame, width, height));
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
         p.covered = true;
@@ -225,48 +235,61 @@ Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& f
     return out;
 }
 
-Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
-                                    const MethodTextures& tex, int width, int height,
-                                    bool exactFrame) {
-    if (cfg.kind == MethodKind::Glsl)
-        return evaluateGlsl(cfg, frags, tex, width, height, exactFrame);
+Image2D<MethodPixel> evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b,
+                                     const FragmentList& frags, const MethodTextures& tex,
+                                     int width, int height, bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
     const auto& view = exactFrame ? frags.viewExact : frags.view;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
-                cfg.doublePrecision ? runOne<double>(cfg, tex, frags.uv0[k], view[k],
-                                                     fragmentLod<double>(cfg, tex, frags, k),
-                                                     frags.lightAt(k, exactFrame))
-                                    : runOne<float>(cfg, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
-                                                    fragmentLod<float>(cfg, tex, frags, k),
-                                                    Vec3f(frags.lightAt(k, exactFrame)));
+                b.doublePrecision ? runOne<double>(cfg, b, tex, frags.uv0[k], view[k],
+                                                   fragmentLod<double>(cfg, tex, frags, k),
+                                                   frags.lightAt(k, exactFrame))
+                                  : runOne<float>(cfg, b, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
+                                                  fragmentLod<float>(cfg, tex, frags, k),
+                                                  Vec3f(frags.lightAt(k, exactFrame)));
         }
     });
     return out;
+}
+
+}  // namespace
+
+Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
+                                    const MethodTextures& tex, int width, int height,
+                                    bool exactFrame) {
+    return std::visit(
+        Overloaded{[&](const BuiltinMethod& b) {
+                       return evaluateBuiltin(cfg, b, frags, tex, width, height, exactFrame);
+                   },
+                   [&](const ShaderMethod& m) {
+                       return evaluateShader(cfg, *m.spec, frags, tex, width, height, exactFrame);
+                   }},
+        cfg.method);
 }
 
 namespace {
 
 // One single-threaded pass of a C++ method over the fragments (inputs rounded before).
 template <class Real>
-double cppPass(const MethodConfig& cfg, const MethodTextures& tex,
+double cppPass(const BuiltinMethod& b, const MethodTextures& tex,
                const std::vector<Vec2<Real>>& uv0, const std::vector<Vec3<Real>>& view,
                const std::vector<Real>& lod) {
     double acc = 0;
     for (size_t k = 0; k < uv0.size(); ++k) {
         MethodContext<Real> c = makeMethodContext<Real>(tex);
         c.lod = lod[k];
-        Vec2<Real> uv = runMethod<Real>(cfg, c, uv0[k], view[k]);
+        Vec2<Real> uv = runMethod<Real>(b, c, uv0[k], view[k]);
         acc += double(uv.x + uv.y);
     }
     return acc;
 }
 
 template <class Real>
-std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags,
-                              const MethodTextures& tex, int repeats) {
+std::vector<double> cppPasses(const MethodConfig& cfg, const BuiltinMethod& b,
+                              const FragmentList& frags, const MethodTextures& tex, int repeats) {
     // The inputs rounded before the clock starts: the time is the method's alone.
     const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
     const auto view = toFloat<Vec3<Real>>(frags.view);
@@ -277,7 +300,7 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
     for (int r = 0; r < repeats; ++r) {
         throwIfCancelled();
         auto t0 = Clock::now();
-        sink = sink + cppPass<Real>(cfg, tex, uv0, view, lod);
+        sink = sink + cppPass<Real>(b, tex, uv0, view, lod);
         samples.push_back(std::chrono::duration<double, std::nano>(Clock::now() - t0).count() /
                           double(frags.size()));
     }
@@ -286,34 +309,50 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const FragmentList& frags
 
 }  // namespace
 
-MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
-                        const MethodTextures& tex, const TimingSpec& spec) {
+namespace {
+
+MethodTiming timeShader(const MethodConfig& cfg, const GlslSpec& spec, const FragmentList& frags,
+                        const MethodTextures& tex, const TimingSpec& timing) {
+    GlslTimingPlan plan;
+    plan.minFragments = timing.glFragments;
+    plan.minGpuMs = std::isfinite(timing.glMinMs) ? timing.glMinMs
+                    : glContext().software        ? kGlMinMsSoftware
+                                                  : kGlMinMsHardware;
+    plan.minRepeats = timing.repeats;
+    const GlslTiming g = timeGlsl(spec, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;
     MethodTiming t;
-    if (frags.size() == 0 || spec.repeats < 1) return t;
-    if (cfg.kind == MethodKind::Glsl) {
-        GlslTimingPlan plan;
-        plan.minFragments = spec.glFragments;
-        plan.minGpuMs = std::isfinite(spec.glMinMs) ? spec.glMinMs
-                        : glContext().software      ? kGlMinMsSoftware
-                                                    : kGlMinMsHardware;
-        plan.minRepeats = spec.repeats;
-        const GlslTiming g =
-            timeGlsl(*cfg.glsl, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;
-        t.median = g.nsPerPixel;
-        t.p25 = g.p25;
-        t.p75 = g.p75;
-        t.repeats = g.repeats;
-        t.fragments = g.fragments;
-        return t;
-    }
-    std::vector<double> s = cfg.doublePrecision ? cppPasses<double>(cfg, frags, tex, spec.repeats)
-                                                : cppPasses<float>(cfg, frags, tex, spec.repeats);
+    t.median = g.nsPerPixel;
+    t.p25 = g.p25;
+    t.p75 = g.p75;
+    t.repeats = g.repeats;
+    t.fragments = g.fragments;
+    return t;
+}
+
+MethodTiming timeBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const FragmentList& frags,
+                         const MethodTextures& tex, const TimingSpec& timing) {
+    std::vector<double> s = b.doublePrecision
+                                ? cppPasses<double>(cfg, b, frags, tex, timing.repeats)
+                                : cppPasses<float>(cfg, b, frags, tex, timing.repeats);
+    MethodTiming t;
     t.repeats = int(s.size());
     t.median = percentile(s, 0.5);
     t.p25 = percentile(s, 0.25);
     t.p75 = percentile(s, 0.75);
     t.fragments = int64_t(frags.size());
     return t;
+}
+
+}  // namespace
+
+MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
+                        const MethodTextures& tex, const TimingSpec& spec) {
+    if (frags.size() == 0 || spec.repeats < 1) return {};
+    return std::visit(
+        Overloaded{
+            [&](const BuiltinMethod& b) { return timeBuiltin(cfg, b, frags, tex, spec); },
+            [&](const ShaderMethod& m) { return timeShader(cfg, *m.spec, frags, tex, spec); }},
+        cfg.method);
 }
 
 }  // namespace pgt

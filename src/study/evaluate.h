@@ -102,11 +102,14 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame = false);
 
-// A GLSL method over the fragments in OpenGL, in screen layout (gl/glsl_method.h
-// GlslInputs): `frags`' pixels are y * width + x of a width x height frame.
-Image2D<MethodPixel> evaluateGlsl(const MethodConfig& cfg, const FragmentList& frags,
-                                  const MethodTextures& tex, int width, int height,
-                                  bool exactFrame);
+// What differs between a built-in and a shader for running them (the rest is
+// methods/config.h's): a shader runs in OpenGL, over the fragments in screen layout
+// (gl/glsl_method.h GlslInputs: `frags`' pixels are y * width + x of the frame), one GL
+// draw at a time; a built-in in C++ on all cores.
+bool runsInGl(const MethodConfig& cfg);
+// Compiles a shader's program now (a study compiles every configuration before its first
+// case, so that a compile error costs no case); nothing for a built-in.
+void compileMethod(const MethodConfig& cfg);
 
 struct TimingSpec {
     int repeats = 3;       // C++: median of this many single-threaded passes; GL: at least

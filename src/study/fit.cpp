@@ -145,7 +145,7 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
     FitResult fr;
     fr.method = listed.label;
     fr.nativeObjective = scorer.score(listed).objective;
-    const bool usesHeight = listed.kind != MethodKind::None;
+    const bool usesHeight = readsDisplacement(listed);
     std::vector<double> fs = usesHeight ? plan.factors : std::vector<double>{1};
     std::vector<double> rs = usesHeight ? plan.ratios : std::vector<double>{0};
     MethodConfig best;
@@ -197,9 +197,7 @@ FitReport runFit(const Scene& scene, bool progress) {
     // Presets are fixed configurations (fit the built-in they stand for instead); a GLSL/HLSL
     // method is fitted where s and b reach it (a uniform bound to them, or a call), at each
     // step count of its "steps_uniform".
-    auto fixed = [](const MethodConfig& m) {
-        return !m.preset.empty() || (m.glsl && !m.glsl->takesScale());
-    };
+    auto fixed = [](const MethodConfig& m) { return fittable(m) != Fittable::Yes; };
     if (std::all_of(plan.methods.begin(), plan.methods.end(), fixed))
         throw InputError(scene.file, scene.fit.contains("methods") ? "fit.methods" : "methods", "",
                          "nothing to fit: presets are fixed configurations, and a GLSL/HLSL "
@@ -218,14 +216,13 @@ FitReport runFit(const Scene& scene, bool progress) {
         if (fixed(base)) {
             if (progress)
                 std::fprintf(stderr, "fit: %s skipped (%s)\n", base.label.c_str(),
-                             base.glsl && base.preset.empty()
+                             fittable(base) == Fittable::ScaleUnused
                                  ? "its scale does not reach the shader: bind a uniform to "
                                    "\"scale\" or use s in a call"
                                  : "presets are fixed");
             continue;
         }
-        const bool hasSteps = base.glsl ? !base.glsl->stepsUniform.empty()
-                                        : kindInfo(base.kind) && kindInfo(base.kind)->stepKey;
+        const bool hasSteps = hasStepCount(base);
         for (double stepCount : hasSteps ? plan.steps : std::vector<double>{0}) {
             MethodConfig listed = base;
             if (hasSteps) setStepCount(listed, int(stepCount));

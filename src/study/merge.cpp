@@ -10,15 +10,14 @@
 #include <set>
 
 #include "core/error.h"
-#include "core/format.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
 #include "study/csv_table.h"
 #include "study/plan.h"
+#include "study/result_columns.h"
 #include "study/staged_files.h"
 #include "study/study_dir.h"
-#include "study/sweep.h"
 
 namespace pgt {
 
@@ -72,33 +71,24 @@ Shard readShard(const std::string& dir) {
     return s;
 }
 
-// The columns a case fixes, in results.csv's order of them: theta..bias_ratio, then the
-// light's angles (`nan` without a light).
-const std::vector<std::string>& plannedColumns() {
-    static const std::vector<std::string> names = {"theta",      "phi",         "scale",    "bias",
-                                                   "bias_ratio", "light_theta", "light_phi"};
-    return names;
-}
-
-// What a row of the study may say in its plan-given columns: per case, plannedColumns() as
-// pgt writes them; per label, its method name and params.
+// What a row of the study may say in its plan-given columns: per case, its key columns
+// (ResultColumn::caseField) as pgt writes them; per label, its method name and params.
 struct Plan {
-    std::vector<std::vector<std::string>> caseColumns;  // per case, plannedColumns()
-    std::vector<size_t> at;                             // their places in results.csv
+    std::vector<const ResultColumn*> keys;                               // the key columns
+    std::vector<std::vector<std::string>> caseColumns;                   // per case, `keys`
     std::map<std::string, std::pair<std::string, std::string>> configs;  // label -> method, params
 };
 
 Plan readPlan(const Shard& s) {
     const std::string path = (fs::path(s.dir) / "study.json").string();
     Plan p;
-    for (const std::string& name : plannedColumns())
-        p.at.push_back(size_t(std::find(resultColumns().begin(), resultColumns().end(), name) -
-                              resultColumns().begin()));
-    for (const StudyCase& c : planCases(s.identity, path))
-        p.caseColumns.push_back({formatNumber(c.theta, 9), formatNumber(c.phi, 9),
-                                 formatNumber(c.scale, 9), formatNumber(c.bias, 9),
-                                 formatNumber(c.biasRatio, 9), formatNumber(c.lightTheta, 9),
-                                 formatNumber(c.lightPhi, 9)});
+    for (const ResultColumn& c : resultSchema())
+        if (c.caseField) p.keys.push_back(&c);
+    for (const StudyCase& c : planCases(s.identity, path)) {
+        p.caseColumns.emplace_back();
+        for (const ResultColumn* k : p.keys)
+            p.caseColumns.back().push_back(csvText(c.*k->caseField));
+    }
     const Json configs = s.identity.value("configurations", Json());
     std::vector<std::string> labels;
     for (const Json& cfg : configs.is_array() ? configs : Json::array()) {
@@ -116,15 +106,16 @@ Plan readPlan(const Shard& s) {
     return p;
 }
 
-// One record against the plan: exit 2 naming the shard's results.csv, the line and the field.
-int checkRow(const std::vector<std::string>& f, const Shard& s, const Plan& plan,
-             const std::string& path, size_t line) {
+// One record against the plan, its columns by name (`head`): exit 2 naming the shard's
+// results.csv, the line and the field.
+int checkRow(const std::vector<std::string>& f, const ResultHeader& head, const Shard& s,
+             const Plan& plan, const std::string& path, size_t line) {
     auto bad = [&](const std::string& field, const std::string& value, const std::string& why) {
         throw InputError(path, "line " + std::to_string(line) + ": " + field, value, why);
     };
-    if (f.size() != resultColumns().size())
+    if (f.size() != head.size())
         bad("columns", std::to_string(f.size()), "not a row of results.csv");
-    const std::string& text = f[0];
+    const std::string& text = head.field(f, "case");
     if (text.empty() || text.size() > 9 ||
         text.find_first_not_of("0123456789") != std::string::npos)
         bad("case", text, "not a case index (digits only)");
@@ -133,35 +124,40 @@ int checkRow(const std::vector<std::string>& f, const Shard& s, const Plan& plan
         bad("case", text,
             "not a case of shard " + std::to_string(s.index) + " of " + std::to_string(s.count));
     const std::vector<std::string>& planned = plan.caseColumns[size_t(index)];
-    for (size_t k = 0; k < planned.size(); ++k)
-        if (f[plan.at[k]] != planned[k])
-            bad(plannedColumns()[k], f[plan.at[k]], "case " + text + " has " + planned[k]);
-    auto it = plan.configs.find(f[7]);
-    if (it == plan.configs.end()) bad("label", f[7], "not a configuration of the study");
-    if (f[6] != it->second.first)
-        bad("method", f[6], "label " + f[7] + " is a " + it->second.first);
-    if (f[8] != it->second.second) bad("params", f[8], "not label " + f[7] + "'s parameters");
+    for (size_t k = 0; k < planned.size(); ++k) {
+        const std::string& name = plan.keys[k]->name;
+        if (head.field(f, name) != planned[k])
+            bad(name, head.field(f, name), "case " + text + " has " + planned[k]);
+    }
+    const std::string &label = head.field(f, "label"), &method = head.field(f, "method");
+    auto it = plan.configs.find(label);
+    if (it == plan.configs.end()) bad("label", label, "not a configuration of the study");
+    if (method != it->second.first)
+        bad("method", method, "label " + label + " is a " + it->second.first);
+    if (head.field(f, "params") != it->second.second)
+        bad("params", head.field(f, "params"), "not label " + label + "'s parameters");
     return index;
 }
 
-// The shard's rows by case index; InputError when a row is not its plan's or a case is torn.
+// The shard's rows by case index, as pgt writes them; InputError when a row is not its plan's
+// or a case is torn.
 void readRows(const Shard& s, const Plan& plan, std::map<int, std::vector<std::string>>& rows) {
     const std::string path = (fs::path(s.dir) / "results.csv").string();
     const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
-    const std::string head = resultHeader();
-    if (text.compare(0, head.size(), head) != 0)
-        throw InputError(path, "header", "", "results.csv has other columns");
+    const ResultHeader head(path, text, "");
+    noteUnknownColumns(path, head, "the merged results.csv");
     bool torn = false;
-    auto records = splitCsvRecords(text, head.size(), &torn);
+    auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
     if (torn) throw InputError(path, "", "", "the last line is cut (torn shard: resume it)");
     std::map<int, std::vector<std::string>> mine;
     std::set<std::pair<int, std::string>> seen;
     for (size_t r = 0; r < records.size(); ++r) {
-        const int index = checkRow(records[r], s, plan, path, r + 2);
-        if (!seen.insert({index, records[r][7]}).second)
-            throw InputError(path, "line " + std::to_string(r + 2) + ": label", records[r][7],
+        const int index = checkRow(records[r], head, s, plan, path, r + 2);
+        const std::string& label = head.field(records[r], "label");
+        if (!seen.insert({index, label}).second)
+            throw InputError(path, "line " + std::to_string(r + 2) + ": label", label,
                              "case " + std::to_string(index) + " has it twice");
-        mine[index].push_back(resultLine(records[r]));
+        mine[index].push_back(head.line(records[r]));
     }
     for (auto& [index, lines] : mine) {
         if (lines.size() != s.labels.size())

@@ -20,6 +20,7 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
+#include "study/result_columns.h"
 #include "study/staged_files.h"
 
 namespace pgt {
@@ -56,50 +57,15 @@ Json finiteOrNull(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr);
 
 double share(int64_t part, int64_t whole) { return whole > 0 ? double(part) / double(whole) : NAN; }
 
-Json shadowJson(const ShadowCounts& c) {
-    auto num = finiteOrNull;
-    return {{"compared", c.compared},
-            {"disagree", num(share(c.differ, c.compared))},
-            {"uv_right", c.right},
-            {"disagree_uv_right", num(share(c.differRight, c.right))},
-            {"uv_wrong", c.wrong},
-            {"disagree_uv_wrong", num(share(c.differWrong, c.wrong))},
-            {"truth_shadowed", num(share(c.truthDark, c.compared))},
-            {"method_shadowed", num(share(c.methodDark, c.compared))}};
-}
-
 Json toJson(const FrameStats& s) {
-    auto num = finiteOrNull;
-    return {
-        {"pixels", s.error.count},
-        {"error_texels",
-         {{"mean", num(s.error.mean)},
-          {"rms", num(s.error.rms)},
-          {"p50", num(s.error.p50)},
-          {"p90", num(s.error.p90)},
-          {"p99", num(s.error.p99)},
-          {"max", num(s.error.max)}}},
-        {"frac_gt_1texel", num(s.fracAbove1Texel)},
-        {"coverage",
-         {{"both", s.coverage.both},
-          {"truth_only", s.coverage.truthOnly},
-          {"raster_only", s.coverage.rasterOnly},
-          {"neither", s.coverage.neither}}},
-        {"nonfinite", s.nonfinite},
-        {"diverged", s.diverged},
-        {"zero_divide", s.zeroDivide},
-        {"step_limit", s.stepLimit},
-        {"fetches", {{"mean", s.fetchesMean}, {"max", s.fetchesMax}}},
-        {"depth_error_texels",
-         {{"pixels", s.depthError.count},
-          {"mean", num(s.depthError.mean)},
-          {"p50", num(s.depthError.p50)},
-          {"p90", num(s.depthError.p90)},
-          {"p99", num(s.depthError.p99)},
-          {"max", num(s.depthError.max)},
-          {"signed_mean", num(s.depthSignedMean)}}},
-        {"shadow", shadowJson(s.shadow)},
-    };
+    // What results.csv has no column for; the rest are its columns' keys (ResultColumn::jsonKey).
+    Json j = {{"coverage", {{"both", s.coverage.both}, {"neither", s.coverage.neither}}},
+              {"diverged", s.diverged},
+              {"depth_error_texels",
+               {{"pixels", s.depthError.count}, {"p50", finiteOrNull(s.depthError.p50)}}},
+              {"shadow", {{"uv_right", s.shadow.right}, {"uv_wrong", s.shadow.wrong}}}};
+    statsColumnsJson(s, j);
+    return j;
 }
 
 namespace {
@@ -164,7 +130,7 @@ Json truthJson(const Scene& scene, const RenderResult& r) {
 // One method's entry of summary.json's "methods".
 Json methodJson(const MethodFrame& m) {
     Json j = toJson(m.stats);
-    j["label"] = m.config.label;
+    methodColumnsJson(m, j);  // the label and the timing, as results.csv's columns say them
     if (m.haveExactFrame) {
         // The error with the exact frame is the method's own; the rest of the mean is
         // what the per-vertex tangent frame adds.
@@ -174,13 +140,6 @@ Json methodJson(const MethodFrame& m) {
             a > 0 && std::isfinite(a) && std::isfinite(e) ? Json(1.0 - e / a) : Json(nullptr);
     }
     j["config"] = toJson(m.config);
-    j["ns_per_px"] = m.nsPerPixel;
-    j["ns_per_px_p25"] = m.timing.p25;
-    j["ns_per_px_p75"] = m.timing.p75;
-    j["timing_repeats"] = m.timing.repeats;
-    j["timing_fragments"] = m.timing.fragments;
-    j["precompute_ms"] = m.precomputeMs;
-    j["timing_backend"] = m.timingBackend;
     j["warnings"] = Json::array();
     for (const MethodWarning& w : m.warnings)
         j["warnings"].push_back({{"kind", w.kind}, {"text", w.text}});

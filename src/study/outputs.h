@@ -53,12 +53,11 @@ class RenderWriter : public FrameSink {
 // images (one band: the whole frame through RenderWriter); creates DIR.
 void writeRenderOutputs(const Scene& scene, const RenderResult& result, const std::string& dir);
 
+// A share of counts, NaN when the whole is 0.
+double share(int64_t part, int64_t whole);
 // frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
 // LABEL.u, LABEL.v, LABEL.err per method, then truth.depth, truth.shadow and LABEL.depth,
 // LABEL.shadow per method (docs/outputs.md).
-// A share of counts, NaN when the whole is 0; shadow counts as summary.json has them.
-double share(int64_t part, int64_t whole);
-nlohmann::json shadowJson(const ShadowCounts& counts);
 std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
 // A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
 // channel has no value), into `rows` (width x rows x channels floats).
@@ -67,6 +66,8 @@ void interleaveFrameBand(const FrameBand& band, float* rows);
 FrameBand wholeFrameBand(const RenderResult& result);
 
 nlohmann::json summaryJson(const Scene& scene, const RenderResult& result);
+// A frame's statistics as summary.json has them; the keys that results.csv's columns say come
+// from their definitions (study/result_columns.h).
 nlohmann::json toJson(const FrameStats& stats);
 
 // The top of an error map's colour scale: the smallest 1-2-5 value (0.01 .. 5e12) at or

@@ -266,15 +266,14 @@ std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
                                         const ParameterLists& lists) {
     std::vector<MethodConfig> out;
     for (const MethodConfig& m : scene.methods) {
-        if (m.glsl || !m.preset.empty()) {
+        if (variedAsShader(m)) {
             for (MethodConfig& c : expandShaderConfig(f, m, lists)) out.push_back(std::move(c));
             continue;
         }
         std::vector<MethodConfig> configs = {m};
         bool varied = false;
         for (const std::string& prefix : {m.name, m.label}) {
-            if (m.glsl || !m.preset.empty() || !lists.count(prefix) ||
-                (prefix == m.label && m.label == m.name && varied))
+            if (!lists.count(prefix) || (prefix == m.label && m.label == m.name && varied))
                 continue;
             for (const auto& [param, values] : lists.at(prefix)) {
                 if (double(configs.size()) * double(values.size()) > double(kMaxStudyConfigs))

@@ -14,6 +14,7 @@
 #include "core/memory.h"
 #include "core/overloaded.h"
 #include "gl/glsl_method.h"
+#include "methods/config.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -61,7 +62,7 @@ CheckContext checkContext(float lo, float hi, const MethodConfig& cfg, const Dis
     c.below =
         (d.scale != 0 || d.bias != 0) && d.scale * lo + d.bias <= 0 && d.scale * hi + d.bias <= 0;
     c.mapVaries = hi > lo;
-    c.skipNoOffset = cfg.kind == MethodKind::None;
+    c.skipNoOffset = !readsDisplacement(cfg);
     return c;
 }
 
@@ -213,14 +214,13 @@ class BandPipeline {
     void drawGlsl(std::vector<Image2D<MethodPixel>>& exact) {
         auto draws = [&] {
             for (size_t i = 0; i < runs_.size(); ++i) {
-                if (runs_[i].config->kind != MethodKind::Glsl) continue;
+                if (!runsInGl(*runs_[i].config)) continue;
                 runs_[i].pixels = evaluate(runs_[i], false);
                 if (framesCanDiffer(scene_.base)) exact[i] = evaluate(runs_[i], true);
             }
         };
-        const bool any = std::any_of(runs_.begin(), runs_.end(), [](const MethodRun& m) {
-            return m.config->kind == MethodKind::Glsl;
-        });
+        const bool any = std::any_of(runs_.begin(), runs_.end(),
+                                     [](const MethodRun& m) { return runsInGl(*m.config); });
         if (!any || frags_->pixel.empty())
             draws();
         else if (options_.glDraw)
@@ -239,7 +239,7 @@ class BandPipeline {
         r_.timingsMs["methods"] += msSince(tg);
         for (size_t i = 0; i < runs_.size(); ++i) {
             MethodRun& m = runs_[i];
-            const bool gl = m.config->kind == MethodKind::Glsl;
+            const bool gl = runsInGl(*m.config);
             auto t0 = Clock::now();
             if (!gl) m.pixels = evaluate(m, false);
             r_.timingsMs["methods_eval"] += msSince(t0);
@@ -403,7 +403,7 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
     auto t0 = Clock::now();
     for (MethodFrame& mf : r.methods) {
         const MethodConfig& cfg = mf.config;
-        if (timing.repeats <= 0 || (!glsl && cfg.kind == MethodKind::Glsl)) continue;
+        if (timing.repeats <= 0 || (!glsl && runsInGl(cfg))) continue;
         mf.timing = timeMethod(cfg, r.timed, textures.at(cfg, r.view.displacement), timing);
         mf.nsPerPixel = mf.timing.median;
     }

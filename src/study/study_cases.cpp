@@ -129,14 +129,13 @@ class GlTimings {
             const StudyCase& c = *cases[i];
             bool any = false;
             for (size_t k = 0; k < study.configs.size(); ++k)
-                any = any || (study.configs[k].kind == MethodKind::Glsl &&
-                              !timed_.count(key(study, k, c)));
+                any = any || (runsInGl(study.configs[k]) && !timed_.count(key(study, k, c)));
             if (!any) continue;
             const FragmentList frags =
                 viewTimingFragments(scene, caseView(scene, study, c), study.timing);
             for (size_t k = 0; k < study.configs.size(); ++k) {
                 const MethodConfig& cfg = study.configs[k];
-                if (cfg.kind != MethodKind::Glsl || timed_.count(key(study, k, c))) continue;
+                if (!runsInGl(cfg) || timed_.count(key(study, k, c))) continue;
                 const MethodTextures& tex = textures.get(cfg, {c.scale, c.bias});
                 timed_[key(study, k, c)] = {timeMethod(cfg, frags, tex, study.timing), c.index};
             }

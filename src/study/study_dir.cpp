@@ -19,8 +19,8 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "study/csv_table.h"
+#include "study/result_columns.h"
 #include "study/staged_files.h"
-#include "study/sweep.h"
 
 namespace pgt {
 
@@ -68,9 +68,11 @@ bool holdsStudy(const std::string& studyPath, const Json& identity) {
 
 namespace {
 
-// Reads results.csv, keeps only the rows of complete cases (every configuration present),
-// rewrites the file when anything was dropped (a torn last line, a half-written case), and
-// returns the keys of the complete cases. An empty (0-byte) file is given its header.
+// Reads results.csv (its columns by name: study/result_columns.h), keeps only the rows of
+// complete cases (every configuration present), rewrites the file when anything was dropped (a
+// torn last line, a half-written case) or its columns are not as pgt writes them (another
+// order; columns pgt does not write are left out), and returns the keys of the complete cases.
+// An empty (0-byte) file is given its header.
 std::set<std::string> loadFinished(const std::string& path, const Study& study) {
     std::set<std::string> finished;
     std::ifstream in(path, std::ios::binary);
@@ -80,36 +82,24 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
         writeTextFile(path, resultHeader());
         return finished;
     }
-    if (text.compare(0, resultHeader().size(), resultHeader()) != 0)
-        throw InputError(
-            path, "header", text.substr(0, std::min<size_t>(text.find('\n'), 200)),
-            "results.csv has other columns (an older pgt?): use --fresh or another --out");
+    const ResultHeader head(path, text, ": use --fresh or another --out");
+    noteUnknownColumns(path, head, "the resumed results.csv");
     std::map<std::string, std::vector<std::string>> rowsByKey;
     std::map<std::string, std::set<std::string>> labelsByKey;
     std::vector<std::string> order;
-    bool dropped = false;
-    // The light's angles (light_theta, then light_phi): part of a case's key.
-    const size_t lightColumn =
-        size_t(std::find(resultColumns().begin(), resultColumns().end(), "light_theta") -
-               resultColumns().begin());
-    for (const auto& f : splitCsvRecords(text, resultHeader().size(), &dropped)) {
-        if (f.size() != resultColumns().size()) {
-            dropped = true;
-            continue;
-        }
+    bool torn = false;
+    const auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
+    bool rewrite = torn || !head.asWritten();
+    for (const auto& f : records) {
         StudyCase c;
-        try {
-            c.theta = std::stod(f[1]), c.phi = std::stod(f[2]);
-            c.scale = std::stod(f[3]), c.bias = std::stod(f[4]), c.biasRatio = std::stod(f[5]);
-            c.lightTheta = std::stod(f[lightColumn]), c.lightPhi = std::stod(f[lightColumn + 1]);
-        } catch (const std::exception&) {
-            dropped = true;
+        if (!head.readCase(f, &c)) {  // a hand-edited or cut row
+            rewrite = true;
             continue;
         }
         std::string key = c.key();
         if (!rowsByKey.count(key)) order.push_back(key);
-        rowsByKey[key].push_back(resultLine(f));
-        labelsByKey[key].insert(f[7]);
+        rowsByKey[key].push_back(head.line(f));
+        labelsByKey[key].insert(head.field(f, "label"));
     }
     std::set<std::string> wantLabels;
     for (const auto& cfg : study.configs) wantLabels.insert(cfg.label);
@@ -119,10 +109,10 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
             finished.insert(key);
             for (const auto& l : rowsByKey[key]) kept += l;
         } else {
-            dropped = true;
+            rewrite = true;
         }
     }
-    if (dropped) writeTextFile(path, kept);
+    if (rewrite) writeTextFile(path, kept);
     return finished;
 }
 
@@ -148,20 +138,25 @@ std::set<std::string> openStudyDir(const Study& study, const Json& identity, boo
 // rewritten whole when they were not.
 void sortByCase(const std::string& path) {
     const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
+    const ResultHeader head(path, text, "");
     bool torn = false;
-    auto records = splitCsvRecords(text, resultHeader().size(), &torn);
-    auto caseOf = [](const std::vector<std::string>& f) {  // a hand-edited case goes last
+    auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
+    auto caseOf = [&](const std::vector<std::string>& f) {  // a hand-edited case goes last
+        const std::string& index = head.field(f, "case");
         char* end = nullptr;
-        const long long v = f.empty() ? 0 : std::strtoll(f[0].c_str(), &end, 10);
-        return f.empty() || end == f[0].c_str() || *end ? LLONG_MAX : v;
+        const long long v = std::strtoll(index.c_str(), &end, 10);
+        return end == index.c_str() || *end ? LLONG_MAX : v;
     };
-    if (torn || std::is_sorted(records.begin(), records.end(),
-                               [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); }))
+    const bool whole = std::all_of(records.begin(), records.end(),
+                                   [&](const auto& f) { return f.size() == head.size(); });
+    if (torn || !whole ||
+        std::is_sorted(records.begin(), records.end(),
+                       [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); }))
         return;
     std::stable_sort(records.begin(), records.end(),
                      [&](const auto& a, const auto& b) { return caseOf(a) < caseOf(b); });
     std::string sorted = resultHeader();
-    for (const auto& f : records) sorted += resultLine(f);
+    for (const auto& f : records) sorted += head.line(f);
     writeTextFile(path, sorted);
 }
 

@@ -32,7 +32,6 @@
 #include "core/process.h"
 #include "gl/glsl_method.h"
 #include "methods/config.h"
-#include "study/csv_table.h"
 #include "study/outputs.h"
 #include "study/staged_files.h"
 #include "study/study_cases.h"
@@ -44,158 +43,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string num(double x) { return formatNumber(x, 9); }
-
-// A configuration's parameters as results.csv's `params` column shows them.
-Json methodParams(const MethodConfig& cfg) {
-    Json j = toJson(cfg);
-    j.erase("name");
-    j.erase("label");
-    return j;
-}
-
-}  // namespace
-
-namespace {
-
-// One results.csv row: a case, its frame, one method configuration of it.
-struct ResultRow {
-    const StudyCase& c;
-    const RenderResult& r;
-    const MethodFrame& m;
-};
-
-std::string integer(int64_t x) { return std::to_string(x); }
-
-// results.csv's last columns: the timing's spread, the warnings, and the depth and shadow
-// statistics (docs/model.md §7b; empty without a light).
-std::vector<CsvColumn<ResultRow>> laterColumns() {
-    using Col = CsvColumn<ResultRow>;
-    auto depth = [](double Summary::*field) {
-        return [field](const ResultRow& x) { return num(x.m.stats.depthError.*field); };
-    };
-    auto shadowShare = [](int64_t ShadowCounts::*part, int64_t ShadowCounts::*whole) {
-        return [part, whole](const ResultRow& x) {
-            const ShadowCounts& c = x.m.stats.shadow;
-            return num(share(c.*part, c.*whole));
-        };
-    };
-    return {
-        Col{"timing_backend", [](const ResultRow& x) { return x.m.timingBackend; }},
-        Col{"ns_per_px_p25", [](const ResultRow& x) { return num(x.m.timing.p25); }},
-        Col{"ns_per_px_p75", [](const ResultRow& x) { return num(x.m.timing.p75); }},
-        Col{"timing_repeats", [](const ResultRow& x) { return integer(x.m.timing.repeats); }},
-        Col{"timing_fragments", [](const ResultRow& x) { return integer(x.m.timing.fragments); }},
-        Col{"timing_case",
-            [](const ResultRow& x) {
-                return integer(x.m.timingCase >= 0 ? x.m.timingCase : x.c.index);
-            }},
-        Col{"warnings", [](const ResultRow& x) { return warningKinds(x.m.warnings); }},
-        Col{"depth_mean", depth(&Summary::mean)},
-        Col{"depth_p90", depth(&Summary::p90)},
-        Col{"depth_p99", depth(&Summary::p99)},
-        Col{"depth_max", depth(&Summary::max)},
-        Col{"depth_signed_mean", [](const ResultRow& x) { return num(x.m.stats.depthSignedMean); }},
-        Col{"light_theta",
-            [](const ResultRow& x) { return num(x.r.view.light.on ? x.r.view.light.theta : NAN); }},
-        Col{"light_phi",
-            [](const ResultRow& x) { return num(x.r.view.light.on ? x.r.view.light.phi : NAN); }},
-        Col{"shadow_compared",
-            [](const ResultRow& x) { return integer(x.m.stats.shadow.compared); }},
-        Col{"shadow_disagree", shadowShare(&ShadowCounts::differ, &ShadowCounts::compared)},
-        Col{"shadow_disagree_uv_right",
-            shadowShare(&ShadowCounts::differRight, &ShadowCounts::right)},
-        Col{"shadow_disagree_uv_wrong",
-            shadowShare(&ShadowCounts::differWrong, &ShadowCounts::wrong)},
-        Col{"truth_shadowed", shadowShare(&ShadowCounts::truthDark, &ShadowCounts::compared)},
-        Col{"method_shadowed", shadowShare(&ShadowCounts::methodDark, &ShadowCounts::compared)},
-    };
-}
-
-// results.csv (docs/studies.md): the columns in order, each with how a row writes it.
-const CsvTable<ResultRow>& resultTable() {
-    using Col = CsvColumn<ResultRow>;
-    auto stat = [](double Summary::*field) {
-        return [field](const ResultRow& x) { return num(x.m.stats.error.*field); };
-    };
-    auto uncertainty = [](double TruthUncertainty::*field) {
-        return [field](const ResultRow& x) {
-            return num(x.r.haveUncertainty ? x.r.uncertainty.*field : NAN);
-        };
-    };
-    auto exact = [](double Summary::*field) {
-        return [field](const ResultRow& x) {
-            return num(x.m.haveExactFrame ? x.m.statsExactFrame.error.*field : NAN);
-        };
-    };
-    std::vector<CsvColumn<ResultRow>> columns = {
-        Col{"case", [](const ResultRow& x) { return integer(x.c.index); }},
-        Col{"theta", [](const ResultRow& x) { return num(x.c.theta); }},
-        Col{"phi", [](const ResultRow& x) { return num(x.c.phi); }},
-        Col{"scale", [](const ResultRow& x) { return num(x.c.scale); }},
-        Col{"bias", [](const ResultRow& x) { return num(x.c.bias); }},
-        Col{"bias_ratio", [](const ResultRow& x) { return num(x.c.biasRatio); }},
-        Col{"method", [](const ResultRow& x) { return x.m.config.name; }},
-        Col{"label", [](const ResultRow& x) { return x.m.config.label; }},
-        Col{"params", [](const ResultRow& x) { return methodParams(x.m.config).dump(); }, true},
-        Col{"pixels", [](const ResultRow& x) { return integer(x.m.stats.error.count); }},
-        Col{"mean", stat(&Summary::mean)},
-        Col{"rms", stat(&Summary::rms)},
-        Col{"p50", stat(&Summary::p50)},
-        Col{"p90", stat(&Summary::p90)},
-        Col{"p99", stat(&Summary::p99)},
-        Col{"max", stat(&Summary::max)},
-        Col{"frac_gt_1texel", [](const ResultRow& x) { return num(x.m.stats.fracAbove1Texel); }},
-        Col{"truth_only", [](const ResultRow& x) { return integer(x.m.stats.coverage.truthOnly); }},
-        Col{"raster_only",
-            [](const ResultRow& x) { return integer(x.m.stats.coverage.rasterOnly); }},
-        Col{"nonfinite", [](const ResultRow& x) { return integer(x.m.stats.nonfinite); }},
-        Col{"zero_divide", [](const ResultRow& x) { return integer(x.m.stats.zeroDivide); }},
-        Col{"step_limit", [](const ResultRow& x) { return integer(x.m.stats.stepLimit); }},
-        Col{"fetches_mean", [](const ResultRow& x) { return num(x.m.stats.fetchesMean); }},
-        Col{"fetches_max", [](const ResultRow& x) { return integer(x.m.stats.fetchesMax); }},
-        Col{"ns_per_px", [](const ResultRow& x) { return num(x.m.nsPerPixel); }},
-        Col{"precompute_ms", [](const ResultRow& x) { return num(x.m.precomputeMs); }},
-        Col{"truth_uncertainty_p99", uncertainty(&TruthUncertainty::p99Texels)},
-        Col{"truth_uncertainty_max", uncertainty(&TruthUncertainty::maxTexels)},
-        Col{"mean_exact_frame", exact(&Summary::mean)},
-        Col{"p90_exact_frame", exact(&Summary::p90)},
-    };
-    for (auto& c : laterColumns()) columns.push_back(std::move(c));
-    static const CsvTable<ResultRow> table(std::move(columns));
-    return table;
-}
-
-}  // namespace
-
-const std::vector<std::string>& resultColumns() {
-    static const std::vector<std::string> names = resultTable().names();
-    return names;
-}
-
-const std::vector<std::string>& measuredResultColumns() {
-    static const std::vector<std::string> names = {
-        "ns_per_px",     "precompute_ms",  "timing_backend",   "ns_per_px_p25",
-        "ns_per_px_p75", "timing_repeats", "timing_fragments", "timing_case"};
-    return names;
-}
-
-namespace {
-
 std::string csvRows(const StudyCase& c, const RenderResult& r) {
     std::string rows;
-    for (const MethodFrame& m : r.methods) rows += resultTable().line(ResultRow{c, r, m});
+    for (const MethodFrame& m : r.methods) rows += resultLine(ResultRow{c, r, m});
     return rows;
 }
 
-std::string header() { return resultTable().header(); }
-
 }  // namespace
-
-std::string resultHeader() { return header(); }
-std::string resultLine(const std::vector<std::string>& fields) {
-    return resultTable().line(fields);
-}
 
 Json shardIdentity(const Study& study, int index, int count) {
     Json id = study.resolved;
@@ -280,8 +134,7 @@ class SweepProgress {
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
     auto start = Clock::now();
     // Every shader compiles before anything of this study is written, DIR included.
-    for (const MethodConfig& cfg : study.configs)
-        if (cfg.glsl) compileGlsl(*cfg.glsl);
+    for (const MethodConfig& cfg : study.configs) compileMethod(cfg);
     prepareOutputDir(opt.outDir);
     // One run per directory at a time: two runs would both append every case.
     StudyLock lock(opt.outDir);

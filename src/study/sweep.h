@@ -12,6 +12,7 @@
 #include "scene/scene.h"
 #include "study/plan.h"
 #include "study/render.h"
+#include "study/result_columns.h"  // results.csv's columns
 
 namespace pgt {
 
@@ -33,10 +34,6 @@ struct SweepOptions {
 // {"shard": {"index", "count", "cases", "labels"}}.
 nlohmann::json shardIdentity(const Study& study, int index, int count);
 
-// results.csv's header, and one record read back written as a row.
-std::string resultHeader();
-std::string resultLine(const std::vector<std::string>& fields);
-
 struct SweepSummary {
     int total = 0, resumed = 0, done = 0;
     bool finished = false;  // every case has its rows
@@ -47,12 +44,5 @@ struct SweepSummary {
 };
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);
-
-// results.csv columns, in order (docs/outputs.md).
-const std::vector<std::string>& resultColumns();
-// Its measured columns: times and where they were taken, which differ between runs; every
-// other column is equal between runs of one study, whole, resumed or merged. The Python
-// side's list (analysis/columns.py) is checked against this one by the tests.
-const std::vector<std::string>& measuredResultColumns();
 
 }  // namespace pgt

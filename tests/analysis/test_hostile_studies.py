@@ -426,6 +426,77 @@ def study_hostile3(d):
     _long_labels(d)
 
 
+def _columns_moved(extra=None, drop=None):
+    """An edit of results.csv's lines: its columns in reverse order, `extra` (a value) in a
+    column "note" at the third place, or without the column `drop`."""
+    def edit(lines):
+        records = list(csv.reader([l for l in lines if l]))
+        names = [n for n in reversed(records[0]) if n != drop]
+        out = []
+        for r in records:
+            row = dict(zip(records[0], r))
+            moved = [row[n] for n in names]
+            if extra is not None:
+                moved.insert(2, "note" if r is records[0] else extra)
+            out.append(moved)
+        buf = io.StringIO()
+        csv.writer(buf, lineterminator="\n").writerows(out)
+        return buf.getvalue().split("\n")
+    return edit
+
+
+def _edit_file(path, edit):
+    lines = open(path).read().split("\n")
+    open(path, "w").write("\n".join(edit(lines)))
+
+
+def csv_by_name(d):
+    """results.csv's columns are read by name: a study whose results.csv has its columns in
+    another order, or a column pgt does not write, resumes (rewritten as pgt writes it, the
+    other column left out with a note) and merges as the unedited one does; an edited value is
+    still named by its column; a missing column is exit 2 naming the file and the column."""
+    path = write(d, "study.json", json.dumps(SWEEP))
+    whole = os.path.join(d, "whole")
+    check("uninterrupted", sweep(path, whole).returncode == 0)
+    want = key_rows(os.path.join(whole, "results.csv"))
+    header = open(os.path.join(whole, "results.csv")).readline()
+    part = os.path.join(d, "part")
+    part_csv = os.path.join(part, "results.csv")
+    check("3 cases", sweep(path, part, "--max-cases", "3").returncode == 0)
+    _edit_file(part_csv, _columns_moved(extra='a, "b"'))
+    r = sweep(path, part)
+    check("moved columns resume", r.returncode == 0 and "3 resumed" in r.stdout,
+          r.stdout + r.stderr)
+    check("the unknown column noted", "note" in r.stderr and "left out" in r.stderr, r.stderr)
+    check("resumed equals uninterrupted", key_rows(part_csv) == want)
+    check("rewritten as pgt writes it", open(part_csv).readline() == header)
+    _, dirs = shards_of(d, SWEEP, 2)
+    plain = os.path.join(d, "plain")
+    check("merge", merge(dirs, plain).returncode == 0)
+    copies = edited(d, dirs, "moved", edit_csv=_columns_moved(extra="x"))
+    moved = os.path.join(d, "merged_moved")
+    r = merge(copies, moved)
+    check("moved columns merge", r.returncode == 0 and "note" in r.stderr, r.stderr)
+    check("merged as the unedited shards", r.returncode == 0 and
+          open(os.path.join(moved, "results.csv")).read() ==
+          open(os.path.join(plain, "results.csv")).read())
+    check("merged equals uninterrupted", key_rows(os.path.join(plain, "results.csv")) == want)
+    for column, value in [("theta", "21"), ("label", "parallaxX"), ("light_phi", "45")]:
+        copies = edited(d, dirs, f"moved_{column}", edit_csv=lambda lines, c=column, v=value:
+                        _csv_edit(c, v)(_columns_moved()(lines)))
+        out = os.path.join(d, "out")
+        expect_error(f"moved columns, edited {column}", merge(copies, out), 2,
+                     ["results.csv", f"line 2: {column} = {value}"], out)
+    copies = edited(d, dirs, "no_depth", edit_csv=_columns_moved(drop="depth_mean"))
+    expect_error("a shard without depth_mean", merge(copies, os.path.join(d, "out")), 2,
+                 [copies[0], "results.csv", "depth_mean"], os.path.join(d, "out"))
+    _edit_file(part_csv, _columns_moved(drop="depth_mean"))
+    kept = open(part_csv).read()
+    expect_error("resuming without depth_mean", sweep(path, part), 2,
+                 [part_csv, "depth_mean", "--fresh"])
+    check("results.csv unchanged", open(part_csv).read() == kept)
+
+
 if __name__ == "__main__":
     main([rows_per_case, merge_data_loss, merge_edited_shards, merge_memory, slurm_semantics,
-          small_options, study_hostile3])
+          small_options, study_hostile3, csv_by_name])

@@ -182,7 +182,7 @@ void BM_Method(benchmark::State& state, const char* json) {
         float acc = 0;
         for (const Vec2f& p : uv0) {
             MethodContext<float> c = makeMethodContext<float>(tex);
-            Vec2f r = runMethod<float>(cfg, c, p, v);
+            Vec2f r = runMethod<float>(*cfg.builtin(), c, p, v);
             acc += r.x + r.y;
         }
         benchmark::DoNotOptimize(acc);
@@ -258,7 +258,7 @@ void BM_GlslDraw(benchmark::State& state) {
             Vec2f(float((double(k % 256) + 0.5) / 256), float((double(k / 256 % 256) + 0.5) / 256));
     GlMapUploads maps;
     for (auto _ : state) {
-        GlslRun run = runGlsl(*cfg.glsl, MapRefs{.height = &t}, 0.05, -0.05, uv0, view,
+        GlslRun run = runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.05, uv0, view,
                               int(state.range(1)), &maps);
         benchmark::DoNotOptimize(run.uv.data());
     }
@@ -286,7 +286,7 @@ void BM_HlslToGlsl(benchmark::State& state) {
                              {"call", "uv + ParallaxOcclusionOffset(-V, s, b, uv)"}};
     const MethodConfig cfg = parseMethod(entry, "bench", "m");
     for (auto _ : state) {
-        std::string glsl = gl::hlslToGlsl(*cfg.glsl);
+        std::string glsl = gl::hlslToGlsl(*cfg.shader());
         benchmark::DoNotOptimize(glsl.data());
     }
 }
