@@ -56,7 +56,10 @@ std::string compileFailure(const ChildStatus& st, const ChildLimits& limits) {
         case ChildEnd::Exited:
             break;
     }
-    return "ended without an answer (exit status " + std::to_string(st.code) + ")";
+    // No answer and an exit status: a crash caught by a handler in the child (AddressSanitizer
+    // reports a SEGV and exits 1).
+    return "crashed on this file (it ended with exit status " + std::to_string(st.code) +
+           " and no answer)";
 }
 
 bool writeAll(int fd, const std::string& data) {
