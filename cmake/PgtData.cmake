@@ -3,8 +3,7 @@
 #               build runs as it is;
 #   install:    PREFIX/bin/pgt, PREFIX/share/pgt/..., PREFIX/lib/python3/dist-packages/pgt;
 #   package:    `cpack -G DEB` in the build folder makes pgt_VERSION_amd64.deb (prefix /usr).
-set(PGT_DATA_ENTRIES "shaders=src/shaders" "analysis=analysis" "scenes=scenes" "docs=docs"
-                     "README.md=README.md")
+set(PGT_DATA_ENTRIES "analysis=analysis" "scenes=scenes" "docs=docs" "README.md=README.md")
 # Each entry once: linked into the build tree, installed as NAME under share/pgt.
 set(PGT_SHARE ${CMAKE_INSTALL_DATADIR}/pgt)
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/share/pgt)
@@ -19,6 +18,26 @@ foreach(entry ${PGT_DATA_ENTRIES})
   else()
     install(FILES ${from} DESTINATION ${PGT_SHARE})
   endif()
+endforeach()
+
+# The shaders: the built-ins' GLSL beside their C++ kernels (src/methods/builtin) and the
+# engine presets' beside their table (src/methods/presets), gathered as shaders/ and
+# shaders/presets/ (names scenes use: pgt:layered.glsl, pgt:presets/godot.glsl). In the build
+# tree each file is linked; CONFIGURE_DEPENDS picks up a new one.
+foreach(pair "builtin;" "presets;presets/")
+  list(GET pair 0 folder)
+  list(LENGTH pair n)
+  set(sub "")
+  if(n GREATER 1)
+    list(GET pair 1 sub)
+  endif()
+  file(GLOB glsl CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/methods/${folder}/*.glsl)
+  file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/share/pgt/shaders/${sub})
+  foreach(file ${glsl})
+    get_filename_component(name ${file} NAME)
+    file(CREATE_LINK ${file} ${PROJECT_BINARY_DIR}/share/pgt/shaders/${sub}${name} SYMBOLIC)
+  endforeach()
+  install(FILES ${glsl} DESTINATION ${PGT_SHARE}/shaders/${sub})
 endforeach()
 
 # The .deb: Debian's runtime libraries found by dpkg-shlibdeps (package dpkg-dev), plus what

@@ -1,4 +1,4 @@
-// cone and its conservative cone map (heightfield/cone_map.h, methods/cone.h): the fast build
+// cone and its conservative cone map (heightfield/cone_map.h, methods/builtin/cone.h): the fast build
 // equals an independent brute-force build of the same definition; pure cone stepping never
 // passes the first intersection (seeded maps, scales, views; the ray checked densely and
 // against test::firstHit); closed forms; more steps never hurt.
@@ -9,7 +9,7 @@
 
 #include "heightfield/cone_map.h"
 #include "methods/registry.h"
-#include "study/evaluate.h"
+#include "methods/runtime/evaluate.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "methods/shadow.h"
-#include "study/evaluate.h"
+#include "methods/builtin/shadow.h"
+#include "methods/runtime/evaluate.h"
 #include "study/render.h"
 #include "test_util.h"
 #include "truth/truth.h"

@@ -8,10 +8,10 @@
 #include <cstdlib>
 
 #include "compare/statistics.h"
-#include "gl/glsl_method.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
 #include "methods/registry.h"
+#include "methods/shader/glsl_method.h"
 #include "study/render.h"
 #include "test_util.h"
 #include "truth/builder.h"

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <random>
 
-#include "gl/glsl_method.h"
 #include "heightfield/mipmaps.h"
 #include "methods/config.h"
-#include "methods/presets.h"
+#include "methods/presets/presets.h"
+#include "methods/shader/glsl_method.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "study/render.h"

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <filesystem>
 
-#include "gl/glsl_method.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
-#include "methods/presets.h"
+#include "methods/presets/presets.h"
+#include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -99,89 +99,6 @@ TEST(Gl, UnityAndTatarchukPresetsConvergeWithSamples) {
         EXPECT_LT(errors[1], errors[0]) << variant;
         EXPECT_LT(errors[2], errors[1]) << variant;
         EXPECT_LT(errors[2], 0.05) << variant;
-    }
-}
-
-// The two presets written again in C++ (float, the shaders' order of operations), as their
-// twins: Unity's POM with its FastACosPos step count and secant refinement, Tatarchuk's march.
-Vec2f unityTwin(const Texture& t, Vec2f uv, Vec3f V, float amplitude, float lo, float hi) {
-    auto height = [&](Vec2f p) { return sampleBilinear<float>(t, p); };
-    Vec3f n = glm::normalize(Vec3f(V.x * amplitude, V.y * amplitude, V.z));
-    const float x = std::fabs(n.z);
-    const float angle = ((0.0468878f * x - 0.203471f) * x + 1.570796f) * std::sqrt(1.0f - x);
-    const float unit = std::clamp(angle * (2.0f / 3.14159265358979f), 0.0f, 1.0f);
-    const int steps = std::min(int(lo * (1 - unit) + hi * unit), 256);
-    const float size = 1.0f / float(steps);
-    const Vec2f perStep = size * (Vec2f(n.x, n.y) / -n.z);
-    Vec2f now(0.0f);
-    float prev = height(uv + now);
-    now += perStep;
-    float curr = height(uv + now), ray = 1.0f - size;
-    for (int i = 0; i < steps && !(curr > ray); ++i) {
-        prev = curr;
-        ray -= size;
-        now += perStep;
-        curr = height(uv + now);
-    }
-    float top = ray + size, bottom = ray, gapTop = top - prev, gapBottom = bottom - curr;
-    Vec2f offset = now;
-    for (int i = 0; i < 3; ++i) {
-        const float hit = (top * gapBottom - bottom * gapTop) / (gapBottom - gapTop);
-        offset = (1.0f - hit) * perStep * float(steps);
-        const float gap = hit - height(uv + offset);
-        if (std::fabs(gap) <= 0.01f) break;
-        (gap < 0 ? gapBottom : gapTop) = gap;
-        (gap < 0 ? bottom : top) = hit;
-    }
-    return uv + offset;
-}
-
-Vec2f tatarchukTwin(const Texture& t, Vec2f uv, Vec3f V, float scale, float lo, float hi) {
-    const Vec2f offset = Vec2f(V.x, V.y) / V.z * scale;
-    const int steps = int(hi * (1 - V.z) + lo * V.z);
-    const float size = 1.0f / float(steps);
-    const Vec2f perStep = size * offset;
-    Vec2f current = uv;
-    float bound = 1.0f, prev = 1.0f;
-    Vec2f pt1(0.0f), pt2(0.0f);
-    for (int i = 0; i < steps; ++i) {
-        current -= perStep;
-        const float h = sampleBilinear<float>(t, current);
-        bound -= size;
-        if (h > bound) {
-            pt1 = Vec2f(bound, h);
-            pt2 = Vec2f(bound + size, prev);
-            break;
-        }
-        prev = h;
-    }
-    const float d2 = pt2.x - pt2.y, d1 = pt1.x - pt1.y, den = d2 - d1;
-    const float amount = den == 0.0f ? 0.0f : (pt1.x * d2 - pt2.x * d1) / den;
-    return uv - offset * (1.0f - amount);
-}
-
-// Each preset's shader against its C++ twin on 20,000 seeded fragments of the default
-// scene's brick map, views to 85 degrees: at least 99.5% within 1e-3 texel (a march may
-// flip a step where a float comparison ties).
-TEST(Gl, UnityAndTatarchukPresetsMatchTheirCppTwins) {
-    Texture bricks = test::bricks(128);
-    test::Fragments in = test::randomFragments(20000, 24);
-    for (const char* name : {"unity_hdrp", "tatarchuk"}) {
-        GlslRun gl = runPreset(name, bricks, in);
-        int over = 0;
-        double largest = 0;
-        for (size_t k = 0; k < in.uv0.size(); ++k) {
-            Vec2f want = std::string(name) == "unity_hdrp"
-                             ? unityTwin(bricks, in.uv0[k], in.view[k], 0.02f, 5.0f, 15.0f)
-                             : tatarchukTwin(bricks, in.uv0[k], in.view[k], 0.02f, 8.0f, 50.0f);
-            const double d = glm::length(Vec2d(gl.uv[k]) - Vec2d(want)) * 128;
-            if (!(d <= 1e-3))
-                ++over;
-            else
-                largest = std::max(largest, d);
-        }
-        std::printf("%s: %d of 20000 over 1e-3 texel, largest within %.2e\n", name, over, largest);
-        EXPECT_LE(over, 100) << name;
     }
 }
 

@@ -1,5 +1,5 @@
 // GLSL methods in a real OpenGL: every built-in method's GLSL twin under
-// src/shaders/ against the C++ method on the same float inputs, fetch counting, uniforms
+// src/methods/builtin/ against the C++ method on the same float inputs, fetch counting, uniforms
 // bound to the case's (s, b), and the user-facing errors (file and line of a compile error,
 // a missing sampler or uniform). Runs on Mesa llvmpipe through EGL's surfaceless platform
 // (CI installs it); a machine without any EGL fails these tests rather than skipping them.
@@ -15,12 +15,12 @@
 #include "compare/statistics.h"
 #include "core/error.h"
 #include "core/json_read.h"
-#include "gl/glsl_method.h"
 #include "gl_agree.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
-#include "methods/presets.h"
+#include "methods/presets/presets.h"
 #include "methods/registry.h"
+#include "methods/shader/glsl_method.h"
 #include "study/render.h"
 #include "test_util.h"
 #include "truth/builder.h"

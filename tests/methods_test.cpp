@@ -1,8 +1,8 @@
 // Methods on closed forms: constant height, head-on view, loop bounds, precision option.
 #include <gtest/gtest.h>
 
+#include "methods/builtin/layered.h"
 #include "methods/config.h"
-#include "methods/layered.h"
 #include "methods/registry.h"
 #include "study/render.h"
 #include "test_util.h"

@@ -8,9 +8,9 @@
 
 #include "heightfield/mipmaps.h"
 #include "methods/registry.h"
+#include "methods/runtime/evaluate.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
-#include "study/evaluate.h"
 #include "test_util.h"
 
 namespace pgt {

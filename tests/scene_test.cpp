@@ -8,7 +8,7 @@
 
 #include "core/data_dir.h"
 #include "core/error.h"
-#include "methods/glsl_spec.h"
+#include "methods/shader/glsl_spec.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "methods/glsl_spec.h"
+#include "methods/shader/glsl_spec.h"
 #include "study/csv_table.h"
 #include "test_util.h"
 

@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/memory.h"
-#include "gl/glsl_method.h"
+#include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
 #include "study/fit.h"
 #include "study/merge.h"

@@ -13,6 +13,10 @@
 
 namespace pgt {
 
+// A method's own (s, b) in UV units: docs/model.md §3's displacement is at most a few UV units;
+// 1e3 bounds a typo without limiting any real setting.
+constexpr double kMaxOwnDisplacement = 1e3;
+
 // Parses a "methods" array: each entry a name or an object {"name": ..., parameters}.
 // Labels are unique: a method listed twice gets its parameters in the label ("pom_32").
 std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::string& file,
@@ -39,7 +43,7 @@ void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
 nlohmann::json toJson(const MethodConfig& cfg);
 
 // What differs between a built-in and a shader for parsing, JSON, studies and fits (the
-// rest is study/evaluate.h's: running, timing, compiling).
+// rest is methods/runtime/evaluate.h's: running, timing, compiling).
 // The maps a configuration reads: a built-in's from its row of the method table
 // (methods/registry.h), a shader's the kinds whose samplers its entry names.
 MapSet needs(const MethodConfig& cfg);

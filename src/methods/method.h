@@ -34,7 +34,7 @@ enum class MethodKind {
     RelaxedCone
 };
 
-struct GlslSpec;  // methods/glsl_spec.h: a user's shader function run in OpenGL
+struct GlslSpec;  // methods/shader/glsl_spec.h: a user's shader function run in OpenGL
 
 // The self-shadowing a method does toward the view's light (docs/model.md §6c): none, the
 // hard march of the POM literature, or Tatarchuk's soft shadow (DirectX SDK sample).
@@ -60,7 +60,7 @@ struct BuiltinMethod {
 };
 
 // A shader run in OpenGL: a user's GLSL or HLSL file, or an engine preset's GLSL
-// (methods/glsl_spec.h: its text, function, samplers and uniforms). Configurations share
+// (methods/shader/glsl_spec.h: its text, function, samplers and uniforms). Configurations share
 // no spec: a varied one gets a copy.
 struct ShaderMethod {
     std::shared_ptr<const GlslSpec> spec;
@@ -69,7 +69,7 @@ struct ShaderMethod {
 // One method as a scene lists it: what every method has (its name, label, own (s, b), the
 // preset it came from, discard and level of detail), and the method itself, a built-in or a
 // shader. What differs by the two is decided in two places: methods/config.h (parse, JSON,
-// labels, parameters a study varies, step counts, maps) and study/evaluate.h (running,
+// labels, parameters a study varies, step counts, maps) and methods/runtime/evaluate.h (running,
 // timing, compiling).
 struct MethodConfig {
     std::string name;             // "pom"

@@ -4,12 +4,12 @@
 #include <type_traits>
 
 #include "core/error.h"
-#include "methods/cone.h"
-#include "methods/layered.h"
-#include "methods/lengyel.h"
-#include "methods/maxmip.h"
-#include "methods/refined.h"
-#include "methods/simple.h"
+#include "methods/builtin/cone.h"
+#include "methods/builtin/layered.h"
+#include "methods/builtin/lengyel.h"
+#include "methods/builtin/maxmip.h"
+#include "methods/builtin/refined.h"
+#include "methods/builtin/simple.h"
 
 namespace pgt {
 

@@ -1,7 +1,7 @@
 // The method kinds in one table: each kind's scene name, its integer parameters (scene key,
 // range, the configuration field they set), the step count a fit varies, how a generated
 // label shows its parameters, whether it reads 003's derived maps, and its function. (A
-// shader method has no row: methods/glsl_spec.h describes it.)
+// shader method has no row: methods/shader/glsl_spec.h describes it.)
 // Parsing (methods/config.h), labels, JSON, the fit and the dispatch all read this table; a
 // new built-in method is one row here and one function in methods/.
 #pragma once
@@ -28,7 +28,7 @@ template <class Real>
 using MethodFunction = Vec2<Real> (*)(MethodContext<Real>&, Vec2<Real>, Vec3<Real>,
                                       const BuiltinMethod&);
 
-// A built-in's GLSL twin among the shaders shipped with pgt (src/shaders/): what the twin
+// A built-in's GLSL twin among the shaders shipped with pgt (src/methods/builtin/): what the twin
 // test runs against the C++ method and scenes/glsl_twins.json lists (twinEntry writes its
 // method entry, methods/config.h).
 struct GlslTwin {

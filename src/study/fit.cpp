@@ -9,8 +9,8 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
-#include "methods/glsl_spec.h"
 #include "methods/registry.h"
+#include "methods/shader/glsl_spec.h"
 #include "study/render.h"
 
 namespace pgt {

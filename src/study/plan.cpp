@@ -130,7 +130,7 @@ void readFrameSettings(JsonFields& f, const Scene& scene, Study& st) {
         st.timing.repeats = t.integer("repeats", 3, 0, 100);
         st.timing.maxFragments = t.integer("fragments", 4096, 0, 1 << 26);
         // GL: the subset repeated to this many fragments per draw, drawn for at least this
-        // many ms (gl/glsl_method.h GlslTimingPlan).
+        // many ms (methods/shader/glsl_method.h GlslTimingPlan).
         st.timing.glFragments = t.integer("gl_fragments", 1 << 20, 1, 1 << 23);
         if (t.has("gl_min_ms")) st.timing.glMinMs = t.number("gl_min_ms", 0, 1e5);
         // GL cost once per (configuration, view direction), or in every case.

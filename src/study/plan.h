@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "methods/method.h"
+#include "methods/runtime/evaluate.h"
 #include "scene/scene.h"
-#include "study/evaluate.h"
 
 namespace pgt {
 

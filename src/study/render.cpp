@@ -13,8 +13,8 @@
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/overloaded.h"
-#include "gl/glsl_method.h"
 #include "methods/config.h"
+#include "methods/shader/glsl_method.h"
 #include "truth/tessellation.h"
 
 namespace pgt {

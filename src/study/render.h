@@ -1,5 +1,5 @@
 // One view end to end: truth (truth/builder.h, two rates for its uncertainty), rasterisation
-// (raster/), every method (study/evaluate.h), comparison (compare/). `pgt render` runs one;
+// (raster/), every method (methods/runtime/evaluate.h), comparison (compare/). `pgt render` runs one;
 // studies (study/sweep.h) run many, reusing the truth per (s, b) and the method textures,
 // which is why the pieces are separate.
 #pragma once
@@ -17,10 +17,10 @@
 #include "compare/warnings.h"
 #include "core/image.h"
 #include "heightfield/heightfield.h"
+#include "methods/runtime/evaluate.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
-#include "study/evaluate.h"
 #include "truth/builder.h"
 #include "truth/truth.h"
 
@@ -47,7 +47,7 @@ struct MethodFrame {
     // once per map, shared by every view and (s, b) of a run; 0 for methods without any.
     double precomputeMs = 0;
     // "cpu", or for GLSL methods "gl timer query: RENDERER" or "gl wall clock: RENDERER
-    // (software renderer, not a GPU time)" (study/evaluate.h timingBackend).
+    // (software renderer, not a GPU time)" (methods/runtime/evaluate.h timingBackend).
     std::string timingBackend;
     // Silent mistakes its output shows on this frame (compare/warnings.h).
     std::vector<MethodWarning> warnings;

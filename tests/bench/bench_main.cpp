@@ -8,12 +8,12 @@
 #include <filesystem>
 
 #include "core/error.h"
-#include "gl/glsl_method.h"
-#include "gl/hlsl.h"
 #include "heightfield/heightfield.h"
 #include "mesh/gltf_mesh.h"
 #include "methods/config.h"
 #include "methods/registry.h"
+#include "methods/shader/glsl_method.h"
+#include "methods/shader/hlsl.h"
 #include "scene/scene.h"
 #include "study/render.h"
 #include "truth/truth.h"
@@ -271,7 +271,7 @@ BENCHMARK(BM_GlslDraw)
     ->Args({147456, 0})
     ->Unit(benchmark::kMillisecond);
 
-// An HLSL method's way to the GL (gl/hlsl.h): glslang's HLSL front end with legalisation to
+// An HLSL method's way to the GL (methods/shader/hlsl.h): glslang's HLSL front end with legalisation to
 // SPIR-V, then SPIRV-Cross to GLSL 4.50, without the GL's own compile (range(0): 0 = pgt's
 // pom as HLSL, 1 = the engine-style POM with its #include and a call).
 void BM_HlslToGlsl(benchmark::State& state) {

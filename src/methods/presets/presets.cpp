@@ -1,5 +1,5 @@
-// The presets (methods/presets.h): each with the document or engine setting it stands for.
-#include "methods/presets.h"
+// The presets (methods/presets/presets.h): each with the document or engine setting it stands for.
+#include "methods/presets/presets.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -30,7 +30,7 @@ MethodConfig layered(MethodKind kind, int minLayers, int maxLayers, int maxSteps
     return c;
 }
 
-// Tatarchuk's soft shadow (methods/shadow.h) in place of the hard march.
+// Tatarchuk's soft shadow (methods/builtin/shadow.h) in place of the hard march.
 MethodConfig softShadowed(MethodConfig c) {
     c.builtin()->shadow = ShadowMarch::Soft;
     return c;

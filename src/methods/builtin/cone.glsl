@@ -1,4 +1,4 @@
-// pgt built-in "cone" as GLSL (src/methods/cone.h; Dummer, "Cone Step Mapping", 2006): cone
+// pgt built-in "cone" as GLSL (src/methods/builtin/cone.h; Dummer, "Cone Step Mapping", 2006): cone
 // steps on pgt's conservative cone map for the bilinear surface, then bisections.
 // Samplers: heightMap (bilinear) and coneMap (the ratio per cell as pgt uploads it: R32F,
 // cellsX x cellsY, read with texelFetch). pgt sets pgt_cone_cells, pgt_cone_top (the map's
@@ -78,7 +78,7 @@ vec2 ConeStep(vec2 uv0, vec3 V) {
     return coneAt(ray, e1);
 }
 
-// pgt built-in "relaxed_cone" (src/methods/cone.h; Policarpo & Oliveira, GPU Gems 3 ch. 18):
+// pgt built-in "relaxed_cone" (src/methods/builtin/cone.h; Policarpo & Oliveira, GPU Gems 3 ch. 18):
 // relaxed cone steps with the gap saturated at 0, then halvings over the way travelled.
 // Sampler relaxedConeMap: the relaxed ratios, one per texel (R32F, width x height, nearest).
 // Uniforms: height_scale, height_bias, cone_steps, binary_steps.

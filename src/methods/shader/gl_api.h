@@ -1,5 +1,5 @@
 // Internal to gl/: the OpenGL and EGL headers, the process's one headless context and the
-// GL error helpers that gl/context.cpp, gl/program.cpp and gl/glsl_method.cpp share.
+// GL error helpers that methods/shader/context.cpp, methods/shader/program.cpp and methods/shader/glsl_method.cpp share.
 #pragma once
 
 #define EGL_EGLEXT_PROTOTYPES
@@ -12,7 +12,7 @@
 #include <mutex>
 #include <string>
 
-#include "gl/glsl_method.h"
+#include "methods/shader/glsl_method.h"
 
 namespace pgt::gl {
 
@@ -35,7 +35,7 @@ void checkGl(const std::string& what);
 // later check blames only its own calls.
 void drainGlErrors();
 // A 2D float texture, level 0 from `data` (null: undefined), one filter for both directions,
-// one wrap mode, no further levels (gl/map_uploads.cpp).
+// one wrap mode, no further levels (methods/shader/map_uploads.cpp).
 GLuint makeTexture(GLenum internal, GLenum format, int w, int h, const void* data, GLenum filter,
                    GLenum wrap);
 // GL_MAX_TEXTURE_SIZE of the current context (texels per side).

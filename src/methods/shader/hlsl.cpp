@@ -1,5 +1,5 @@
-// HLSL to GLSL 4.50 through SPIR-V (gl/hlsl.h): glslang, then SPIRV-Cross's C API.
-#include "gl/hlsl.h"
+// HLSL to GLSL 4.50 through SPIR-V (methods/shader/hlsl.h): glslang, then SPIRV-Cross's C API.
+#include "methods/shader/hlsl.h"
 
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
@@ -18,7 +18,7 @@
 #include "core/error.h"
 #include "core/json_read.h"
 #include "core/process.h"
-#include "gl/shader_gate.h"
+#include "methods/shader/shader_gate.h"
 
 namespace pgt::gl {
 
@@ -26,7 +26,7 @@ namespace {
 
 // The entry point pgt adds after the user's file: it runs the call (or F(uv, V)) with the
 // names a call may use. `pgt_s` and `pgt_b` are the case's s and b (set by
-// gl/glsl_method.cpp like any uniform). The call stands alone on the line after kEntryHead,
+// methods/shader/glsl_method.cpp like any uniform). The call stands alone on the line after kEntryHead,
 // so that a message about that line names the call.
 constexpr const char* kEntryHead = R"(
 float pgt_s;

@@ -1,14 +1,14 @@
 // Named configurations: engine defaults and the source documents' own settings, used as
 // {"preset": NAME} in a method list (docs/methods.md "Engine presets" gives each one's source).
 // Built-in presets are MethodConfig values; GLSL presets are our re-implementations of the
-// engines' shader code paths, in src/shaders/presets/, read when a scene names them.
+// engines' shader code paths, in src/methods/presets/, read when a scene names them.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "methods/glsl_spec.h"
 #include "methods/method.h"
+#include "methods/shader/glsl_spec.h"
 
 namespace pgt {
 

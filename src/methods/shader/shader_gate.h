@@ -4,7 +4,7 @@
 // for minutes and takes gigabytes. So the exact fragment source is first parsed by glslang in
 // a child process (core/process.h) held to a time and a memory limit, its syntax tree
 // measured, and a shader past a bound is refused with the bound it passed. HLSL's compile runs
-// in such a child too (gl/hlsl.cpp).
+// in such a child too (methods/shader/hlsl.cpp).
 #pragma once
 
 #include <string>

@@ -1,5 +1,5 @@
-// Method evaluation over fragment lists, C++ and GLSL, and method timing (study/evaluate.h).
-#include "study/evaluate.h"
+// Method evaluation over fragment lists, C++ and GLSL, and method timing (methods/runtime/evaluate.h).
+#include "methods/runtime/evaluate.h"
 
 #include <tbb/parallel_for.h>
 
@@ -12,11 +12,11 @@
 #include "core/interrupt.h"
 #include "core/overloaded.h"
 #include "core/percentile.h"
-#include "gl/glsl_method.h"
+#include "methods/builtin/shadow.h"
 #include "methods/config.h"
-#include "methods/glsl_spec.h"
 #include "methods/registry.h"
-#include "methods/shadow.h"
+#include "methods/shader/glsl_method.h"
+#include "methods/shader/glsl_spec.h"
 
 namespace pgt {
 

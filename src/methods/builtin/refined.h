@@ -1,13 +1,13 @@
 // Searches that refine a linear march without a precomputed map: the secant method (Risser,
 // Shah, Pattanaik, "Faster Relief Mapping Using the Secant Method", JGT 12(3), 2007) and
 // contact refinement (A. Riccardi, "Contact refinement parallax mapping", 2018). Both use
-// the ray of relief mapping (methods/layered.h): uv(t) = dp + ds * t, t in [0, 1] the depth
+// the ray of relief mapping (methods/builtin/layered.h): uv(t) = dp + ds * t, t in [0, 1] the depth
 // below the top of the relief, d = 1 - h the depth map (docs/model.md §6b).
 #pragma once
 
 #include <cmath>
 
-#include "methods/layered.h"
+#include "methods/builtin/layered.h"
 #include "methods/method.h"
 
 namespace pgt {
@@ -50,7 +50,7 @@ Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     return found(t);
 }
 
-// Contact refinement (Riccardi 2018): the steep march of methods/layered.h with a fixed
+// Contact refinement (Riccardi 2018): the steep march of methods/builtin/layered.h with a fixed
 // `layers` count n; one step back from the first layer below the surface; a second n-layer
 // march inside that step (step and layer depth divided by n); then pom's interpolation
 // between the second march's last two layers (docs/model.md §6b pom, with the finer step).

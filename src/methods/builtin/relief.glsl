@@ -1,4 +1,4 @@
-// pgt built-in "relief" as GLSL (src/methods/layered.h; Policarpo, Oliveira, Comba 2005's
+// pgt built-in "relief" as GLSL (src/methods/builtin/layered.h; Policarpo, Oliveira, Comba 2005's
 // ray_intersect_rm: linear search over linear_steps - 1 depths, first crossing only, then
 // binary_steps halvings), generalised to any (s, b) as docs/model.md §6b.
 uniform sampler2D heightMap;

@@ -19,7 +19,7 @@
 
 namespace pgt {
 
-class GlMapUploads;  // gl/glsl_method.h
+class GlMapUploads;  // methods/shader/glsl_method.h
 
 // The maps (methods/maps.h) methods read at one (s, b): the height map, and the others the
 // methods of a run need, owned (003's derived maps, per (s, b)) or shared (the precomputed
@@ -104,7 +104,7 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
 
 // What differs between a built-in and a shader for running them (the rest is
 // methods/config.h's): a shader runs in OpenGL, over the fragments in screen layout
-// (gl/glsl_method.h GlslInputs: `frags`' pixels are y * width + x of the frame), one GL
+// (methods/shader/glsl_method.h GlslInputs: `frags`' pixels are y * width + x of the frame), one GL
 // draw at a time; a built-in in C++ on all cores.
 bool runsInGl(const MethodConfig& cfg);
 // Compiles a shader's program now (a study compiles every configuration before its first
@@ -116,7 +116,7 @@ struct TimingSpec {
     int maxFragments = 0;  // time a seeded subset of this many fragments (0 = all)
     uint32_t seed = 1;
     // GL: the subset repeated to at least this many fragments per draw, and draws until at
-    // least glMinMs of GL time (gl/glsl_method.h GlslTimingPlan).
+    // least glMinMs of GL time (methods/shader/glsl_method.h GlslTimingPlan).
     // NaN: kGlMinMsHardware on a hardware GL, kGlMinMsSoftware on a software one, whose
     // wall clock is not a GPU time and need not cost a GPU's budget.
     int64_t glFragments = 1 << 20;

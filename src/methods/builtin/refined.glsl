@@ -1,4 +1,4 @@
-// pgt built-ins "secant" and "contact" as GLSL (src/methods/refined.h): the secant method
+// pgt built-ins "secant" and "contact" as GLSL (src/methods/builtin/refined.h): the secant method
 // after a linear search (Risser, Shah, Pattanaik, JGT 2007) and contact-refinement parallax
 // occlusion mapping (Riccardi 2018), on relief mapping's ray uv(t) = dp + ds * t with the
 // depth d = 1 - h, generalised to any (s, b) as docs/model.md §6b.

@@ -1,4 +1,4 @@
-// pgt built-in "maxmip" as GLSL (src/methods/maxmip.h; Tevs, Ihrke, Seidel, "Maximum
+// pgt built-in "maxmip" as GLSL (src/methods/builtin/maxmip.h; Tevs, Ihrke, Seidel, "Maximum
 // Mipmaps", I3D 2008): exact tracing over the minimum-maximum pyramid, the cell's bilinear
 // patch met as a quadratic along the ray, for any (s, b) and either address mode.
 // Samplers: heightMap (the map, read texel by texel with texelFetch) and pyramidMap (the

@@ -1,5 +1,5 @@
-// The GLSL wrapper and its compilation (gl/program.h).
-#include "gl/program.h"
+// The GLSL wrapper and its compilation (methods/shader/program.h).
+#include "methods/shader/program.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,8 +9,8 @@
 #include <stdexcept>
 
 #include "core/error.h"
-#include "gl/hlsl.h"
-#include "gl/shader_gate.h"
+#include "methods/shader/hlsl.h"
+#include "methods/shader/shader_gate.h"
 
 namespace pgt::gl {
 

@@ -1,6 +1,6 @@
-// The shader gate (gl/shader_gate.h): glslang's syntax tree of the fragment source, measured in
+// The shader gate (methods/shader/shader_gate.h): glslang's syntax tree of the fragment source, measured in
 // a child process.
-#include "gl/shader_gate.h"
+#include "methods/shader/shader_gate.h"
 
 #include <glslang/MachineIndependent/localintermediate.h>
 #include <glslang/Public/ResourceLimits.h>

@@ -1,11 +1,11 @@
-// The GL textures of a study's maps (GlMapUploads, gl/glsl_method.h): the height map as R32F
+// The GL textures of a study's maps (GlMapUploads, methods/shader/glsl_method.h): the height map as R32F
 // (or depth), the packed layouts engines ship, the pyramid and cone maps; each uploaded once
 // and deleted with its owner.
 #include <algorithm>
 #include <map>
 
 #include "core/error.h"
-#include "gl/gl_api.h"
+#include "methods/shader/gl_api.h"
 
 namespace pgt {
 

@@ -1,6 +1,6 @@
 // What a scene's GLSL method entry says (`{"name": ..., "glsl": FILE, ...}`, docs/methods.md "GLSL
 // methods"): the shader's text, its entry function, samplers and uniforms. Data only: it is
-// parsed in methods/config.cpp and run in OpenGL by gl/glsl_method.cpp.
+// parsed in methods/config.cpp and run in OpenGL by methods/shader/glsl_method.cpp.
 #pragma once
 
 #include <array>
@@ -53,7 +53,7 @@ struct GlslSpec {
         return layout == Layout::NormalHeight || layout == Layout::NormalDepth;
     }
     // The source language: GLSL (any dialect above), or HLSL ("hlsl": FILE), which pgt
-    // compiles to SPIR-V and back to GLSL 4.50 (gl/hlsl.h) before the wrapper takes it.
+    // compiles to SPIR-V and back to GLSL 4.50 (methods/shader/hlsl.h) before the wrapper takes it.
     bool hlsl = false;
     // "call": an expression in the source's language giving uv' from uv, V, N = (0, 0, 1), s,
     // b and the uniforms; empty: the function F(uv, V) is called.

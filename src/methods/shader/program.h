@@ -4,7 +4,7 @@
 // program cache.
 #pragma once
 
-#include "gl/gl_api.h"
+#include "methods/shader/gl_api.h"
 
 namespace pgt::gl {
 

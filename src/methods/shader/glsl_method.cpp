@@ -1,6 +1,6 @@
 // A GLSL method's run over a fragment list: the inputs uploaded as textures, the maps bound,
 // the draw (timed when asked) and the outputs read back.
-#include "gl/glsl_method.h"
+#include "methods/shader/glsl_method.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,8 +12,8 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/percentile.h"
-#include "gl/gl_api.h"
-#include "gl/program.h"
+#include "methods/shader/gl_api.h"
+#include "methods/shader/program.h"
 
 namespace pgt {
 

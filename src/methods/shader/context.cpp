@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "core/error.h"
-#include "gl/gl_api.h"
+#include "methods/shader/gl_api.h"
 
 namespace pgt {
 

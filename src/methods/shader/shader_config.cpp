@@ -1,0 +1,371 @@
+// A shader method's entry <-> its GlslSpec: the shader half of methods/config.h (the entry's
+// file, dialect, samplers, layout, call, defines and uniforms; a varied uniform; the entry as
+// JSON) and a built-in's GLSL twin.
+#include "methods/shader/shader_config.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <sstream>
+
+#include "core/format.h"
+#include "core/json_read.h"
+#include "methods/config.h"
+#include "methods/presets/presets.h"
+#include "methods/registry.h"
+#include "methods/shader/glsl_spec.h"
+
+namespace pgt {
+
+namespace {
+
+// Whether a number written as an integer fits the GLSL int glUniform1i sets (32 bits: 3e9 and
+// 2^53 would wrap); a number written otherwise is not set as an int.
+bool fitsGlslInt(const Json& v) {
+    if (v.is_number_unsigned()) return v.get<uint64_t>() <= uint64_t(INT32_MAX);
+    if (v.is_number_integer())
+        return v.get<int64_t>() >= INT32_MIN && v.get<int64_t>() <= INT32_MAX;
+    return true;
+}
+
+// One uniform's value as an entry writes it: a number (int when written as an integer), 2 to
+// 4 numbers, or, where `binds`, "scale" / "bias" (the case's s / b). `fail(message)` throws.
+template <class Fail>
+GlslSpec::Uniform uniformValue(const std::string& name, const Json& value, bool binds, Fail fail) {
+    GlslSpec::Uniform un{name, {}, false, ""};
+    if (binds && value.is_string() && (value == "scale" || value == "bias")) {
+        un.bind = value.get<std::string>();
+    } else if (value.is_number()) {
+        un.values.push_back(value.get<double>());
+        un.isInt = value.is_number_integer();
+        if (!fitsGlslInt(value))
+            fail(
+                "a number written as an integer sets an int uniform, a 32-bit int: it must "
+                "lie in [-2147483648, 2147483647] (for a float uniform, write it with a "
+                "decimal point or an exponent)");
+    } else if (value.is_array() && value.size() >= 2 && value.size() <= 4) {
+        for (const auto& x : value) {
+            if (!x.is_number()) fail("expected numbers");
+            un.values.push_back(x.get<double>());
+        }
+    } else {
+        fail(binds ? "expected a number, an array of 2 to 4 numbers, \"scale\" or \"bias\""
+                   : "expected a number or 2 to 4 numbers");
+    }
+    for (double x : un.values)
+        if (!std::isfinite(x)) fail("is not finite");
+    return un;
+}
+
+// "uniforms": {name: number | [2..4 numbers] | "scale" | "bias"}.
+std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
+    std::vector<GlslSpec::Uniform> out;
+    const Json& u = f.raw("uniforms");
+    if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
+    for (const auto& [key, value] : u.items()) {
+        const std::string field = "uniforms." + key;  // clang 14 captures no structured binding
+        const Json& given = value;
+        out.push_back(uniformValue(key, value, true, [&](const std::string& message) {
+            f.failValue(field, given, message);
+        }));
+    }
+    return out;
+}
+
+// Whether `word` appears in `text` as a whole identifier.
+bool mentions(const std::string& text, const std::string& word) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
+        if ((at == 0 || !identChar(text[at - 1])) &&
+            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
+            return true;
+    return false;
+}
+
+// "texture": the names of GlslSpec::Layout, in its order.
+const std::vector<std::string>& layoutNames() {
+    static const std::vector<std::string> names = {"height", "depth", "normal+height",
+                                                   "normal+depth"};
+    return names;
+}
+GlslSpec::Layout layoutNamed(const std::string& name) {
+    const auto& n = layoutNames();
+    return GlslSpec::Layout(std::find(n.begin(), n.end(), name) - n.begin());
+}
+
+// A define's value and a call are each one line of shader text placed into pgt's wrapper: a
+// line break, a carriage return, a NUL or another control character, or a backslash (a line
+// continuation) would break the wrapper's lines and blame them, so they are refused by name.
+// A call is one expression: at most 64 KiB.
+void checkShaderLine(JsonFields& f, const std::string& field, const std::string& text) {
+    for (char ch : text) {
+        const unsigned char c = static_cast<unsigned char>(ch);
+        if ((c < 0x20 && c != '\t') || c == 0x7f || c == '\\')
+            f.failValue(field, Json(text),
+                        "holds a line break, a control character or a backslash: it is one "
+                        "line of shader text");
+    }
+    constexpr size_t kMaxLine = 64 * 1024;
+    if (text.size() > kMaxLine)
+        f.fail(field, "is " + std::to_string(text.size()) + " bytes long; at most " +
+                          std::to_string(kMaxLine) + " (one expression)");
+}
+
+// "defines": {NAME: "VALUE" | number}, each an identifier.
+std::vector<std::pair<std::string, std::string>> parseDefines(JsonFields& f) {
+    std::vector<std::pair<std::string, std::string>> out;
+    const Json& d = f.raw("defines");
+    if (!d.is_object()) f.fail("defines", "expected an object of NAME: \"value\"");
+    for (const auto& [name, value] : d.items()) {
+        if (!isShaderIdentifier(name)) f.fail("defines", "\"" + name + "\" is not a macro name");
+        std::string text;
+        if (value.is_string())
+            text = value.get<std::string>();
+        else if (value.is_number())
+            text = value.dump();
+        else
+            f.fail("defines." + name, "expected a string or a number");
+        checkShaderLine(f, "defines." + name, text);
+        out.emplace_back(name, text);
+    }
+    return out;
+}
+
+// The GLSL dialects pgt compiles (GlslSpec::version), and how messages list them.
+const std::vector<std::string> kGlslVersions = {"100", "300 es", "310 es", "320 es", "110", "120",
+                                                "130", "140",    "150",    "330",    "400", "410",
+                                                "420", "430",    "440",    "450",    "460"};
+constexpr const char* kGlslVersionsNamed = "100, 300 es, 310 es, 320 es, 110 ... 460";
+bool knownGlslVersion(const std::string& v) {
+    return std::find(kGlslVersions.begin(), kGlslVersions.end(), v) != kGlslVersions.end();
+}
+
+// The dialect: the entry's "version" (a string, or a desktop number such as 330), else the
+// file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
+// The dialect a file's #version line names ("110" without one, GLSL's own default).
+std::string versionOfSource(const GlslSpec& spec) {
+    std::istringstream lines(spec.source);
+    std::string line;
+    for (int n = 1; std::getline(lines, line); ++n) {
+        std::istringstream words(line);
+        std::string directive, number, profile;
+        words >> directive >> number >> profile;
+        if (directive != "#version") continue;
+        const std::string named = profile == "es" ? number + " es" : number;
+        if (!knownGlslVersion(named))
+            throw InputError(spec.path, "#version", line,
+                             "line " + std::to_string(n) + ": not a GLSL version pgt compiles (" +
+                                 kGlslVersionsNamed + ")");
+        return named;
+    }
+    return "110";
+}
+
+std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
+    if (f.has("version")) {
+        const Json& v = f.raw("version");
+        std::string named = v.is_number_integer() ? std::to_string(v.get<int64_t>())
+                            : v.is_string()       ? v.get<std::string>()
+                                                  : v.dump();
+        if (!knownGlslVersion(named))
+            f.fail("version", "\"" + named + "\" is not a GLSL version pgt compiles (" +
+                                  kGlslVersionsNamed + ")");
+        return named;
+    }
+    return versionOfSource(spec);
+}
+
+// The shader file an entry's `key` names: relative to the scene file's folder, or
+// "pgt:NAME" among the shipped shaders.
+std::string shaderPath(JsonFields& f, const std::string& key, const std::string& file) {
+    std::string rel = f.string(key, "");
+    std::filesystem::path p(rel);
+    if (rel.rfind(kShippedShaderPrefix, 0) == 0) {  // "pgt:NAME.glsl": a shipped shader
+        // Inside the shipped shaders only: a relative path with no ".." (the folder's own
+        // entries may be links, so the check is on the name, not the resolved path).
+        const std::filesystem::path name(rel.substr(std::string(kShippedShaderPrefix).size()));
+        bool inside = !name.empty() && name.is_relative();
+        for (const auto& part : name) inside = inside && part != ".." && part != ".";
+        if (!inside)
+            f.fail(key, "\"" + rel +
+                            "\": pgt: names a shader shipped with pgt, e.g. "
+                            "pgt:presets/godot.glsl (no \"..\", not absolute)");
+        p = std::filesystem::path(shaderDir()) / name;
+    } else if (p.is_relative()) {
+        p = std::filesystem::path(file).parent_path() / p;
+    }
+    const std::string path = p.lexically_normal().string();
+    if (rel.empty()) f.fail(key, "cannot read the shader file " + path);
+    return path;
+}
+
+}  // namespace
+
+// {"name": "mine", "glsl" | "hlsl": FILE, "function": F, "call": EXPR, "defines": {...},
+//  "sampler": S, "texture": LAYOUT, "uniforms": {...}, "steps_uniform": U}: the file is read
+//  now (shaderPath).
+MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
+    MethodConfig cfg;
+    cfg.name = f.string("name", "");
+    checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
+    auto spec = std::make_shared<GlslSpec>();
+    // "glsl": FILE or "hlsl": FILE (one of them).
+    spec->hlsl = f.has("hlsl");
+    const std::string key = spec->hlsl ? "hlsl" : "glsl";
+    if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+    spec->path = shaderPath(f, key, file);
+    // A shader is a few KB; 16 MiB bounds a stray file.
+    spec->source = readTextFile(spec->path, file, f.fieldPath(key), "shader file", 16u << 20);
+    spec->function = f.string("function", "ParallaxMapping");
+    if (spec->hlsl && f.has("version"))
+        f.fail("version", "names a GLSL dialect; an HLSL method has none");
+    // HLSL reaches the GL as the GLSL 4.50 that methods/shader/hlsl.h makes of it.
+    spec->version = spec->hlsl ? "450" : glslVersion(f, *spec);
+    // The sampler each map kind is bound to (methods/maps.h; docs/methods.md "GLSL methods"):
+    // the height map's "depthMap" unless named, the others only where named.
+    for (const MapKindInfo& m : kMapKindTable)
+        spec->samplers[size_t(m.kind)] =
+            f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
+    spec->layout = layoutNamed(f.choice("texture", layoutNames(), "height"));
+    spec->call = f.string("call", "");
+    checkShaderLine(f, "call", spec->call);
+    if (f.has("defines")) spec->defines = parseDefines(f);
+    if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
+    spec->stepsUniform = f.string("steps_uniform", "");
+    if (!spec->stepsUniform.empty() && !mentions(spec->source, spec->stepsUniform))
+        f.fail("steps_uniform",
+               "the shader " + spec->path + " has no uniform \"" + spec->stepsUniform + "\"");
+    cfg.discardOutside = f.boolean("discard_outside", false);
+    // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
+    // pgt_sample (docs/methods.md "GLSL methods").
+    cfg.lodGrad = f.choice("lod", {"zero", "grad"}, "zero") == "grad";
+    cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
+    cfg.label = f.string("label", "");
+    if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
+    f.finish();
+    cfg.method = ShaderMethod{std::move(spec)};
+    return cfg;
+}
+
+std::string setShaderParameter(MethodConfig& cfg, const std::string& param, const Json& value,
+                               const std::string& file, const std::string& field) {
+    auto fail = [&](const std::string& message) -> void {
+        throw InputError(file, field, shortDump(value), message);
+    };
+    if (param == "scale" || param == "bias") {
+        if (cfg.shader() && !cfg.shader()->takesScale())
+            fail("the method's own " + param + " would not reach " + cfg.shader()->path +
+                 ": no uniform is bound to \"scale\"/\"bias\" and there is no call (a "
+                 "preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
+                 "docs/methods.md)");
+        if (!value.is_number() || !std::isfinite(value.get<double>()) ||
+            std::abs(value.get<double>()) > kMaxOwnDisplacement)
+            fail("expected a finite number of at most 1e3 in magnitude");
+        (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
+        return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
+    }
+    const std::string prefix = "uniforms.";
+    if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
+        fail("a GLSL/HLSL method or preset varies \"scale\", \"bias\" or \"uniforms.NAME\"");
+    if (!cfg.shader()) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
+    const std::string name = param.substr(prefix.size());
+    const GlslSpec::Uniform un = uniformValue(name, value, false, fail);
+    auto spec = std::make_shared<GlslSpec>(*cfg.shader());  // configurations share no spec
+    auto it = std::find_if(spec->uniforms.begin(), spec->uniforms.end(),
+                           [&](const GlslSpec::Uniform& u) { return u.name == name; });
+    if (it != spec->uniforms.end())
+        *it = un;
+    else if (mentions(spec->source, name))
+        spec->uniforms.push_back(un);
+    else
+        fail("the shader " + spec->path + " has no uniform \"" + name + "\"");
+    cfg.method = ShaderMethod{std::move(spec)};
+    std::string part = name;
+    for (size_t k = 0; k < un.values.size(); ++k) {
+        if (k > 0) part += '_';
+        part += formatNumber(un.values[k], 6);
+    }
+    return part;
+}
+
+// A shader's entry as JSON: its file, entry, samplers, layout, call, defines, uniforms and
+// the SHA-1 of its text.
+void shaderJson(const GlslSpec& g, Json& j) {
+    j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+    if (g.call.empty()) j["function"] = g.function;
+    // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
+    if (!g.hlsl && g.version != "110") j["version"] = g.version;
+    // Every sampler it names (the height map's always: "" says it reads none).
+    for (const MapKindInfo& m : kMapKindTable)
+        if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
+            j[m.samplerKey] = g.sampler(m.kind);
+    j["texture"] = layoutNames()[size_t(g.layout)];
+    if (!g.call.empty()) j["call"] = g.call;
+    if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
+    for (const auto& [name, value] : g.defines) j["defines"][name] = value;
+    Json u = Json::object();
+    for (const auto& un : g.uniforms)
+        u[un.name] = !un.bind.empty()        ? Json(un.bind)
+                     : un.values.size() == 1 ? Json(un.values[0])
+                                             : Json(un.values);
+    j["uniforms"] = u;
+    // The shader's text is part of the identity: an edited file is another method.
+    j["source_sha1"] = textSha1(g.source);
+    j["precision"] = "float";
+}
+
+Json twinEntry(const MethodConfig& builtIn) {
+    const BuiltinMethod* b = builtIn.builtin();
+    if (!b || !kindInfo(b->kind).twin.file) return nullptr;
+    const MethodKindInfo* info = &kindInfo(b->kind);
+    const GlslTwin& twin = info->twin;
+    Json j = {{"name", builtIn.label + "_gl"},
+              {"glsl", std::string(kShippedShaderPrefix) + twin.file},
+              {"function", twin.function}};
+    for (const MapKindInfo& m : kMapKindTable)
+        if (m.kind == MapKind::Height || twin.maps.has(m.kind))
+            j[m.samplerKey] = twin.maps.has(m.kind) ? m.twinSampler : "";
+    Json u = Json::object();
+    if (twin.scaleBias) u["height_scale"] = "scale", u["height_bias"] = "bias";
+    for (const IntParameter& p : info->parameters) {
+        if (!p.written) continue;
+        const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
+                                       p.key) != twin.floatParameters.end();
+        u[p.key] = asFloat ? Json(double(b->*p.field)) : Json(b->*p.field);
+    }
+    if (!u.empty()) j["uniforms"] = u;
+    if (builtIn.lodGrad) j["lod"] = "grad";
+    return j;
+}
+
+MethodConfig glslTwin(const MethodConfig& builtIn) {
+    const BuiltinMethod& b = *builtIn.builtin();
+    const MethodKindInfo& info = kindInfo(b.kind);
+    PGT_CHECK(info.twin.file != nullptr);
+    const GlslTwin& twin = info.twin;
+    auto spec = std::make_shared<GlslSpec>();
+    spec->path = (std::filesystem::path(shaderDir()) / twin.file).lexically_normal().string();
+    spec->source = readTextFile(spec->path, spec->path, "glsl", "shader file", 16u << 20);
+    spec->function = twin.function;
+    spec->version = versionOfSource(*spec);
+    for (const MapKindInfo& m : kMapKindTable)
+        spec->samplers[size_t(m.kind)] = twin.maps.has(m.kind) ? m.twinSampler : "";
+    if (twin.scaleBias)
+        spec->uniforms = {{"height_bias", {}, false, "bias"}, {"height_scale", {}, false, "scale"}};
+    for (const IntParameter& p : info.parameters) {
+        if (!p.written) continue;
+        const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
+                                       p.key) != twin.floatParameters.end();
+        spec->uniforms.push_back({p.key, {double(b.*p.field)}, !asFloat, ""});
+    }
+    MethodConfig cfg;
+    cfg.name = cfg.label = builtIn.label + "_gl";
+    cfg.lodGrad = builtIn.lodGrad;
+    cfg.method = ShaderMethod{std::move(spec)};
+    return cfg;
+}
+
+}  // namespace pgt
