@@ -1,5 +1,5 @@
-// cone and its conservative cone map (heightfield/cone_map.h, methods/builtin/cone.h): the fast build
-// equals an independent brute-force build of the same definition; pure cone stepping never
+// cone and its conservative cone map (heightfield/cone_map.h, methods/builtin/cone.h): the fast
+// build equals an independent brute-force build of the same definition; pure cone stepping never
 // passes the first intersection (seeded maps, scales, views; the ray checked densely and
 // against test::firstHit); closed forms; more steps never hurt.
 #include <gtest/gtest.h>

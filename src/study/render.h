@@ -1,6 +1,6 @@
 // One view end to end: truth (truth/builder.h, two rates for its uncertainty), rasterisation
-// (raster/), every method (methods/runtime/evaluate.h), comparison (compare/). `pgt render` runs one;
-// studies (study/sweep.h) run many, reusing the truth per (s, b) and the method textures,
+// (raster/), every method (methods/runtime/evaluate.h), comparison (compare/). `pgt render` runs
+// one; studies (study/sweep.h) run many, reusing the truth per (s, b) and the method textures,
 // which is why the pieces are separate.
 #pragma once
 

@@ -1,4 +1,5 @@
-// Method evaluation over fragment lists, C++ and GLSL, and method timing (methods/runtime/evaluate.h).
+// Method evaluation over fragment lists, C++ and GLSL, and method timing
+// (methods/runtime/evaluate.h).
 #include "methods/runtime/evaluate.h"
 
 #include <tbb/parallel_for.h>

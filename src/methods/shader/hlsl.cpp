@@ -26,8 +26,8 @@ namespace {
 
 // The entry point pgt adds after the user's file: it runs the call (or F(uv, V)) with the
 // names a call may use. `pgt_s` and `pgt_b` are the case's s and b (set by
-// methods/shader/glsl_method.cpp like any uniform). The call stands alone on the line after kEntryHead,
-// so that a message about that line names the call.
+// methods/shader/glsl_method.cpp like any uniform). The call stands alone on the line after
+// kEntryHead, so that a message about that line names the call.
 constexpr const char* kEntryHead = R"(
 float pgt_s;
 float pgt_b;

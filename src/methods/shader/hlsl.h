@@ -1,7 +1,7 @@
 // HLSL methods (docs/methods.md "HLSL"): the user's HLSL, with an entry point pgt adds,
 // compiled to SPIR-V by glslang's HLSL front end (with SPIRV-Tools' legalisation) and turned
-// back into GLSL 4.50 by SPIRV-Cross, in the form the GLSL wrapper (methods/shader/program.cpp) takes:
-// a function pgt_hlsl_call(uv, V) returning uv'. Separate Texture2D and SamplerState objects
+// back into GLSL 4.50 by SPIRV-Cross, in the form the GLSL wrapper (methods/shader/program.cpp)
+// takes: a function pgt_hlsl_call(uv, V) returning uv'. Separate Texture2D and SamplerState objects
 // become one sampler2D named after the texture; globals and cbuffer members become members
 // of plain uniform structs (set by member name, methods/shader/glsl_method.cpp).
 #pragma once

@@ -1,5 +1,5 @@
-// The GL textures of a study's maps (GlMapUploads, methods/shader/glsl_method.h): the height map as R32F
-// (or depth), the packed layouts engines ship, the pyramid and cone maps; each uploaded once
+// The GL textures of a study's maps (GlMapUploads, methods/shader/glsl_method.h): the height map as
+// R32F (or depth), the packed layouts engines ship, the pyramid and cone maps; each uploaded once
 // and deleted with its owner.
 #include <algorithm>
 #include <map>

@@ -1,5 +1,5 @@
-// The shader gate (methods/shader/shader_gate.h): glslang's syntax tree of the fragment source, measured in
-// a child process.
+// The shader gate (methods/shader/shader_gate.h): glslang's syntax tree of the fragment source,
+// measured in a child process.
 #include "methods/shader/shader_gate.h"
 
 #include <glslang/MachineIndependent/localintermediate.h>
