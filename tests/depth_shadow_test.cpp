@@ -109,7 +109,7 @@ Scene litPlane(Texture map, double s, double b, double theta, double phi, int re
     Scene sc = test::planeScene(std::move(map), s, b, theta, phi, resolution,
                                 parseMethods(nlohmann::json::parse(methods), "test", "methods"));
     sc.truth.uncertainty = false;
-    sc.light = {true, 45, 180};
+    sc.light = LightSpec{45, 180};
     return sc;
 }
 
@@ -158,7 +158,7 @@ TEST(DepthOffset, MaxMipAgreesWithTheTruth) {
 TEST(Shadows, AFlatMapCastsNone) {
     Scene sc = litPlane(test::makeTexture(16, 16, [](int, int) { return 0.5; }), 0.1, -0.05, 50, 0,
                         64, R"(["pom", "parallax", {"preset": "tatarchuk_soft"}])");
-    sc.light = {true, 70, 120};
+    sc.light = LightSpec{70, 120};
     const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
     for (const MethodFrame& m : r.methods) {
         EXPECT_GT(m.stats.shadow.compared, 2000) << m.config.label;
@@ -213,7 +213,7 @@ TEST(Shadows, TruthRaysAgreeWithABruteForceMarch) {
     const Texture map = test::smoothTexture(32, 32);
     const double s = 0.12, b = -0.06;
     Scene sc = litPlane(map, s, b, 30, 0, 128, R"(["none"])");
-    sc.light = {true, 60, 30};
+    sc.light = LightSpec{60, 30};
     sc.truth.rate = 8;
     const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
     const Vec3d L = viewFromAngles(60, 30);
@@ -252,7 +252,7 @@ TEST(Shadows, AStepBeyondTheViewDarkensTheWholeView) {
         64, 64, [](int i, int) { return i >= 44 ? 1.0 : 0.0; }, Address::Clamp);
     Scene sc = litPlane(map, 0.1, 0.0, 0, 0, 64, R"(["pom"])");
     sc.height.address = Address::Clamp;
-    sc.light = {true, 85, 0};
+    sc.light = LightSpec{85, 0};
     sc.truth.uncertainty = true;
     sc.camera.frame = Framing::View;
     sc.camera.viewHeight = 0.2;
@@ -278,7 +278,7 @@ TEST(Shadows, AStepBeyondTheViewDarkensTheWholeView) {
 TEST(Shadows, AWindowedTruthCastsTheShadowsOfTheWholePlane) {
     const Texture map = test::bricks(32);
     Scene sc = litPlane(map, 0.1, -0.05, 60, 20, 96, R"(["none"])");
-    sc.light = {true, 82, 200};
+    sc.light = LightSpec{82, 200};
     sc.camera.frame = Framing::Fill;
     sc.camera.fillSize = 0.3;
     const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
@@ -309,7 +309,7 @@ TEST(Shadows, ALightAtTheHorizonDarkensEveryHit) {
     sc.plane()->infinite = true;
     sc.camera.frame = Framing::Fill;
     sc.camera.fillSize = 1;
-    sc.light = {true, 90, 120};
+    sc.light = LightSpec{90, 120};
     const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
     for (const TruthSample& t : r.truth.data) EXPECT_EQ(t.shadow, kShadowDark);
     for (const MethodFrame& m : r.methods) {

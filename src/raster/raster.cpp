@@ -375,7 +375,8 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-                scan(screen, d, camera_, camera_.light(), rect, out, depth);
+                // A fragment's light is a unit vector, zero where the view has none.
+                scan(screen, d, camera_, camera_.light().value_or(Vec3d(0)), rect, out, depth);
         }
     }
     for (const Fragment& f : out.data) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "core/math.h"
 
@@ -45,11 +46,10 @@ class Camera {
     void setJitter(bool on, uint32_t seed) { jitter_ = on, jitterSeed_ = seed; }
     bool jittered() const { return jitter_; }
     // The view's directional light (docs/model.md §5b): the unit world direction toward it,
-    // zero without one. The truth casts shadow rays along it; the rasteriser gives each
+    // none without one. The truth casts shadow rays along it; the rasteriser gives each
     // fragment its tangent-space direction.
-    void setLight(Vec3d towardLight) { light_ = towardLight; }
-    Vec3d light() const { return light_; }
-    bool hasLight() const { return light_ != Vec3d(0); }
+    void setLight(std::optional<Vec3d> towardLight) { light_ = towardLight; }
+    const std::optional<Vec3d>& light() const { return light_; }
 
     // Camera-space coordinates of a world point: (right, up, forward distance).
     Vec3d toCamera(Vec3d world) const;
@@ -78,7 +78,7 @@ class Camera {
     double halfHeight_ = 1, halfWidth_ = 1;  // ortho: world units; pinhole: tan(fov/2)
     bool jitter_ = false;
     uint32_t jitterSeed_ = 0;
-    Vec3d light_{0};
+    std::optional<Vec3d> light_;
 };
 
 // docs/model.md §4 view direction in tangent space from view angle theta and azimuth phi

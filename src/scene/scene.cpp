@@ -266,9 +266,7 @@ void parseCamera(Scene& s, JsonFields& root) {
 void parseLight(Scene& s, JsonFields& root) {
     if (!root.has("light")) return;
     JsonFields f(root.raw("light"), s.file, "light");
-    s.light.on = true;
-    s.light.theta = f.number("theta", 0.0, 90.0);
-    s.light.phi = f.number("phi", 0.0, -360.0, 360.0);
+    s.light = LightSpec{f.number("theta", 0.0, 90.0), f.number("phi", 0.0, -360.0, 360.0)};
     f.finish();
 }
 
@@ -373,7 +371,7 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view);
 Camera makeCamera(const Scene& s, const ViewSpec& view) {
     Camera cam = makeCameraUnjittered(s, view);
     cam.setJitter(view.camera.jitter, view.camera.jitterSeed);
-    if (view.light.on) cam.setLight(viewFromAngles(view.light.theta, view.light.phi));
+    if (view.light) cam.setLight(viewFromAngles(view.light->theta, view.light->phi));
     return cam;
 }
 
@@ -512,7 +510,7 @@ Json resolvedSceneJson(const Scene& s, const ViewSpec& view) {
           {"memory_mb", s.truth.memoryMb}}},
     };
     // Only with a light: a study without one keeps the identity it had before lights.
-    if (view.light.on) out["light"] = {{"theta", view.light.theta}, {"phi", view.light.phi}};
+    if (view.light) out["light"] = {{"theta", view.light->theta}, {"phi", view.light->phi}};
     return out;
 }
 

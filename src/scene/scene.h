@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -144,9 +145,8 @@ struct TruthSpec {
 
 // A directional light (docs/model.md §5b): the direction toward it by the angles of an
 // orthographic camera's view direction, (sin t cos p, sin t sin p, cos t) in world space (a
-// plane's tangent space). Off: no shadows anywhere.
+// plane's tangent space). A scene or view holds it as an optional: none, no shadows anywhere.
 struct LightSpec {
-    bool on = false;
     double theta = 45, phi = 0;  // degrees
 };
 
@@ -156,7 +156,7 @@ struct LightSpec {
 struct ViewSpec {
     CameraSpec camera;
     Displacement displacement;
-    LightSpec light;
+    std::optional<LightSpec> light;
 };
 
 struct Scene {
@@ -176,7 +176,7 @@ struct Scene {
     UvExtent uvExtent;
     bool cullBackFaces = true;
     CameraSpec camera;
-    LightSpec light;
+    std::optional<LightSpec> light;
     std::vector<MethodConfig> methods;
     TruthSpec truth;
     nlohmann::json sweep;  // the "sweep" block as written (validated by study/sweep.h)

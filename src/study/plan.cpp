@@ -87,7 +87,7 @@ struct StudyAxes {
 // What a study's axes default to: the scene's own view angles, (s, b) and light.
 struct AxisDefaults {
     double theta = 0, phi = 0, scale = 0, bias = 0;
-    LightSpec light;
+    std::optional<LightSpec> light;
 };
 
 StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
@@ -102,12 +102,13 @@ StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
                : f.has("bias") ? valueList(f, "bias", -1e3, 1e3)
                                : std::vector<double>{d.bias};
     for (const char* key : {"light_theta", "light_phi"})
-        if (f.has(key) && !d.light.on) f.fail(key, "the scene has no \"light\" to sweep");
+        if (f.has(key) && !d.light) f.fail(key, "the scene has no \"light\" to sweep");
+    // Without a light the case's light angles are NaN (results.csv's nan columns).
     a.lightThetas = f.has("light_theta") ? valueList(f, "light_theta", 0, 90)
-                    : d.light.on         ? std::vector<double>{d.light.theta}
+                    : d.light            ? std::vector<double>{d.light->theta}
                                          : std::vector<double>{NAN};
     a.lightPhis = f.has("light_phi") ? valueList(f, "light_phi", -360, 360)
-                  : d.light.on       ? std::vector<double>{d.light.phi}
+                  : d.light          ? std::vector<double>{d.light->phi}
                                      : std::vector<double>{NAN};
     return a;
 }
@@ -379,9 +380,9 @@ std::vector<StudyCase> planCases(const Json& identity, const std::string& file) 
         return scene->at(block).at(key).get<double>();
     };
     AxisDefaults d{number("camera", "theta"), number("camera", "phi"),
-                   number("displacement", "scale"), number("displacement", "bias"), LightSpec{}};
+                   number("displacement", "scale"), number("displacement", "bias"), std::nullopt};
     if (scene->contains("light"))
-        d.light = {true, number("light", "theta"), number("light", "phi")};
+        d.light = LightSpec{number("light", "theta"), number("light", "phi")};
     JsonFields f(identity.at("sweep"), file, "sweep");
     return makeCases(readAxes(f, d), file);
 }

@@ -30,7 +30,7 @@ ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
     view.camera.height = study.height;
     view.camera.jitter = study.jitter;
     view.displacement = {c.scale, c.bias};
-    if (std::isfinite(c.lightTheta)) view.light = {true, c.lightTheta, c.lightPhi};
+    if (std::isfinite(c.lightTheta)) view.light = LightSpec{c.lightTheta, c.lightPhi};
     return view;
 }
 

@@ -295,7 +295,7 @@ struct TruthSurface::Impl {
         const Ray ray = camera.pixelRay(x, y);
         Vec3d ng{0};
         TruthSample s = trace(ray, ctx, nullptr, &ng);
-        if (camera.hasLight()) s.shadow = shadowAt(ray, s, ng, camera.light(), ctx);
+        if (camera.light()) s.shadow = shadowAt(ray, s, ng, *camera.light(), ctx);
         return s;
     }
 
@@ -332,9 +332,9 @@ struct TruthSurface::Impl {
         rtcInitIntersectContext(&shadowCtx);
         for (int k = 0; k < n; ++k) {
             Walk& wk = walks[size_t(k)];
-            if (camera.hasLight() && wk.result.hit)
+            if (camera.light() && wk.result.hit)
                 wk.result.shadow = shadowAt(camera.pixelRay(x0 + k % w, y0 + k / w), wk.result,
-                                            wk.ng, camera.light(), &shadowCtx);
+                                            wk.ng, *camera.light(), &shadowCtx);
             out.at(x0 + k % w - ox, y0 + k / w - oy) = wk.result;
         }
     }

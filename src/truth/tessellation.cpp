@@ -52,8 +52,8 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
     // Shadow rays rise from a hit toward the light until they leave the slab: at most
     // (z_hi - z_lo) / L.z along the light, L.xy / L.z per unit of height (docs/model.md §5b).
     // A light at or below the horizon traces none (every hit is dark).
-    const Vec3d L = camera.light();
-    if (camera.hasLight() && L.z > 0) {
+    if (camera.light() && camera.light()->z > 0) {
+        const Vec3d L = *camera.light();
         const Vec2d toward = Vec2d(L.x, L.y) * ((z[1] - z[0]) / L.z / l * reach);
         lo = glm::min(lo, lo + toward), hi = glm::max(hi, hi + toward);
     }

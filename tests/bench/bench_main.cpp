@@ -133,7 +133,7 @@ void BM_TruthShadowRays(benchmark::State& state) {
     s.plane()->infinite = true;
     s.camera.theta = double(state.range(0));
     s.camera.fillSize = 1.0;
-    if (state.range(1)) s.light = {true, 45, 120};
+    if (state.range(1)) s.light = LightSpec{45, 120};
     auto base = tessellatePlane(s.height, *s.plane(), 4);
     TruthSurface surface(base, s.displacement, TruthGeometry::Grid, true);
     Camera cam = makeCamera(s);
@@ -271,9 +271,9 @@ BENCHMARK(BM_GlslDraw)
     ->Args({147456, 0})
     ->Unit(benchmark::kMillisecond);
 
-// An HLSL method's way to the GL (methods/shader/hlsl.h): glslang's HLSL front end with legalisation to
-// SPIR-V, then SPIRV-Cross to GLSL 4.50, without the GL's own compile (range(0): 0 = pgt's
-// pom as HLSL, 1 = the engine-style POM with its #include and a call).
+// An HLSL method's way to the GL (methods/shader/hlsl.h): glslang's HLSL front end with
+// legalisation to SPIR-V, then SPIRV-Cross to GLSL 4.50, without the GL's own compile (range(0): 0
+// = pgt's pom as HLSL, 1 = the engine-style POM with its #include and a call).
 void BM_HlslToGlsl(benchmark::State& state) {
     const std::string data = std::string(PGT_TEST_SOURCE_DIR) + "/data/";
     const nlohmann::json entry =
