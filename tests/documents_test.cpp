@@ -16,12 +16,13 @@ using vec3 = Vec3f;
 // GLSL-like helpers for the transcriptions.
 struct Doc {
     const Texture* height;
-    // A depth map d = 1 - h, as LearnOpenGL and 004 store it ("texture(depthMap, uv).r").
+    // A depth map d = 1 - h, as LearnOpenGL and the deferred-renderer blog store it
+    // ("texture(depthMap, uv).r").
     float depthTex(vec2 uv) const { return 1.0f - sampleBilinear<float>(*height, uv); }
     float heightTex(vec2 uv) const { return sampleBilinear<float>(*height, uv); }
 };
 
-// 000 §4.2, ARB_fragment_program: TEX height; MAD height, height, 0.04, -0.02; RCP temp,
+// Welsh 2004 §4.2, ARB_fragment_program: TEX height; MAD height, height, 0.04, -0.02; RCP temp,
 // eyevects.z; MUL height, height, temp; MAD newtexcoord, height, eyevects, texcoord.
 vec2 welshParallax(const Doc& d, vec2 texcoord, vec3 eyevects) {
     float height = d.heightTex(texcoord);
@@ -31,14 +32,15 @@ vec2 welshParallax(const Doc& d, vec2 texcoord, vec3 eyevects) {
     return vec2(height * eyevects.x + texcoord.x, height * eyevects.y + texcoord.y);
 }
 
-// 000 §4.3: the same without RCP/MUL.
+// Welsh 2004 §4.3: the same without RCP/MUL.
 vec2 welshOffsetLimited(const Doc& d, vec2 texcoord, vec3 eyevects) {
     float height = d.heightTex(texcoord);
     height = height * 0.04f + -0.02f;
     return vec2(height * eyevects.x + texcoord.x, height * eyevects.y + texcoord.y);
 }
 
-// 002 ParallaxMapping (depth map, height_scale): texCoords - viewDir.xy / viewDir.z * (height
+// LearnOpenGL ParallaxMapping (depth map, height_scale): texCoords - viewDir.xy / viewDir.z *
+// (height
 // * height_scale).
 vec2 learnOpenGLParallax(const Doc& d, vec2 texCoords, vec3 viewDir, float height_scale) {
     float height = d.depthTex(texCoords);
@@ -46,8 +48,8 @@ vec2 learnOpenGLParallax(const Doc& d, vec2 texCoords, vec3 viewDir, float heigh
     return texCoords - p;
 }
 
-// 004 ParallaxMapping: 100 fixed steps at ParallaxHeightScale 0.15 (numLayers is computed
-// but unused; the POM tail after `return currentTexCoords;` is unreachable).
+// the deferred-renderer blog ParallaxMapping: 100 fixed steps at ParallaxHeightScale 0.15
+// (numLayers is computed but unused; the POM tail after `return currentTexCoords;` is unreachable).
 vec2 deferredBlogSteep(const Doc& d, vec2 texCoords, vec3 viewDir, bool runTail) {
     const float ParallaxSteps = 100.0f, ParallaxHeightScale = 0.15f;
     float numSteps = std::min(100.0f, ParallaxSteps);
@@ -73,10 +75,10 @@ vec2 deferredBlogSteep(const Doc& d, vec2 texCoords, vec3 viewDir, bool runTail)
     return prevTexCoords * weight + currentTexCoords * (1.0f - weight);
 }
 
-// 002's steep parallax and parallax occlusion listings (LearnOpenGL, min 8 / max 32 layers
-// mixed by |V.z|; the stored copy of 002 stops before them, 004 repeats the structure;
-// docs/model.md §6b pins the same loop). P = viewDir.xy / viewDir.z * height_scale; delta = P /
-// numLayers.
+// LearnOpenGL's steep parallax and parallax occlusion listings (LearnOpenGL, min 8 / max 32 layers
+// mixed by |V.z|; the stored copy of LearnOpenGL stops before them, the deferred-renderer blog
+// repeats the structure; docs/model.md §6b pins the same loop). P = viewDir.xy / viewDir.z *
+// height_scale; delta = P / numLayers.
 vec2 learnOpenGLSteep(const Doc& d, vec2 texCoords, vec3 viewDir, float height_scale, bool pom) {
     const float minLayers = 8.0f, maxLayers = 32.0f;
     float a = std::fabs(viewDir.z);
@@ -100,9 +102,9 @@ vec2 learnOpenGLSteep(const Doc& d, vec2 texCoords, vec3 viewDir, float height_s
     return prevTexCoords * weight + currentTexCoords * (1.0f - weight);
 }
 
-// 003 Listing 7.9 on a parallax map built as 003 says: per texel n_z * (2h - 1) with n from
-// Eq. 7.41-7.43 at a height scale sTex in texels; scale = (sTex / (2 k r_x), sTex / (2 k r_y))
-// (Eq. 7.52), k = 4.
+// Lengyel FGED 2 Listing 7.9 on a parallax map built as Lengyel FGED 2 says: per texel n_z * (2h -
+// 1) with n from Eq. 7.41-7.43 at a height scale sTex in texels; scale = (sTex / (2 k r_x), sTex /
+// (2 k r_y)) (Eq. 7.52), k = 4.
 struct LengyelMaps {
     Texture parallaxMap;  // n_z (2h - 1)
     Texture normalMap;    // n
@@ -213,10 +215,10 @@ TEST_F(Documents, LearnOpenGLSteepAndPomBitIdentical) {
     }
 }
 
-// 004: 100 fixed layers and a 100-step loop at height scale 0.15 = steep with layers 100,
-// max_steps 100, s = 0.15, b = -0.15. 004 forms the step as V.xy * s / (V.z * n), we as
-// V.xy / V.z * s / n: the steps differ in the last bit, so a step count can flip where the
-// ray grazes a layer boundary. Such flips are counted and must stay rare.
+// the deferred-renderer blog: 100 fixed layers and a 100-step loop at height scale 0.15 = steep
+// with layers 100, max_steps 100, s = 0.15, b = -0.15. the deferred-renderer blog forms the step as
+// V.xy * s / (V.z * n), we as V.xy / V.z * s / n: the steps differ in the last bit, so a step count
+// can flip where the ray grazes a layer boundary. Such flips are counted and must stay rare.
 TEST_F(Documents, DeferredBlogSteepAndItsPomTail) {
     MethodTextures tex = makeMethodTextures(height, 0.15, -0.15, 1.0, false);
     MethodConfig steep = test::method(R"({"name":"steep","layers":100,"max_steps":100})");
@@ -237,8 +239,8 @@ TEST_F(Documents, DeferredBlogSteepAndItsPomTail) {
     EXPECT_LE(flips, n / 200) << flips << " step-count flips of " << n;
 }
 
-// 003 Listing 7.9 with k = 4 and Eq. 7.52's scale: our iterative at b = -s/2 (003's signed
-// height 2h - 1). sTex = s * W is 003's scale in texels (square map).
+// Lengyel FGED 2 Listing 7.9 with k = 4 and Eq. 7.52's scale: our iterative at b = -s/2 (Lengyel
+// FGED 2's signed height 2h - 1). sTex = s * W is Lengyel FGED 2's scale in texels (square map).
 TEST_F(Documents, LengyelIterativeListing) {
     const double s = 0.05;
     const int k = 4;
@@ -254,8 +256,8 @@ TEST_F(Documents, LengyelIterativeListing) {
     }
 }
 
-// 003 Eq. 7.48-7.50: the point n_z h / dot(n, v) * v, with h the signed height in UV units
-// (s * (h - 1/2)), at texel centres where bilinear sampling returns the texel itself.
+// Lengyel FGED 2 Eq. 7.48-7.50: the point n_z h / dot(n, v) * v, with h the signed height in UV
+// units (s * (h - 1/2)), at texel centres where bilinear sampling returns the texel itself.
 TEST_F(Documents, LengyelTangentPlaneEquation) {
     const double s = 0.05;
     LengyelMaps lm = lengyelMaps(height, s * height.width);

@@ -1,7 +1,7 @@
-// The presets of issue 15 (docs/methods.md "Engine presets"): Unity HDRP's pixel displacement and
-// Tatarchuk's POM, each GLSL written from its source. Oracles: their closed forms on a flat
-// height, the head-on view, and convergence to the exact first hit (test::firstHit) as their
-// sample counts grow.
+// The Unity HDRP and Tatarchuk presets (docs/methods.md "Engine presets"): Unity HDRP's pixel
+// displacement and Tatarchuk's POM, each GLSL written from its source. Oracles: their closed forms
+// on a flat height, the head-on view, and convergence to the exact first hit (test::firstHit) as
+// their sample counts grow.
 #include <gtest/gtest.h>
 
 #include <algorithm>

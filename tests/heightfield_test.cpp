@@ -140,7 +140,7 @@ TEST(Loading, AmbiguousColourImageNeedsAChannel) {
     std::filesystem::remove_all(dir);
 }
 
-// 003 Eq. 7.41-7.43 on a ramp h = a*u: interior slope d_x = s*W/2 * 2a/W = s*a.
+// Lengyel FGED 2 Eq. 7.41-7.43 on a ramp h = a*u: interior slope d_x = s*W/2 * 2a/W = s*a.
 TEST(DerivedMaps, NormalOfARampIsClosedForm) {
     const int w = 32, h = 16;
     const double a = 0.5, s = 0.08, b = -0.04;

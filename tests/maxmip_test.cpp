@@ -224,8 +224,8 @@ TEST(MaxMip, MatchesTheReferenceVectorsExactCrossing) {
 }
 
 // The maps a study's configurations share: maxmip's pyramid is built once and survives a
-// later configuration that needs 003's derived maps for the same (s, b) (the entry grows,
-// it is not replaced under the methods that hold it), and a clear() between surfaces.
+// later configuration that needs Lengyel FGED 2's derived maps for the same (s, b) (the entry
+// grows, it is not replaced under the methods that hold it), and a clear() between surfaces.
 TEST(MaxMip, TextureCacheKeepsThePyramid) {
     Texture t = roughTexture(32, 32, Address::Repeat, 4);
     MethodTextureCache cache(t, UvExtent{});

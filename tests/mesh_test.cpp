@@ -1,4 +1,4 @@
-// Curved bases: cages, OBJ loading, OpenSubdiv refinement and 003 Listing 7.4 frames.
+// Curved bases: cages, OBJ loading, OpenSubdiv refinement and Lengyel FGED 2 Listing 7.4 frames.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -338,9 +338,9 @@ TEST(LimitTruth, CubeConvergesWhenRateDoubles) {
 namespace pgt {
 namespace {
 
-// 004's problem: a texture mirrored across a seam. Listing 7.4 gives w = -1 on the mirrored
-// half; on the mirror line itself the two halves' tangents cancel (fallbacks counted), and
-// the error map shows the seam: most of pom's error there is frame error.
+// the deferred-renderer blog's problem: a texture mirrored across a seam. Listing 7.4 gives w = -1
+// on the mirrored half; on the mirror line itself the two halves' tangents cancel (fallbacks
+// counted), and the error map shows the seam: most of pom's error there is frame error.
 TEST(MeshRender, MirroredStripShowsItsSeam) {
     Scene s = loadScene(test::sceneDir() + "/mirrored_obj.json");
     const auto& drawn = *std::get<MeshBase>(s.base).drawn;

@@ -171,7 +171,7 @@ TEST(Mipmaps, GradMethodReadsTheCoarserLevel) {
     EXPECT_GT(differ, 50);
 }
 
-// 003's derived maps of a mipmapped map get their own chains (each level the box mean of
+// Lengyel FGED 2's derived maps of a mipmapped map get their own chains (each level the box mean of
 // the derived map, not derived from the coarser height level), so their readers filter too.
 TEST(Mipmaps, DerivedMapsHaveChains) {
     Texture t = randomTexture(16, 8, 7);

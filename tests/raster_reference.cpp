@@ -55,8 +55,8 @@ double nearPlane(const BaseMesh& mesh, const Camera& camera) {
     return std::max(1e-9, nearest * 1e-3);
 }
 
-// The drawn triangle's exact dS/du and dS/dv (003 Eq. 7.37 without averaging); false when
-// its UVs are degenerate.
+// The drawn triangle's exact dS/du and dS/dv (Lengyel FGED 2 Eq. 7.37 without averaging); false
+// when its UVs are degenerate.
 struct SurfaceDerivatives {
     Vec3d dSdu{0}, dSdv{0};
     bool exact = false;
@@ -153,15 +153,15 @@ struct ScreenTriangle {
 };
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
-// (003 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
+// (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
 void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
            const SurfaceDerivatives& d, const Camera& camera) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
     const Vec3d position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
-    // 003 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent, n));
-    // b = cross(normal, tangent) * sigma.
+    // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
+    // n)); b = cross(normal, tangent) * sigma.
     Vec3d n = glm::normalize(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
     Vec3d t = c[0]->t * b[0] + c[1]->t * b[1] + c[2]->t * b[2];
     double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];

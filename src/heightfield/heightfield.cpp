@@ -1,4 +1,4 @@
-// Height-field loading (OpenImageIO), procedural generators, and 003's derived maps.
+// Height-field loading (OpenImageIO), procedural generators, and Lengyel FGED 2's derived maps.
 #include "heightfield/heightfield.h"
 
 #include <OpenImageIO/imageio.h>
@@ -404,19 +404,19 @@ DerivedMaps makeDerivedMaps(const Texture& height, double scaleUv, double biasUv
     maps.normal.address = maps.parallax.address = height.address;
     maps.normal.texels.resize(size_t(w) * h * 3);
     maps.parallax.texels.resize(size_t(w) * h);
-    // Neighbour index: wrapped for repeat, clamped for clamp (003 after Eq. 7.41).
+    // Neighbour index: wrapped for repeat, clamped for clamp (Lengyel FGED 2 after Eq. 7.41).
     auto nb = [&](int k, int n) {
         if (height.address == Address::Repeat) return (k + n) % n;
         return std::clamp(k, 0, n - 1);
     };
     for (int j = 0; j < h; ++j) {
         for (int i = 0; i < w; ++i) {
-            // 003 Eq. 7.41 with s in texel units = s_uv * W (resp. H).
+            // Lengyel FGED 2 Eq. 7.41 with s in texel units = s_uv * W (resp. H).
             double dx = scaleUv * w / 2 *
                         (double(height.texel(nb(i + 1, w), j)) - height.texel(nb(i - 1, w), j));
             double dy = scaleUv * h / 2 *
                         (double(height.texel(i, nb(j + 1, h))) - height.texel(i, nb(j - 1, h)));
-            // 003 Eq. 7.43.
+            // Lengyel FGED 2 Eq. 7.43.
             double len = std::sqrt(dx * dx + dy * dy + 1.0);
             double mz = 1.0 / len;
             maps.normal.texel(i, j, 0) = float(-dx / len);

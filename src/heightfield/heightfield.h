@@ -1,5 +1,5 @@
 // Height fields (docs/model.md §1): loading any OpenImageIO format, procedural generators, and
-// the normal and parallax maps derived from a height field for 003's methods.
+// the normal and parallax maps derived from a height field for Lengyel FGED 2's methods.
 #pragma once
 
 #include <cstdint>
@@ -30,7 +30,7 @@ HeightImageHeader probeHeightImage(const std::string& path, int channel,
 Texture makeProceduralHeight(const nlohmann::json& params, const std::string& sceneFile,
                              const std::string& field);
 
-// 003 Eq. 7.41-7.43 as docs/model.md §6b pins them down: per texel
+// Lengyel FGED 2 Eq. 7.41-7.43 as docs/model.md §6b pins them down: per texel
 // d_x = s*W/2 * (h[i+1,j] - h[i-1,j]), d_y = s*H/2 * (h[i,j+1] - h[i,j-1]),
 // m = normalise(-d_x, -d_y, 1) (3 channels) and parallax P = m_z * (s*h + b) (1 channel).
 struct DerivedMaps {

@@ -14,7 +14,7 @@ struct BaseVertex {
     Vec3d position;
     Vec2d uv;
     Vec3d tangent, bitangent, normal;  // per-vertex frame (T along dS/du, B along dS/dv)
-    double handedness = 1.0;           // 003 Listing 7.4's w: sign of det(tangent frame)
+    double handedness = 1.0;           // Lengyel FGED 2 Listing 7.4's w: sign of det(tangent frame)
 };
 
 struct BaseMesh {

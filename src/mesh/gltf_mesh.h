@@ -26,7 +26,7 @@ struct GltfSelection {
 };
 
 // The frames the drawn mesh carries: the asset's TANGENT (MikkTSpace where it has none),
-// MikkTSpace always, or pgt's own (003 Listing 7.4, as on OBJ meshes).
+// MikkTSpace always, or pgt's own (Lengyel FGED 2 Listing 7.4, as on OBJ meshes).
 enum class MeshFrames { Asset, MikkTSpace, Pgt };
 std::string toString(MeshFrames frames);
 

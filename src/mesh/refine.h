@@ -1,7 +1,7 @@
 // The polygon mesh the rasteriser draws for a curved base: the control mesh refined
 // `levels` times by OpenSubdiv (bilinear, Catmull-Clark or Loop), vertices moved to the limit
 // surface for the smooth schemes, fan-triangulated, one vertex per (position, UV) pair, with
-// vertex normals and 003 Listing 7.4 tangent frames.
+// vertex normals and Lengyel FGED 2 Listing 7.4 tangent frames.
 #pragma once
 
 #include <string>
@@ -20,12 +20,11 @@ struct TangentFrameStats {
     int64_t mirroredVertices = 0;       // handedness w = -1
 };
 
-// 003 Listing 7.4: per-triangle T and B from positions and UVs (Eq. 7.37) accumulated per
-// vertex, Gram-Schmidt against the vertex normal (Eq. 7.38), handedness
-// w = sign(dot(cross(t, b), n)). Triangles whose UV determinant is (near) zero add nothing
-// (counted); a vertex with no usable tangent gets one perpendicular to n (counted). Fills
-// mesh.vertices[*].tangent (unit), bitangent (= cross(n, t) * w, Eq. 7.40) and returns w
-// per vertex.
+// Lengyel FGED 2 Listing 7.4: per-triangle T and B from positions and UVs (Eq. 7.37) accumulated
+// per vertex, Gram-Schmidt against the vertex normal (Eq. 7.38), handedness w = sign(dot(cross(t,
+// b), n)). Triangles whose UV determinant is (near) zero add nothing (counted); a vertex with no
+// usable tangent gets one perpendicular to n (counted). Fills mesh.vertices[*].tangent (unit),
+// bitangent (= cross(n, t) * w, Eq. 7.40) and returns w per vertex.
 std::vector<float> computeTangentFrames(BaseMesh& mesh, TangentFrameStats* stats);
 
 struct RefinedMesh {

@@ -24,8 +24,8 @@ struct MapKindInfo {
     const char* samplerKey;   // a GLSL method entry's key naming its sampler: "cone_sampler"
     const char* twinSampler;  // the sampler's name in the built-ins' GLSL twins: "coneMap"
     int glUnit;               // the texture unit a GLSL method reads it from
-    // Built for each (s, b) it is read at (003's derived maps), not once per height map (and
-    // sign of s) as the precomputed ones.
+    // Built for each (s, b) it is read at (Lengyel FGED 2's derived maps), not once per height map
+    // (and sign of s) as the precomputed ones.
     bool perDisplacement;
     // Bytes per texel of the height map it holds, with its build's peak (measured at 2048^2;
     // docs/performance.md), and the GL's copy of it (4 bytes a channel).
@@ -66,8 +66,9 @@ class MapSet {
 // One (s, b)'s maps by kind, each null until built: what MethodContext samples and a GL draw
 // binds.
 struct MapRefs {
-    const Texture* height = nullptr;         // h
-    const Texture* normal = nullptr;         // 003's unit normal m, RGB (iterative, tangent_plane)
+    const Texture* height = nullptr;  // h
+    const Texture* normal =
+        nullptr;  // Lengyel FGED 2's unit normal m, RGB (iterative, tangent_plane)
     const Texture* parallax = nullptr;       // m_z * (s*h + b)
     const MinMaxPyramid* pyramid = nullptr;  // maxmip
     const ConeMap* cone = nullptr;           // cone: the map for the sign of s

@@ -44,10 +44,11 @@ enum class ShadowMarch { None, Hard, Soft };
 // filter and shadow march). Its C++ function is its kind's row of methods/registry.h.
 struct BuiltinMethod {
     MethodKind kind = MethodKind::None;
-    int minLayers = 8, maxLayers = 32;      // steep, pom (LearnOpenGL's defaults)
-    int maxSteps = 0;                       // steep, pom: 0 = unbounded (LearnOpenGL); 004 uses 100
+    int minLayers = 8, maxLayers = 32;  // steep, pom (LearnOpenGL's defaults)
+    int maxSteps =
+        0;  // steep, pom: 0 = unbounded (LearnOpenGL); the deferred-renderer blog uses 100
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
-    int iterations = 4;                     // iterative (003 Listing 7.9)
+    int iterations = 4;                     // iterative (Lengyel FGED 2 Listing 7.9)
     int secantSteps = 3;                    // secant (Risser et al. 2007)
     int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
     int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
@@ -121,7 +122,7 @@ struct MethodContext : MapRefs {
         ++fetches;
         return sample(*height, uv, 0);
     }
-    Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (002)
+    Real depth(Vec2<Real> uv) { return Real(1) - h(uv); }  // d = 1 - h (LearnOpenGL)
     Real parallaxMap(Vec2<Real> uv) {
         ++fetches;
         return sample(*parallax, uv, 0);

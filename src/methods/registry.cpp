@@ -16,7 +16,7 @@ namespace pgt {
 namespace {
 
 // A layer or step count above this is no longer a shading setting (LearnOpenGL uses 8-32,
-// 004 uses 100); it bounds a typo before it costs minutes per frame.
+// the deferred-renderer blog uses 100); it bounds a typo before it costs minutes per frame.
 constexpr int kMaxLayers = 4096;
 
 // Steep and pom: "32" when the layer count is fixed, "8_32" for a range, "_s100" with a cap.

@@ -1,6 +1,6 @@
 // The method kinds in one table: each kind's scene name, its integer parameters (scene key,
 // range, the configuration field they set), the step count a fit varies, how a generated
-// label shows its parameters, whether it reads 003's derived maps, and its function. (A
+// label shows its parameters, whether it reads Lengyel FGED 2's derived maps, and its function. (A
 // shader method has no row: methods/shader/glsl_spec.h describes it.)
 // Parsing (methods/config.h), labels, JSON, the fit and the dispatch all read this table; a
 // new built-in method is one row here and one function in methods/.

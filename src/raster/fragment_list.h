@@ -18,9 +18,9 @@ namespace pgt {
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
-    std::vector<Vec3d> view;               // unit tangent-space V (003 Listing 7.8's frame)
-    std::vector<Vec3d> viewExact;          // V in the exact frame of the drawn surface (meshes)
-    std::vector<Vec2d> uvDx, uvDy;         // uv0's screen derivatives (Fragment::uvDx, uvDy)
+    std::vector<Vec3d> view;        // unit tangent-space V (Lengyel FGED 2 Listing 7.8's frame)
+    std::vector<Vec3d> viewExact;   // V in the exact frame of the drawn surface (meshes)
+    std::vector<Vec2d> uvDx, uvDy;  // uv0's screen derivatives (Fragment::uvDx, uvDy)
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     size_t size() const { return pixel.size(); }
     // Fragment k's light in either frame; zero (no light) where a list made by hand (tests)

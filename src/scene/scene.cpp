@@ -15,7 +15,6 @@
 #include "heightfield/mipmaps.h"
 #include "mesh/gltf_mesh.h"
 #include "methods/config.h"
-#include "truth/tessellation.h"
 
 namespace pgt {
 
@@ -270,7 +269,8 @@ void parseLight(Scene& s, JsonFields& root) {
     f.finish();
 }
 
-// "truth": rate, geometry, uncertainty, memory budget; a plane's vertex bound.
+// "truth": rate, geometry, uncertainty, memory budget; a plane's vertex bound. (The memory a
+// mesh's truth needs is truth/'s to estimate: checkMeshTruthMemory, before any work.)
 void parseTruth(Scene& s, JsonFields& root) {
     if (root.has("truth")) {
         JsonFields f(root.raw("truth"), s.file, "truth");
@@ -281,23 +281,6 @@ void parseTruth(Scene& s, JsonFields& root) {
         s.truth.uncertainty = f.boolean("uncertainty", true);
         s.truth.memoryMb = f.integer("memory_mb", 1536, 1, 1 << 20);
         f.finish();
-    }
-    const MeshBase* mesh = std::get_if<MeshBase>(&s.base);
-    if (mesh && mesh->truthSurface == MeshTruth::Polygonal) {
-        // Every drawn edge split at rate points per texel of its UV length: a tiled floor
-        // (UVs 0..20) on a large map asks for millions of vertices. 300 bytes a vertex
-        // (sheet, Embree's build, the frame's rays) was measured on a 3 x 3-tiled quad:
-        // 5.9 million vertices at rates 2 and 4 took 1.84 GB.
-        constexpr double kBytesPerTruthVertex = 300;
-        const int rate = s.truth.rate;
-        const double verts =
-            drawnTruthVertices(s.height, mesh->drawn->mesh, rate) +
-            (s.truth.uncertainty ? drawnTruthVertices(s.height, mesh->drawn->mesh, 2 * rate) : 0);
-        checkMemory(verts * kBytesPerTruthVertex, s.file, "truth.rate", std::to_string(rate),
-                    "the mesh's polygonal truth (about " + formatNumber(verts, 3) +
-                        " vertices: every drawn edge split at rate points per texel of its UV "
-                        "length" +
-                        (s.truth.uncertainty ? ", and at 2 x rate for the uncertainty" : "") + ")");
     }
     if (const PlaneBase* plane = s.plane()) {
         // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).

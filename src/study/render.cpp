@@ -453,6 +453,7 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
 
 void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
                      const std::string& field) {
+    checkMeshTruthMemory(scene);
     checkMemory(estimateViewBytes(scene, width, height, m), scene.file, field,
                 std::to_string(width) + "x" + std::to_string(height),
                 "a " + std::to_string(width) + "x" + std::to_string(height) + " frame with " +

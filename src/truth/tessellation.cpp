@@ -19,6 +19,8 @@
 
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/format.h"
+#include "core/memory.h"
 #include "mesh/osd_refiner.h"
 
 namespace pgt {
@@ -353,6 +355,21 @@ class DrawnSegments {
 };
 
 }  // namespace
+
+void checkMeshTruthMemory(const Scene& s) {
+    const MeshBase* mesh = std::get_if<MeshBase>(&s.base);
+    if (mesh && mesh->truthSurface == MeshTruth::Polygonal) {
+        const int rate = s.truth.rate;
+        const double verts =
+            drawnTruthVertices(s.height, mesh->drawn->mesh, rate) +
+            (s.truth.uncertainty ? drawnTruthVertices(s.height, mesh->drawn->mesh, 2 * rate) : 0);
+        checkMemory(verts * kTruthBytesPerSheetVertex, s.file, "truth.rate", std::to_string(rate),
+                    "the mesh's polygonal truth (about " + formatNumber(verts, 3) +
+                        " vertices: every drawn edge split at rate points per texel of its UV "
+                        "length" +
+                        (s.truth.uncertainty ? ", and at 2 x rate for the uncertainty" : "") + ")");
+    }
+}
 
 double drawnTruthVertices(const Texture& height, const BaseMesh& drawn, int rate) {
     return DrawnSegments(drawn, height, rate, std::numeric_limits<int64_t>::max()).vertices();

@@ -114,9 +114,12 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
 // kept: blocks need their windows.)
 TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
                         const Camera& camera, PixelRect block = {}, double reach = 1);
-// Bytes per truth vertex of a plane's grid, Embree's BVH included (measured: 3.27 GB peak for
-// 84M grid vertices, a 4096^2 map at rates 1 and 2).
+// The truth's memory per vertex, the one place these figures live: a plane's grid, Embree's
+// BVH included (measured: 3.27 GB peak for 84M grid vertices, a 4096^2 map at rates 1 and 2),
+// and a mesh's explicit sheet (its per-vertex data, Embree's build, the frame's rays; measured
+// on a 3 x 3-tiled quad: 5.9 million vertices at rates 2 and 4 took 1.84 GB).
 constexpr double kTruthBytesPerGridVertex = 40;
+constexpr double kTruthBytesPerSheetVertex = 300;
 
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                         const PlaneBase& plane, int rate,
@@ -143,6 +146,13 @@ std::shared_ptr<const BaseTessellation> tessellateLimitSurface(const Texture& he
 // The vertices tessellateDrawnMesh makes at `rate` (an upper bound; only the map's size is
 // read): what the scene's memory estimate counts before anything is built.
 double drawnTruthVertices(const Texture& height, const BaseMesh& drawn, int rate);
+
+// Refuses (InputError on truth.rate) a mesh's polygonal truth that would need more than the
+// memory limit: every drawn edge split at rate points per texel of its UV length (a tiled
+// floor, UVs 0..20, on a large map asks for millions of vertices), and at 2 x rate for the
+// uncertainty. Planes and limit truths: nothing (their own estimates). Called by every
+// command before any work (study/render.h checkViewMemory).
+void checkMeshTruthMemory(const Scene& scene);
 
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,
                                                             const BaseMesh& drawn,

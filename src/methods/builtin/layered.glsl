@@ -1,4 +1,4 @@
-// pgt built-ins "steep" and "pom" as GLSL (src/methods/builtin/layered.h; 002 LearnOpenGL's steep
+// pgt built-ins "steep" and "pom" as GLSL (src/methods/builtin/layered.h; LearnOpenGL's steep
 // parallax and parallax occlusion listings generalised to any (s, b) as docs/model.md §6b pins
 // them down): the march starts where the eye ray enters the top of the relief, layers
 // mix(max, min, |V.z|), depth d = 1 - h read from the height map.

@@ -1,7 +1,8 @@
-// The layered ray marches: steep parallax (002 LearnOpenGL "Steep Parallax Mapping", 004's
-// ParallaxMapping), parallax occlusion mapping (steep + the interpolation tail of 002/004,
-// 001's POM), and relief mapping's linear + binary search (Policarpo, Oliveira, Comba 2005),
-// generalised to any (s, b) as docs/model.md §6b pins them down.
+// The layered ray marches: steep parallax (LearnOpenGL "Steep Parallax Mapping", the
+// deferred-renderer blog's ParallaxMapping), parallax occlusion mapping (steep + the interpolation
+// tail of LearnOpenGL/the deferred-renderer blog, the parallax-mapping encyclopedia article's POM),
+// and relief mapping's linear + binary search (Policarpo, Oliveira, Comba 2005), generalised to any
+// (s, b) as docs/model.md §6b pins them down.
 #pragma once
 
 #include <cmath>
@@ -27,9 +28,10 @@ struct SteepMarch {
     Real layerDepth;   // 1 / numLayers
 };
 
-// 002 steep listing: numLayers = mix(maxLayers, minLayers, |V.z|) (004 takes abs, 002
-// max(.,0)); P = V.xy / V.z * height_scale; deltaTexCoords = P / numLayers; march while
-// currentLayerDepth < currentDepthMapValue. max_steps bounds it as 004's for-loop does.
+// LearnOpenGL steep listing: numLayers = mix(maxLayers, minLayers, |V.z|) (the deferred-renderer
+// blog takes abs, LearnOpenGL max(.,0)); P = V.xy / V.z * height_scale; deltaTexCoords = P /
+// numLayers; march while currentLayerDepth < currentDepthMapValue. max_steps bounds it as the
+// deferred-renderer blog's for-loop does.
 template <class Real>
 SteepMarch<Real> steepMarch(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                             const BuiltinMethod& cfg) {
@@ -71,7 +73,8 @@ Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     return m.uv;
 }
 
-// 002/004 tail: interpolate between the layers before and after the crossing.
+// LearnOpenGL/the deferred-renderer blog tail: interpolate between the layers before and after the
+// crossing.
 template <class Real>
 Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                      const BuiltinMethod& cfg) {

@@ -1,5 +1,5 @@
-// pgt built-ins "iterative" (003 Listing 7.9) and "tangent_plane" (003 Eq. 7.50) as GLSL
-// (src/methods/builtin/lengyel.h), on 003's derived maps: normalMap = unit normal m (RGB),
+// pgt built-ins "iterative" (Lengyel FGED 2 Listing 7.9) and "tangent_plane" (Lengyel FGED 2 Eq. 7.50) as GLSL
+// (src/methods/builtin/lengyel.h), on Lengyel FGED 2's derived maps: normalMap = unit normal m (RGB),
 // parallaxMap = m_z * (s*h + b) in UV units, built by pgt for the case's (s, b)
 // ("normal_sampler": "normalMap", "parallax_sampler": "parallaxMap").
 uniform sampler2D normalMap;

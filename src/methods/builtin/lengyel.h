@@ -1,4 +1,4 @@
-// Lengyel, FGED vol. 2 (003): iterative parallax (Listing 7.9, Eq. 7.51-7.52) and the
+// Lengyel, FGED vol. 2: iterative parallax (Listing 7.9, Eq. 7.51-7.52) and the
 // tangent-plane offset (Eq. 7.50), on the normal and parallax maps of Eq. 7.41-7.43
 // (heightfield/heightfield.h makeDerivedMaps).
 #pragma once
@@ -9,8 +9,8 @@
 
 namespace pgt {
 
-// 003 Listing 7.9 with k = iterations: pdir = V.xy * scale; k times texcoord += pdir * P.
-// Our P already holds s (UV units) and the bias, so scale = 1/k (Eq. 7.52 without s, r, 2).
+// Lengyel FGED 2 Listing 7.9 with k = iterations: pdir = V.xy * scale; k times texcoord += pdir *
+// P. Our P already holds s (UV units) and the bias, so scale = 1/k (Eq. 7.52 without s, r, 2).
 template <class Real>
 Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                            const BuiltinMethod& cfg) {
@@ -26,7 +26,8 @@ Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     return uv;
 }
 
-// 003 Eq. 7.50: offset = V.xy * (n_z h) / dot(n, V) with n the normalised bilinear normal.
+// Lengyel FGED 2 Eq. 7.50: offset = V.xy * (n_z h) / dot(n, V) with n the normalised bilinear
+// normal.
 template <class Real>
 Vec2<Real> methodTangentPlane(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                               const BuiltinMethod&) {

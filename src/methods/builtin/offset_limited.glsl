@@ -1,4 +1,4 @@
-// pgt built-in "offset_limited" as GLSL (src/methods/builtin/simple.h; 000 §4.3: no division by V.z).
+// pgt built-in "offset_limited" as GLSL (src/methods/builtin/simple.h; Welsh 2004 §4.3: no division by V.z).
 uniform sampler2D heightMap;
 uniform float height_scale;
 uniform float height_bias;

@@ -1,4 +1,4 @@
-// pgt built-in "parallax" as GLSL (src/methods/builtin/simple.h; 000 §4.1's ARB program:
+// pgt built-in "parallax" as GLSL (src/methods/builtin/simple.h; Welsh 2004 §4.1's ARB program:
 // MAD h*s+b; RCP V.z; MUL; MAD offset*V.xy + T0), written op for op like the C++.
 // Uniforms: height_scale = s, height_bias = b (UV units), e.g. bound to the case's:
 // "uniforms": {"height_scale": "scale", "height_bias": "bias"}.

@@ -1,11 +1,11 @@
 // Self-shadowing from the point a method found toward the view's directional light
-// (docs/model.md §6c): the hard march of the POM literature (001: "a secondary raymarch ...
-// along the light direction ... if any sample height exceeds the light ray's accumulated
-// depth, the fragment is considered occluded") and Tatarchuk's soft shadow (Dynamic Parallax
-// Occlusion Mapping with Approximate Soft Shadows, I3D 2006; the DirectX SDK sample's seven
-// weighted height differences). Both read the height map through the method's context; the
-// pipeline records the method's fetches before the march (docs/model.md §6c: a march is not
-// in the method's cost).
+// (docs/model.md §6c): the hard march of the POM literature (the parallax-mapping encyclopedia
+// article: "a secondary raymarch ... along the light direction ... if any sample height exceeds the
+// light ray's accumulated depth, the fragment is considered occluded") and Tatarchuk's soft shadow
+// (Dynamic Parallax Occlusion Mapping with Approximate Soft Shadows, I3D 2006; the DirectX SDK
+// sample's seven weighted height differences). Both read the height map through the method's
+// context; the pipeline records the method's fetches before the march (docs/model.md §6c: a march
+// is not in the method's cost).
 #pragma once
 
 #include <algorithm>

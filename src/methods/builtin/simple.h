@@ -1,4 +1,4 @@
-// The single-fetch methods: none, parallax (000 §4.1) and offset limiting (000 §4.3).
+// The single-fetch methods: none, parallax (Welsh 2004 §4.1) and offset limiting (Welsh 2004 §4.3).
 #pragma once
 
 #include "methods/method.h"
@@ -12,7 +12,7 @@ Vec2<Real> methodNone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real>, const 
     return uv0;
 }
 
-// 000 §4.1, ARB fragment program: MAD h*s+b; RCP V.z; MUL; MAD offset*V.xy + T0.
+// Welsh 2004 §4.1, ARB fragment program: MAD h*s+b; RCP V.z; MUL; MAD offset*V.xy + T0.
 template <class Real>
 Vec2<Real> methodParallax(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                           const BuiltinMethod&) {
@@ -23,7 +23,7 @@ Vec2<Real> methodParallax(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
     return height * Vec2<Real>(v.x, v.y) + uv0;
 }
 
-// 000 §4.3: Tn = To + hsb * V.xy (no division by V.z).
+// Welsh 2004 §4.3: Tn = To + hsb * V.xy (no division by V.z).
 template <class Real>
 Vec2<Real> methodOffsetLimited(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                                const BuiltinMethod&) {

@@ -169,7 +169,7 @@ std::vector<MethodPreset> enginePresetsB() {
     };
 }
 
-// The list with the engine presets of issue 31 after it.
+// The document and built-in presets, then the engine presets.
 std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
     for (auto list : {enginePresetsA(), enginePresetsB()})
         for (auto& p : list) presets.push_back(std::move(p));
@@ -180,22 +180,22 @@ std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
 
 const std::vector<MethodPreset>& methodPresets() {
     // LearnOpenGL's height_scale 0.1 on a depth map d = 1 - h is s = 0.1, b = -0.1 (docs/model.md
-    // §3); 004's height scale 0.15 likewise.
+    // §3); the deferred-renderer blog's height scale 0.15 likewise.
     using K = MethodKind;
     static const std::vector<MethodPreset> presets = withEngines({
-        builtinPreset("welsh", "000 (Welsh 2004): parallax mapping at its own s 0.04, b -0.02",
+        builtinPreset("welsh", "Welsh 2004: parallax mapping at its own s 0.04, b -0.02",
                       singleFetch(K::Parallax, 0.04, -0.02)),
         builtinPreset("learnopengl_parallax",
-                      "002 (LearnOpenGL): ParallaxMapping, height_scale 0.1 on a depth map",
+                      "LearnOpenGL: ParallaxMapping, height_scale 0.1 on a depth map",
                       singleFetch(K::Parallax, 0.1, -0.1)),
         builtinPreset("learnopengl_steep",
-                      "002 (LearnOpenGL): steep parallax, 8-32 layers, height_scale 0.1",
+                      "LearnOpenGL: steep parallax, 8-32 layers, height_scale 0.1",
                       layered(K::Steep, 8, 32, 0, 0.1, -0.1)),
         builtinPreset("learnopengl_pom",
-                      "002 (LearnOpenGL): parallax occlusion, 8-32 layers, height_scale 0.1",
+                      "LearnOpenGL: parallax occlusion, 8-32 layers, height_scale 0.1",
                       layered(K::Pom, 8, 32, 0, 0.1, -0.1)),
         builtinPreset("deferred_blog",
-                      "004 (the deferred-renderer blog): numSteps 100 at height scale 0.15",
+                      "the deferred-renderer blog: numSteps 100 at height scale 0.15",
                       layered(K::Steep, 100, 100, 100, 0.15, -0.15)),
         builtinPreset("tatarchuk_soft",
                       "Tatarchuk I3D 2006 / DirectX SDK: pom with lerp(50, 8) samples by V.z "

@@ -71,7 +71,7 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
             case MapKind::Height:
                 break;  // every entry has it
             case MapKind::Normal:
-            case MapKind::Parallax:  // 003's pair, made together
+            case MapKind::Parallax:  // Lengyel FGED 2's pair, made together
                 if (!e.derived)
                     e.derived = std::make_unique<DerivedMaps>(
                         makeDerivedMaps(height_, key.first, key.second));

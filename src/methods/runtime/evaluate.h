@@ -22,8 +22,8 @@ namespace pgt {
 class GlMapUploads;  // methods/shader/glsl_method.h
 
 // The maps (methods/maps.h) methods read at one (s, b): the height map, and the others the
-// methods of a run need, owned (003's derived maps, per (s, b)) or shared (the precomputed
-// ones, per height map and sign of s).
+// methods of a run need, owned (Lengyel FGED 2's derived maps, per (s, b)) or shared (the
+// precomputed ones, per height map and sign of s).
 struct MethodTextures {
     const Texture* height = nullptr;
     std::unique_ptr<DerivedMaps> derived;          // normal and parallax, when read

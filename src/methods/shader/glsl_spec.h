@@ -44,7 +44,8 @@ struct GlslSpec {
     const std::string& sampler(MapKind k) const { return samplers[size_t(k)]; }
     // What the height sampler holds ("texture"; docs/methods.md "Texture layouts"): R = h
     // ("height"), R = 1 - h ("depth"), or RGBA with RGB = 0.5 + 0.5 m (the surface's unit
-    // normal, 003's normal map at the case's s and b) and A = h ("normal+height") or 1 - h
+    // normal, Lengyel FGED 2's normal map at the case's s and b) and A = h ("normal+height") or 1 -
+    // h
     // ("normal+depth"), as engines pack height into a normal map's alpha.
     enum class Layout { Height, Depth, NormalHeight, NormalDepth };
     Layout layout = Layout::Height;

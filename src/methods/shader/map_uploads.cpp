@@ -43,7 +43,7 @@ std::vector<float> mapTexels(const Texture& t, bool depth) {
     return data;
 }
 
-// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (003's normal map),
+// A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (Lengyel FGED 2's normal map),
 // bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
 // samples). A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not
 // glGenerateMipmap's, and trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and
