@@ -170,7 +170,7 @@ TEST(Raster, BinnedEqualsTheWholeFrameRasteriserOnEveryBundledScene) {
             }
             for (const ViewSpec& v : views) {
                 const Camera cam = makeCamera(scene, v);
-                const BaseMesh mesh = sceneBaseMesh(scene, cam);
+                const BaseMesh mesh = drawnBaseMesh(scene.base, cam);
                 RasterStats s1, s2;
                 auto binned = rasterize(mesh, cam, {scene.cullBackFaces}, &s1);
                 auto whole = reference::rasterize(mesh, cam, {scene.cullBackFaces}, &s2);
@@ -192,7 +192,7 @@ TEST(Raster, AnyRectangleEqualsTheWholeFrame) {
     ViewSpec v = scene.view();
     v.camera.width = 150, v.camera.height = 70;
     const Camera cam = makeCamera(scene, v);
-    const BaseMesh mesh = sceneBaseMesh(scene, cam);
+    const BaseMesh mesh = drawnBaseMesh(scene.base, cam);
     auto whole = rasterize(mesh, cam, {scene.cullBackFaces});
     Rasterizer raster(mesh, cam, {scene.cullBackFaces});
     std::mt19937 rng(5);

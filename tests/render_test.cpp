@@ -273,7 +273,7 @@ TEST(Render, BandsEqualTheWholeFrame) {
     }
     EXPECT_EQ(kept.truthHits, hits);
     EXPECT_EQ(kept.raster.covered,
-              int64_t(compactFragments(rasterize(sceneBaseMesh(s, cam), cam, {true})).size()));
+              int64_t(compactFragments(rasterize(drawnBaseMesh(s.base, cam), cam, {true})).size()));
     for (const MethodFrame& m : kept.methods) {
         FrameStats st = compareWithTruth(whole, m.pixels, 32, 32, Address::Repeat);
         EXPECT_EQ(st.error.count, m.stats.error.count);

@@ -16,22 +16,6 @@
 
 namespace pgt {
 
-int tilesToCover(const Camera& camera, Vec3d center, double size, int cap) {
-    double reach = 0;
-    const int w = camera.width(), hgt = camera.height();
-    const double xs[3] = {0.0, w / 2.0, double(w)}, ys[3] = {0.0, hgt / 2.0, double(hgt)};
-    for (double sx : xs)
-        for (double sy : ys) {
-            Ray r = camera.ray(sx, sy);
-            if (r.dir.z == 0) return cap;
-            double t = (center.z - r.origin.z) / r.dir.z;
-            if (t < 0 && !r.line) return cap;  // this corner looks above the horizon
-            Vec3d p = r.origin + r.dir * t - center;
-            reach = std::max({reach, std::fabs(p.x), std::fabs(p.y)});
-        }
-    return int(std::min(double(cap), std::ceil(reach / size - 0.5) + 1));
-}
-
 namespace {
 
 // A clipped vertex: camera-space position plus the attributes to interpolate.

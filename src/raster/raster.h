@@ -14,10 +14,6 @@
 
 namespace pgt {
 
-// How many tiles around the central one an infinite plane needs so that every pixel ray
-// of `camera` that meets the plane z = center.z meets it inside (at most `cap`).
-int tilesToCover(const Camera& camera, Vec3d center, double size, int cap = 64);
-
 struct Fragment {
     bool covered = false;
     // False where the triangle's UVs are degenerate (then viewTangentExact repeats

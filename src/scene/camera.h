@@ -84,5 +84,8 @@ class Camera {
 // docs/model.md §4 view direction in tangent space from view angle theta and azimuth phi
 // (degrees): V = (sin t cos p, sin t sin p, cos t).
 Vec3d viewFromAngles(double thetaDegrees, double phiDegrees);
+// How many tiles around the central one an infinite plane needs so that every pixel ray
+// of `camera` that meets the plane z = center.z meets it inside (at most `cap`).
+int tilesToCover(const Camera& camera, Vec3d center, double size, int cap = 64);
 
 }  // namespace pgt

@@ -19,16 +19,6 @@
 
 namespace pgt {
 
-BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera) {
-    return std::visit(Overloaded{[&](const PlaneBase& p) {
-                                     const int tiles =
-                                         p.infinite ? tilesToCover(camera, p.center, p.size) : 0;
-                                     return makePlaneMesh(p.center, p.size, p.tiling, tiles);
-                                 },
-                                 [](const MeshBase& m) { return m.drawn->mesh; }},
-                      scene.base);
-}
-
 namespace {
 
 // Where a view's truth and fragments come from: surfaces traced band by band, or whole frames
@@ -122,7 +112,7 @@ class BandPipeline {
     void run() {
         auto t0 = Clock::now();
         // The drawn mesh culled and binned, unless the fragments are prepared.
-        const BaseMesh mesh = truth_.prepared ? BaseMesh{} : sceneBaseMesh(scene_, r_.camera);
+        const BaseMesh mesh = truth_.prepared ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         std::optional<Rasterizer> raster;
         if (!truth_.prepared) {
             raster.emplace(mesh, r_.camera, RasterOptions{scene_.cullBackFaces});
@@ -361,7 +351,7 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
     v.build = truths.truth->stats();
     const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
     const Image2D<Fragment> fragments =
-        rasterize(sceneBaseMesh(scene, v.camera), v.camera, {scene.cullBackFaces}, &v.raster);
+        rasterize(drawnBaseMesh(scene.base, v.camera), v.camera, {scene.cullBackFaces}, &v.raster);
     const int W = v.camera.width(), H = v.camera.height();
     for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
         const int rows = std::min(H, y0 + bandRows(W)) - y0;
@@ -415,7 +405,7 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing) {
     const Camera camera = makeCamera(scene, view);
     const Image2D<Fragment> frame =
-        rasterize(sceneBaseMesh(scene, camera), camera, {scene.cullBackFaces});
+        rasterize(drawnBaseMesh(scene.base, camera), camera, {scene.cullBackFaces});
     return sampleFragments(compactFragments(frame), timing.maxFragments, timing.seed);
 }
 

@@ -179,8 +179,4 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
 void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
                      const std::string& field);
 
-// The base mesh the rasteriser draws for a scene and camera (an infinite plane is extended
-// by whole tiles to cover the view).
-BaseMesh sceneBaseMesh(const Scene& scene, const Camera& camera);
-
 }  // namespace pgt

@@ -391,18 +391,19 @@ Vec2f bevyReliefTwin(const Texture& t, Vec2f uv0, Vec3f V, float scale, float ma
 
 using Twin = std::function<Vec2f(const Texture&, Vec2f, Vec3f)>;
 
+Twin o3de(O3de mode) {
+    return
+        [mode](const Texture& t, Vec2f uv, Vec3f v) { return o3deTwin(t, uv, v, mode, 0.05f, 16); };
+}
+
+Twin three(Three mode) {
+    return [mode](const Texture& t, Vec2f uv, Vec3f v) {
+        return threeTwin(t, uv, v, mode, -0.005f, 20.0f, 25.0f);
+    };
+}
+
 // Every GLSL preset's twin at its shipped uniforms (methods/presets/presets.cpp).
 std::map<std::string, PresetTwin> makeTwins() {
-    auto o3de = [](O3de mode) -> Twin {
-        return [mode](const Texture& t, Vec2f uv, Vec3f v) {
-            return o3deTwin(t, uv, v, mode, 0.05f, 16);
-        };
-    };
-    auto three = [](Three mode) -> Twin {
-        return [mode](const Texture& t, Vec2f uv, Vec3f v) {
-            return threeTwin(t, uv, v, mode, -0.005f, 20.0f, 25.0f);
-        };
-    };
     using T = const Texture&;
     return {
         {"jme", {[](T t, Vec2f uv, Vec3f v) { return jmeTwin(t, uv, v, 0.05f); }}},

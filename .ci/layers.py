@@ -1,0 +1,33 @@
+#!/usr/bin/python3
+"""CI: the folders of src/ include only what lies below them (docs/layout.md, "The data path
+and its layers"). Prints every upward #include and exits 1 when there is one."""
+import glob
+import os
+import re
+import sys
+
+ORDER = ["core", "heightfield", "mesh", "methods", "scene", "raster", "compare", "truth",
+         "methods/runtime", "study", "cli", "python"]
+RANK = {u: i for i, u in enumerate(ORDER)}
+SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
+
+
+def layer(path):
+    parts = os.path.relpath(path, SRC).split(os.sep)
+    if parts[0] == "methods" and len(parts) > 2 and parts[1] == "runtime":
+        return "methods/runtime"
+    return parts[0]
+
+
+upward = []
+for path in glob.glob(os.path.join(SRC, "**", "*.[ch]*"), recursive=True):
+    if not path.endswith((".h", ".cpp")):
+        continue
+    for m in re.finditer(r'#include "([^"]+)"', open(path).read()):
+        target = os.path.join(SRC, m.group(1))
+        if os.path.exists(target) and RANK[layer(target)] > RANK[layer(path)]:
+            upward.append(f"{os.path.relpath(path, SRC)} includes {m.group(1)}")
+for line in upward:
+    print("layers: upward include:", line)
+print(f"layers: {len(upward)} upward includes" + (": FAILED" if upward else ": ok"))
+sys.exit(1 if upward else 0)
