@@ -44,7 +44,9 @@ GlslInputs screenInputs(const FragmentList& f, int w, int h) {
 
 // A shader returning dFdxFine(uv) (then dFdyFine) gets the rasteriser's derivative at every
 // covered pixel of a perspective view of a plane with edges in the frame (helpers at the
-// plane's border included). Packed, the same shader sees unrelated neighbours.
+// plane's border included): with "api": "d3d" y runs down the image as the rasteriser's rows
+// do; with "gl" (a GLSL file's default) up, so dFdy is the rasteriser's negated; HLSL's ddy
+// alike. Packed, the same shader sees unrelated neighbours.
 TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     BaseMesh plane = makePlaneMesh(Vec3d(0), 1.0, 1.0);
     Camera cam =
@@ -55,14 +57,31 @@ TEST(Gl, ScreenLayoutDerivativesAreTheRasterisers) {
     MethodConfig dx = inlineGlsl("dx", "vec2 F(vec2 uv, vec3 V) { return dFdxFine(uv); }\n",
                                  R"(, "sampler": "")");
     MethodConfig dy = inlineGlsl("dy", "vec2 F(vec2 uv, vec3 V) { return dFdyFine(uv); }\n",
-                                 R"(, "sampler": "")");
+                                 R"(, "sampler": "", "api": "d3d")");
+    MethodConfig dyGl = inlineGlsl("dygl", "vec2 F(vec2 uv, vec3 V) { return dFdyFine(uv); }\n",
+                                   R"(, "sampler": "")");
+    const auto hlslDir = test::tempDir("gl_lod_hlsl_ddy");
+    std::ofstream(hlslDir / "ddy.hlsl")
+        << "float2 F(float2 uv, float3 V) { return ddy_fine(uv); }\n";
+    auto hlsl = [&](const char* api) {
+        nlohmann::json e = {
+            {"name", "ddy"}, {"hlsl", "ddy.hlsl"}, {"function", "F"}, {"sampler", ""}};
+        if (*api) e["api"] = api;
+        return parseMethod(e, (hlslDir / "scene.json").string(), "methods[0]");
+    };
     const GlslInputs in = screenInputs(f, cam.width(), cam.height());
     GlslRun rx = runGlsl(*dx.shader(), GlslMaps{{.height = &t}}, in),
-            ry = runGlsl(*dy.shader(), GlslMaps{{.height = &t}}, in);
+            ry = runGlsl(*dy.shader(), GlslMaps{{.height = &t}}, in),
+            ryGl = runGlsl(*dyGl.shader(), GlslMaps{{.height = &t}}, in),
+            hy = runGlsl(*hlsl("").shader(), GlslMaps{{.height = &t}}, in),
+            hyGl = runGlsl(*hlsl("gl").shader(), GlslMaps{{.height = &t}}, in);
     double worst = 0;
     for (size_t k = 0; k < f.size(); ++k) {
         worst = std::max(worst, double(glm::length(Vec2d(rx.uv[k]) - f.uvDx[k])));
         worst = std::max(worst, double(glm::length(Vec2d(ry.uv[k]) - f.uvDy[k])));
+        worst = std::max(worst, double(glm::length(Vec2d(ryGl.uv[k]) + f.uvDy[k])));
+        worst = std::max(worst, double(glm::length(Vec2d(hy.uv[k]) - f.uvDy[k])));
+        worst = std::max(worst, double(glm::length(Vec2d(hyGl.uv[k]) + f.uvDy[k])));
     }
     // uv0 is rounded to float (|uv| < 2: 2^-23 each) before the GL subtracts.
     EXPECT_LT(worst, 1e-6);

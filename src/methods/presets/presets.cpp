@@ -7,6 +7,7 @@
 #include "core/data_dir.h"
 #include "core/json_read.h"
 #include "methods/registry.h"
+#include "methods/shader/source_text.h"
 
 namespace pgt {
 
@@ -246,8 +247,7 @@ MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
         cfg.name = preset.name;
         auto spec = std::make_shared<GlslSpec>(preset.glsl);
         spec->path = (std::filesystem::path(shaderDir()) / preset.shaderFile).lexically_normal();
-        // A shader is a few KB; 16 MiB bounds a stray file.
-        spec->source = readTextFile(spec->path, file, field, "shader file", 16u << 20);
+        readShaderSource(*spec, file, field);
         cfg.method = ShaderMethod{std::move(spec)};
     }
     return cfg;

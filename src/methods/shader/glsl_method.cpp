@@ -235,7 +235,7 @@ GLuint mapTexture(MapKind k, const GlslSpec& spec, const DrawMaps& maps) {
         case MapKind::Height:
             if (spec.packedNormal())
                 return maps.store.packed(*maps.height, *maps.normal, spec.depthTexture());
-            return maps.store.texture(*maps.height, spec.depthTexture());
+            return maps.store.texture(*maps.height, spec.depthTexture(), spec.channels);
         case MapKind::Normal:
             return maps.store.texture(*maps.normal, false);
         case MapKind::Parallax:

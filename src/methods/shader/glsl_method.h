@@ -45,9 +45,10 @@ class GlMapUploads {
     ~GlMapUploads();
     GlMapUploads(const GlMapUploads&) = delete;
     GlMapUploads& operator=(const GlMapUploads&) = delete;
-    // The texture of `map` (as depth d = 1 - h when `depth`); uploads it on first use.
-    // Called by runGlsl, under the GL lock.
-    unsigned texture(const Texture& map, bool depth);
+    // The texture of `map` (as depth d = 1 - h when `depth`; a height map's value in the
+    // channels of `channels`, GlslSpec::channels); uploads it on first use. Called by
+    // runGlsl, under the GL lock.
+    unsigned texture(const Texture& map, bool depth, unsigned channels = 0);
     // The height map packed as engines ship it (GlslSpec::Layout "normal+height" or
     // "normal+depth"): RGBA32F, RGB = 0.5 + 0.5 m from `normal`, A = h (1 - h when `depth`).
     unsigned packed(const Texture& height, const Texture& normal, bool depth);
@@ -60,7 +61,7 @@ class GlMapUploads {
     static size_t liveTextures();
 
   private:
-    std::map<std::pair<const Texture*, bool>, unsigned> ids_;
+    std::map<std::tuple<const Texture*, bool, unsigned>, unsigned> ids_;
     std::map<const void*, unsigned> precomputed_;  // pyramids and cone maps
     std::map<std::tuple<const Texture*, const Texture*, bool>, unsigned> packed_;
 };

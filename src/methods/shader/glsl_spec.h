@@ -23,9 +23,30 @@ inline bool isShaderIdentifier(const std::string& s) {
     return true;
 }
 
+// Whether `text` holds `word` as a whole identifier.
+inline bool mentionsIdentifier(const std::string& text, const std::string& word) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
+        if ((at == 0 || !identChar(text[at - 1])) &&
+            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
+            return true;
+    return false;
+}
+
 struct GlslSpec {
     std::string path;    // as resolved from the scene file's folder
     std::string source;  // the file's text (read when the scene is parsed)
+    // Where each line of `source` came from, when GLSL #includes were expanded into it
+    // (methods/shader/source_text.h); empty: every line is the file's own.
+    struct LineOrigin {
+        std::string file;
+        int line = 0;
+    };
+    std::vector<LineOrigin> origins;
+    // HLSL: the text of the files it includes and the enums they and the file declare
+    // (methods/shader/source_text.h), for what pgt declares and rewrites.
+    std::string included;
+    std::vector<std::string> enums;
     std::string function = "ParallaxMapping";
     // The dialect the file is written in (docs/methods.md "GLSL dialects"): "100" (ES 1.00,
     // WebGL 1), "300 es", "310 es", "320 es" or a desktop "110" ... "460", from the entry's
@@ -49,6 +70,10 @@ struct GlslSpec {
     // ("normal+depth"), as engines pack height into a normal map's alpha.
     enum class Layout { Height, Depth, NormalHeight, NormalDepth };
     Layout layout = Layout::Height;
+    // The channels of a "height" or "depth" texture that hold the value ("height.g",
+    // "depth.a", "height.rgb": bits 1 R, 2 G, 4 B, 8 A), the others R, G, B 0 and A 1; 0: an
+    // R32F texture (R the value, as GL reads G = B = 0 and A = 1 from it).
+    unsigned channels = 0;
     bool depthTexture() const { return layout == Layout::Depth || layout == Layout::NormalDepth; }
     bool packedNormal() const {
         return layout == Layout::NormalHeight || layout == Layout::NormalDepth;
@@ -59,8 +84,23 @@ struct GlslSpec {
     // "call": an expression in the source's language giving uv' from uv, V, N = (0, 0, 1), s,
     // b and the uniforms; empty: the function F(uv, V) is called.
     std::string call;
-    // What runs, for messages: the function, or the call.
-    std::string entryName() const { return call.empty() ? function : "the call " + call; }
+    // "body": statements in the source's language ending in `return <uv'>;`, with the names a
+    // call has (for a function that answers through out/inout parameters, or code written as
+    // statements in main()); empty: none. At most one of call and body is set.
+    std::string body;
+    // What runs, for messages: the function, the call or the body.
+    std::string entryName() const {
+        return !body.empty() ? "the body" : call.empty() ? function : "the call " + call;
+    }
+    // "sampler_state" (HLSL): the SamplerState that a function taking its texture and sampler
+    // as parameters is called with; pgt declares it (and the texture) where the file does not.
+    std::string samplerState;
+    // "api": the framebuffer's y, as the engine's API has it: "gl" (OpenGL, WebGL: dFdy runs
+    // up the image) or "d3d" (Direct3D, Vulkan, Metal, WebGPU: down). Default: GLSL gl, HLSL
+    // d3d. Only derivatives (dFdy, ddy) see it.
+    enum class Api { Gl, D3d };
+    Api api = Api::Gl;
+    bool defaultApi() const { return api == (hlsl ? Api::D3d : Api::Gl); }
     // "defines": #define NAME VALUE lines put before the source, in the entry's order.
     std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
@@ -75,14 +115,15 @@ struct GlslSpec {
     // "steps_uniform": the integer uniform that is the method's step count, which `pgt fit`
     // sets to each of its step counts as it does a built-in's; "" where none.
     std::string stepsUniform;
-    // Whether the case's (or the method's own) s and b reach the shader, through a uniform
-    // bound to "scale"/"bias" or a call (which may read s and b): what `pgt fit` varies.
-    bool takesScale() const {
-        if (!call.empty()) return true;
+    // Whether the case's (or the method's own) s ("scale") or b ("bias") reaches the shader,
+    // through a uniform bound to it or a call or body that names it: what `pgt fit` varies.
+    bool reaches(const std::string& param) const {
         for (const Uniform& u : uniforms)
-            if (!u.bind.empty()) return true;
-        return false;
+            if (u.bind == param) return true;
+        const std::string name = param == "scale" ? "s" : "b";
+        return mentionsIdentifier(call, name) || mentionsIdentifier(body, name);
     }
+    bool takesScale() const { return reaches("scale") || reaches("bias"); }
 };
 
 }  // namespace pgt

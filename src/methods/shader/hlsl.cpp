@@ -13,25 +13,35 @@
 #include <map>
 #include <memory>
 #include <regex>
+#include <set>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/json_read.h"
 #include "core/process.h"
 #include "methods/shader/shader_gate.h"
+#include "methods/shader/source_text.h"
 
 namespace pgt::gl {
 
 namespace {
 
-// The entry point pgt adds after the user's file: it runs the call (or F(uv, V)) with the
-// names a call may use. `pgt_s` and `pgt_b` are the case's s and b (set by
-// methods/shader/glsl_method.cpp like any uniform). The call stands alone on the line after
-// kEntryHead, so that a message about that line names the call.
-constexpr const char* kEntryHead = R"(
+// What pgt adds after the user's file: `pgt_s` and `pgt_b`, the case's s and b (set by
+// methods/shader/glsl_method.cpp like any uniform); a "body" as a function (kBodyHead, the
+// body, "}"); the entry point, which runs the call (or F(uv, V), or the body's function) with
+// the names a call may use. The call stands alone on the line after kEntryHead, so that a
+// message about that line names the call.
+constexpr const char* kGlobals = R"(
 float pgt_s;
 float pgt_b;
-float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1) : SV_Target {
+)";
+constexpr const char* kBodyHead = R"(float2 pgt_body(float2 uv, float3 V) {
+    const float3 N = float3(0.0, 0.0, 1.0);
+    float s = pgt_s;
+    float b = pgt_b;
+)";
+constexpr const char* kEntryHead =
+    R"(float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1) : SV_Target {
     float2 uv = pgt_uv;
     float3 V = pgt_v;
     const float3 N = float3(0.0, 0.0, 1.0);
@@ -51,7 +61,8 @@ int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(),
 // include result with no name).
 class Includer : public glslang::TShader::Includer {
   public:
-    explicit Includer(std::string top) : top_(std::move(top)) {}
+    Includer(std::string top, std::vector<std::string> enums)
+        : top_(std::move(top)), enums_(std::move(enums)) {}
     IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
         return resolve(requested, from, depth);
     }
@@ -65,9 +76,8 @@ class Includer : public glslang::TShader::Includer {
     }
 
   private:
-    // Includes nest at most kMaxIncludeDepth deep: a file that includes itself (directly or
-    // round a cycle) is refused at that depth, naming the file, instead of expanding forever.
-    static constexpr size_t kMaxIncludeDepth = 32;
+    // Includes nest at most kMaxIncludeDepth deep (methods/shader/source_text.h); a file with
+    // `#pragma once` is included once; each is normalised as the user's file is.
     IncludeResult* resolve(const char* requested, const char* from, size_t depth) {
         const std::filesystem::path owner(from && *from ? from : top_);
         std::string name = (owner.parent_path() / requested).lexically_normal().string();
@@ -77,7 +87,12 @@ class Includer : public glslang::TShader::Includer {
                 throw InputError(owner.string(), "#include", requested,
                                  "includes nest more than " + std::to_string(kMaxIncludeDepth) +
                                      " deep (a file that includes itself?)");
-            *content = readTextFile(name, owner.string(), "#include", "HLSL include", 16u << 20);
+            if (once_.count(name)) return new IncludeResult(name, "", 0, content);
+            *content = hlslSamplerDefaults(hlslEnumsAsConstants(
+                normaliseLineEnds(readTextFile(name, owner.string(), "#include", "HLSL include",
+                                               kMaxShaderBytes)),
+                enums_));
+            if (takePragmaOnce(*content)) once_.insert(name);
         } catch (const std::exception& e) {
             *content = e.what();
             name.clear();
@@ -85,12 +100,14 @@ class Includer : public glslang::TShader::Includer {
         return new IncludeResult(name, content->c_str(), content->size(), content);
     }
     std::string top_;
+    std::vector<std::string> enums_;
+    std::set<std::string> once_;
 };
 
 // glslang's messages "ERROR: FILE:LINE: ..." with the lines pgt added named for what they
 // are: the call's line as "call", the others as pgt's entry point.
 std::string translateMessages(const std::string& log, const std::string& file, int userLines,
-                              int callLine) {
+                              int callLine, int bodyFirst, int bodyCount) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -111,9 +128,11 @@ std::string translateMessages(const std::string& log, const std::string& file, i
                 const int n = std::stoi(line.substr(prefix.size(), end - prefix.size()));
                 const std::string rest = line.substr(end + (paren ? 1 : 0));
                 // The call's line and the entry's lines around it, which hold its value.
-                if (n >= callLine - 1 && n <= callLine + 1) {
+                if (n >= callLine - 1 && n <= callLine + 1 && bodyCount == 0) {
                     line = file + std::string(": call").append(rest);
                     aboutCall = true;
+                } else if (bodyCount > 0 && n >= bodyFirst && n <= bodyFirst + bodyCount) {
+                    line = file + ": body:" + std::to_string(n - bodyFirst + 1) + rest;
                 } else if (n > userLines)
                     line = "pgt entry point" + rest;
                 else if (paren)
@@ -129,11 +148,62 @@ std::string translateMessages(const std::string& log, const std::string& file, i
     return out.str();
 }
 
-std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& text, int userLines,
-                                       int callLine) {
+// HLSL 2021's select(c, a, b), which glslang 12 lacks (engines built with DXC use it), for
+// float, int and uint scalars and vectors; given to every file but one that defines its own.
+std::string selectFunctions() {
+    std::string out;
+    for (const char* t : {"float", "int", "uint"}) {
+        out += std::string(t) + " select(bool c, " + t + " a, " + t + " b) { return c ? a : b; }\n";
+        for (int n = 2; n <= 4; ++n) {
+            const std::string v = t + std::to_string(n);
+            out += v + " select(bool" + std::to_string(n) + " c, " + v + " a, " + v +
+                   " b) { return " + v + "(";
+            for (int i = 0; i < n; ++i)
+                out += std::string(i ? ", " : "") + "c[" + std::to_string(i) + "] ? a[" +
+                       std::to_string(i) + "] : b[" + std::to_string(i) + "]";
+            out += "); }\n";
+        }
+    }
+    return out;
+}
+
+// Where the parts pgt adds sit in the text glslang compiles (for messages).
+struct TextLines {
+    int user = 0, call = 0, bodyFirst = 0, bodyCount = 0;
+};
+
+// Whether the HLSL source declares `name` at global scope as a texture or sampler (a function
+// parameter of the same name is not a declaration).
+bool declaresGlobal(const std::string& src, const std::string& name) {
+    const std::regex decl(
+        R"((^|[;}\n])\s*(?:uniform\s+)?(?:Texture2D\s*(?:<[^>]*>)?|texture2D|Texture|sampler2D|sampler|SamplerState|SamplerComparisonState)\s+)" +
+        name + R"(\s*(?::\s*register\s*\([^)]*\)\s*)?[;=\[])");
+    return std::regex_search(src, decl);
+}
+
+// The declarations a file leaves to pgt, as glslang's preamble (which moves no line): each
+// named sampler as a Texture2D (a DX9 file's, which names sampler2D, as a sampler2D) and
+// "sampler_state" as a SamplerState, where the file does not declare them (a function that
+// takes them as parameters is called with these).
+std::string declarationsFor(const GlslSpec& spec) {
+    std::string out;
+    const std::string all = spec.source + "\n" + spec.included;
+    const char* type = mentionsIdentifier(all, "sampler2D") ? "sampler2D " : "Texture2D ";
+    for (const std::string& name : spec.samplers)
+        if (!name.empty() && isShaderIdentifier(name) && !declaresGlobal(all, name))
+            out += type + name + ";\n";
+    if (!spec.samplerState.empty() && !declaresGlobal(all, spec.samplerState))
+        out += "SamplerState " + spec.samplerState + ";\n";
+    return out;
+}
+
+std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& text,
+                                       const TextLines& lines) {
     static const bool initialised = glslang::InitializeProcess();
     (void)initialised;
-    std::string preamble;
+    std::string preamble = declarationsFor(spec);
+    if (!std::regex_search(text, std::regex(R"(\b\w+\s+select\s*\([^)]*\)\s*\{)")))
+        preamble += selectFunctions();
     for (const auto& [name, value] : spec.defines)
         preamble += "#define " + name + " " + value + "\n";
     glslang::TShader shader(EShLangFragment);
@@ -149,9 +219,11 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
     shader.setAutoMapBindings(true);
     shader.setAutoMapLocations(true);
-    const auto messages =
-        EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl | EShMsgHlslLegalization);
-    Includer includer(spec.path);
+    // DX9 compatibility: a `sampler2D` global is a texture and sampler in one, read with
+    // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
+    const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
+                                      EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
+    Includer includer(spec.path, spec.enums);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {
@@ -159,11 +231,11 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
         ok = program.link(messages);
     }
     if (!ok)
-        throw InputError(
-            spec.path, "hlsl", "",
-            "the shader does not compile:\n" +
-                translateMessages(std::string(shader.getInfoLog()) + program.getInfoLog(),
-                                  spec.path, userLines, callLine));
+        throw InputError(spec.path, "hlsl", "",
+                         "the shader does not compile:\n" +
+                             translateMessages(
+                                 std::string(shader.getInfoLog()) + program.getInfoLog(), spec.path,
+                                 lines.user, lines.call, lines.bodyFirst, lines.bodyCount));
     std::vector<uint32_t> spirv;
     glslang::SpvOptions options;
     options.disableOptimizer = false;  // HLSL's legalisation (inlining, textures by value)
@@ -176,16 +248,15 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
 // (`1.0 -- x`), and hostile input can make it run or grow without end; either must be an error
 // naming the file, not a crash or a hang of pgt. The child writes 'S' and the SPIR-V words, or
 // 'E' and the error message, to a pipe and exits; it is held to kCompileLimits.
-std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text, int userLines,
-                                     int callLine) {
+std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text,
+                                     const TextLines& lines) {
     std::string in;
     const ChildLimits limits = compileLimits();
     const ChildStatus st = runInChild(
         [&](int fd) {
             std::string out;
             try {
-                const std::vector<uint32_t> words =
-                    compileInProcess(spec, text, userLines, callLine);
+                const std::vector<uint32_t> words = compileInProcess(spec, text, lines);
                 out.assign(1, 'S');
                 out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
             } catch (const std::exception& e) {
@@ -319,11 +390,21 @@ std::string asWrapperPiece(const std::string& glsl) {
 std::string hlslToGlsl(const GlslSpec& spec) {
     std::string user = spec.source;
     if (!user.empty() && user.back() != '\n') user += "\n";
-    const int userLines = countLines(user);
-    const std::string call = spec.call.empty() ? spec.function + "(uv, V)" : spec.call;
-    const std::string text = user + kEntryHead + call + kEntryTail;
-    const int callLine = userLines + countLines(kEntryHead) + 1;
-    return asWrapperPiece(spirvToGlsl(compileToSpirv(spec, text, userLines, callLine), spec.path));
+    TextLines lines;
+    lines.user = countLines(user);
+    std::string text = user + kGlobals;
+    std::string call = spec.call.empty() ? spec.function + "(uv, V)" : spec.call;
+    if (!spec.body.empty()) {
+        text += kBodyHead;
+        lines.bodyFirst = countLines(text) + 1;
+        lines.bodyCount = countLines(spec.body);
+        text += spec.body + "}\n";
+        call = "pgt_body(uv, V)";
+    }
+    text += kEntryHead;
+    lines.call = countLines(text) + 1;
+    text += call + kEntryTail;
+    return asWrapperPiece(spirvToGlsl(compileToSpirv(spec, text, lines), spec.path));
 }
 
 }  // namespace pgt::gl

@@ -43,21 +43,40 @@ std::vector<float> mapTexels(const Texture& t, bool depth) {
     return data;
 }
 
+// The height map's value (h, or d = 1 - h) in the channels of `channels` (GlslSpec::channels),
+// RGBA: the other colour channels 0, A 1 unless named.
+std::vector<float> channelTexels(const Texture& t, bool depth, unsigned channels) {
+    const std::vector<float> v = mapTexels(t, depth);  // 1 channel: the height map's
+    std::vector<float> out(v.size() * 4);
+    for (size_t k = 0; k < v.size(); ++k)
+        for (unsigned c = 0; c < 4; ++c)
+            out[k * 4 + c] = channels & (1u << c) ? v[k] : c == 3 ? 1.0f : 0.0f;
+    return out;
+}
+
 // A map as a texture: R32F (height, or depth d = 1 - h) or RGB32F (Lengyel FGED 2's normal map),
 // bilinear, the map's address mode (docs/model.md §1: texel centres at (i + 0.5) / W, as GL
 // samples). A map with mipmaps (heightfield/mipmaps.h) gets pgt's levels, not
 // glGenerateMipmap's, and trilinear minification (GL_LINEAR_MIPMAP_LINEAR), so that C++ and
 // GL filter alike.
-GLuint uploadMap(const Texture& t, bool depth) {
-    const bool rgb = t.channels >= 3;
-    const GLenum internal = rgb ? GL_RGB32F : GL_R32F, format = rgb ? GL_RGB : GL_RED;
-    GLuint id = makeTexture(internal, format, t.width, t.height, mapTexels(t, depth).data(),
-                            GL_LINEAR, t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
+GLuint uploadMap(const Texture& t, bool depth, unsigned channels) {
+    const bool rgb = t.channels >= 3, rgba = channels != 0 && t.channels == 1;
+    const GLenum internal = rgba  ? GL_RGBA32F
+                            : rgb ? GL_RGB32F
+                                  : GL_R32F,
+                 format = rgba  ? GL_RGBA
+                          : rgb ? GL_RGB
+                                : GL_RED;
+    auto texels = [&](const Texture& level) {
+        return rgba ? channelTexels(level, depth, channels) : mapTexels(level, depth);
+    };
+    GLuint id = makeTexture(internal, format, t.width, t.height, texels(t).data(), GL_LINEAR,
+                            t.address == Address::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE);
     if (!t.mips || t.mips->empty()) return id;
     for (size_t k = 0; k < t.mips->size(); ++k) {
         const Texture& level = (*t.mips)[k];
         glTexImage2D(GL_TEXTURE_2D, GLint(k + 1), GLint(internal), level.width, level.height, 0,
-                     format, GL_FLOAT, mapTexels(level, depth).data());
+                     format, GL_FLOAT, texels(level).data());
     }
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, GLint(t.mips->size()));
@@ -123,11 +142,11 @@ GLuint uploadPyramid(const MinMaxPyramid& p) {
 
 }  // namespace
 
-unsigned GlMapUploads::texture(const Texture& map, bool depth) {
-    auto key = std::make_pair(&map, depth);
+unsigned GlMapUploads::texture(const Texture& map, bool depth, unsigned channels) {
+    auto key = std::make_tuple(&map, depth, channels);
     auto it = ids_.find(key);
     if (it != ids_.end()) return it->second;
-    GLuint id = uploadMap(map, depth);
+    GLuint id = uploadMap(map, depth, channels);
     ids_[key] = id;
     ++gLiveMaps;
     return id;

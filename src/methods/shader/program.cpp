@@ -47,7 +47,16 @@ constexpr const char* kLegacyNames = R"(#define texture2D pgt_texture
 #define texture2DLodEXT pgt_textureLod
 #define texture2DGradEXT pgt_textureGrad
 #define texture2DGradARB pgt_textureGrad
+#define varying
+vec4 pgt_frag_color, pgt_frag_data[8];
+#define gl_FragColor pgt_frag_color
+#define gl_FragData pgt_frag_data
 )";
+
+// A whole fragment shader as an engine ships it has a main() of its own: renamed (it is
+// compiled, never run), so that pgt's main() runs the function.
+constexpr const char* kOwnMain = "#define main pgt_user_main\n";
+constexpr const char* kOwnMainEnd = "#undef main\n";
 
 // Extensions whose functions GLSL 4.50 has built in: their #extension lines are blanked
 // (an #extension after the prelude's code would be refused, and "require" of an ES-only name
@@ -102,6 +111,15 @@ std::string userLines(const std::string& src) {
     return out.str();
 }
 
+int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// Where the entry's "call" (its line) or "body" (its first line and count) sits in the
+// fragment shader, for messages; 0: none.
+struct EntryLines {
+    int call = 0;
+    int bodyFirst = 0, bodyCount = 0;
+};
+
 std::string digitsAt(const std::string& t, size_t& i) {
     size_t start = i;
     while (i < t.size() && t[i] >= '0' && t[i] <= '9') ++i;
@@ -138,10 +156,11 @@ bool driverLine(const std::string& line, std::string& ln, std::string& col, size
 }
 
 // Driver messages with L a line of the whole fragment shader: lines (first, first + count]
-// are the user's file, `callLine` the entry's "call" (0: none) (Mesa does not keep #line's
-// source numbers on every message, so lines are mapped by position).
+// are the user's file, `entry` the lines of the entry's "call" or "body" (Mesa does not keep
+// #line's source numbers on every message, so lines are mapped by position).
 std::string translateLog(const std::string& log, const std::string& file, int first, int count,
-                         int callLine) {
+                         const EntryLines& entry,
+                         const std::vector<GlslSpec::LineOrigin>& origins) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -154,18 +173,26 @@ std::string translateLog(const std::string& log, const std::string& file, int fi
             continue;
         }
         int n = std::stoi(ln);
-        const bool call = callLine > 0 && n >= callLine - 1 && n <= callLine + 1;
+        const bool call = entry.call > 0 && n >= entry.call - 1 && n <= entry.call + 1;
         if (call) {  // no line: the call's own
             out << file << ": call: " << line.substr(i) << "\n";
             aboutCall = true;
             continue;
         }
-        const std::string where = n <= first           ? "pgt prelude"
-                                  : n <= first + count ? file
-                                                       : "pgt wrapper";
+        if (entry.bodyCount > 0 && n >= entry.bodyFirst && n <= entry.bodyFirst + entry.bodyCount) {
+            out << file << ": body:" << (n - entry.bodyFirst + 1) << ": " << line.substr(i) << "\n";
+            continue;
+        }
+        std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
         if (where == "pgt wrapper" && line.find("warning") != std::string::npos)
             continue;  // e.g. an uninitialised result after a call that did not compile
-        if (n > first && n <= first + count) n -= first;
+        if (n > first && n <= first + count) {
+            n -= first;
+            if (size_t(n) <= origins.size()) {  // a line of an #included file
+                where = origins[size_t(n) - 1].file;
+                n = origins[size_t(n) - 1].line;
+            }
+        }
         out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
             << "\n";
     }
@@ -175,8 +202,6 @@ std::string translateLog(const std::string& log, const std::string& file, int fi
                "shader's own names\n";
     return out.str();
 }
-
-int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
 // A shader's or program's info log (glGet{Shader,Program}iv + ...InfoLog).
 template <class GetIv, class GetLog>
@@ -193,7 +218,7 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
 template <class GetIv, class GetLog, class Delete>
 void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
                    const std::string& file, const char* verb, int userFirst, int userCount,
-                   int callLine) {
+                   const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins) {
     GLint ok = 0;
     getIv(object, status, &ok);
     if (ok) return;
@@ -201,18 +226,19 @@ void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Del
     remove(object);
     throw InputError(file, "glsl", "",
                      std::string("the shader does not ") + verb + ":\n" +
-                         translateLog(log, file, userFirst, userCount, callLine));
+                         translateLog(log, file, userFirst, userCount, entry, origins));
 }
 
 // `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
-               int userCount = 1 << 30, int callLine = 0) {
+               int userCount = 1 << 30, const EntryLines& entry = {},
+               const std::vector<GlslSpec::LineOrigin>& origins = {}) {
     GLuint s = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
     glCompileShader(s);
     requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, file,
-                  "compile", userFirst, userCount, callLine);
+                  "compile", userFirst, userCount, entry, origins);
     return s;
 }
 
@@ -239,7 +265,7 @@ bool declaresSampler(const std::string& src, const std::string& name) {
 // SPIRV-Cross's GLSL of it), and the glue that calls it.
 struct Pieces {
     std::string prelude, user, glue, function;
-    int callLineInGlue = 0;  // the call's line, counted from the glue's first line
+    EntryLines entry;  // counted from the glue's first line
 };
 
 // "call": the expression on a line of its own (a message on it or on the lines around it names
@@ -258,10 +284,26 @@ constexpr const char* kCallTail = R"(
     return pgt_r;
 }
 )";
+// "body": the same function with the entry's statements as its own.
+constexpr const char* kBodyHead = R"(uniform float pgt_s;
+uniform float pgt_b;
+vec2 pgt_call(vec2 uv, vec3 V) {
+    const vec3 N = vec3(0.0, 0.0, 1.0);
+    float s = pgt_s;
+    float b = pgt_b;
+)";
+
+// "api": "gl": the framebuffer's y runs up, as in OpenGL and WebGL; pgt draws with y down
+// (the image's rows), so a shader's y derivatives are turned round.
+constexpr const char* kGlY = R"(#define dFdy(p) (-(dFdy(p)))
+#define dFdyFine(p) (-(dFdyFine(p)))
+#define dFdyCoarse(p) (-(dFdyCoarse(p)))
+)";
 
 Pieces wrapperPieces(const GlslSpec& spec) {
     Pieces p;
-    p.prelude = std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "");
+    p.prelude = std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "") +
+                (spec.api == GlslSpec::Api::Gl ? kGlY : "");
     if (spec.hlsl) {  // defines and samplers are the HLSL compiler's
         p.user = hlslToGlsl(spec);
         p.function = kHlslCall;
@@ -273,10 +315,20 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     for (const auto& [name, value] : spec.defines)
         p.prelude += "#define " + name + " " + value + "\n";
     p.user = spec.source;
+    if (std::regex_search(spec.source, std::regex(R"(\bvoid\s+main\s*\()"))) {
+        p.prelude += kOwnMain;
+        p.glue = kOwnMainEnd;
+    }
     p.function = spec.function;
     if (!spec.call.empty()) {
-        p.glue = std::string(kCallHead) + spec.call + kCallTail;
-        p.callLineInGlue = countLines(kCallHead) + 1;
+        p.entry.call = countLines(p.glue + kCallHead) + 1;
+        p.glue += std::string(kCallHead) + spec.call + kCallTail;
+        p.function = "pgt_call";
+    }
+    if (!spec.body.empty()) {
+        p.entry.bodyFirst = countLines(p.glue + kBodyHead) + 1;
+        p.glue += std::string(kBodyHead) + spec.body + "}\n";
+        p.entry.bodyCount = countLines(spec.body);
         p.function = "pgt_call";
     }
     return p;
@@ -293,25 +345,35 @@ std::map<std::string, Program> gPrograms;
 
 GLuint programFor(const GlslSpec& spec) {
     std::string key = spec.path + "\n" + spec.function + "\n" + spec.version + "\n" +
-                      (spec.hlsl ? "hlsl" : "glsl") + "\n" + spec.call + "\n";
+                      (spec.hlsl ? "hlsl" : "glsl") + "\n" + spec.call + "\n" + spec.body + "\n" +
+                      spec.samplerState + "\n" + (spec.api == GlslSpec::Api::Gl ? "gl" : "d3d") +
+                      "\n";
     for (const auto& [name, value] : spec.defines) key += name + "=" + value + "\n";
     for (const std::string& name : spec.samplers) key += name + "\n";
     key += spec.source;
     auto it = gPrograms.find(key);
     if (it != gPrograms.end()) return it->second.id;
-    if (!spec.hlsl && spec.call.empty() && !isShaderIdentifier(spec.function))
+    if (!spec.hlsl && spec.call.empty() && spec.body.empty() && !isShaderIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     checkDialect(spec);
     const Pieces pieces = wrapperPieces(spec);
     const std::string& prelude = pieces.prelude;
     const std::string user = userLines(pieces.user);
     const int first = countLines(prelude), count = countLines(user);
-    const int callLine = spec.call.empty() || spec.hlsl ? 0 : first + count + pieces.callLineInGlue;
+    EntryLines entry;  // in the fragment shader
+    if (!spec.hlsl) {
+        const int glueAt = first + count;
+        if (pieces.entry.call) entry.call = glueAt + pieces.entry.call;
+        if (pieces.entry.bodyCount)
+            entry = {0, glueAt + pieces.entry.bodyFirst, pieces.entry.bodyCount};
+    }
     std::string fs =
         prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
     checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
-    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, callLine);
+    const std::vector<GlslSpec::LineOrigin> none;
+    const auto& origins = spec.hlsl ? none : spec.origins;
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, entry, origins);
     GLuint prog = glCreateProgram();
     glAttachShader(prog, vs);
     glAttachShader(prog, f);
@@ -319,7 +381,7 @@ GLuint programFor(const GlslSpec& spec) {
     glDeleteShader(vs);
     glDeleteShader(f);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                  spec.path, "link", first, count, callLine);
+                  spec.path, "link", first, count, entry, origins);
     gPrograms[key] = {prog};
     return prog;
 }

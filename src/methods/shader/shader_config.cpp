@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <regex>
 #include <sstream>
 
 #include "core/format.h"
@@ -16,6 +17,7 @@
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_spec.h"
+#include "methods/shader/source_text.h"
 
 namespace pgt {
 
@@ -74,16 +76,6 @@ std::vector<GlslSpec::Uniform> parseUniforms(JsonFields& f) {
     return out;
 }
 
-// Whether `word` appears in `text` as a whole identifier.
-bool mentions(const std::string& text, const std::string& word) {
-    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    for (size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1))
-        if ((at == 0 || !identChar(text[at - 1])) &&
-            (at + word.size() == text.size() || !identChar(text[at + word.size()])))
-            return true;
-    return false;
-}
-
 // "texture": the names of GlslSpec::Layout, in its order.
 const std::vector<std::string>& layoutNames() {
     static const std::vector<std::string> names = {"height", "depth", "normal+height",
@@ -93,6 +85,97 @@ const std::vector<std::string>& layoutNames() {
 GlslSpec::Layout layoutNamed(const std::string& name) {
     const auto& n = layoutNames();
     return GlslSpec::Layout(std::find(n.begin(), n.end(), name) - n.begin());
+}
+
+// "texture": a layout, or "height.C" / "depth.C" with C one to four of r, g, b, a in that
+// order (the channels that hold the value; "height.r" is "height").
+void readTexture(JsonFields& f, GlslSpec& spec) {
+    const std::string text = f.string("texture", "height");
+    const size_t dot = text.find('.');
+    const std::string layout = text.substr(0, dot);
+    const auto& names = layoutNames();
+    if (std::find(names.begin(), names.end(), layout) == names.end() ||
+        (dot != std::string::npos && layout != "height" && layout != "depth"))
+        f.failValue("texture", Json(text),
+                    "expected one of " + joinNames(names) +
+                        ", or height.C / depth.C with C the channels that hold it (r, g, b, a "
+                        "in that order: \"height.g\", \"depth.a\", \"height.rgb\")");
+    spec.layout = layoutNamed(layout);
+    if (dot == std::string::npos) return;
+    const std::string channels = text.substr(dot + 1);
+    const std::string order = "rgba";
+    size_t last = 0;
+    bool ok = !channels.empty();
+    for (char c : channels) {
+        const size_t at = order.find(c);
+        ok = ok && at != std::string::npos && (spec.channels == 0 || at > last);
+        if (!ok) break;
+        spec.channels |= 1u << at;
+        last = at;
+    }
+    if (!ok)
+        f.failValue("texture", Json(text),
+                    "the channels after the dot are one to four of r, g, b, a, in that order");
+    if (spec.channels == 1) spec.channels = 0;  // R only: the R32F texture of "height"
+}
+
+std::string textureName(const GlslSpec& g) {
+    std::string name = layoutNames()[size_t(g.layout)];
+    if (g.channels == 0) return name;
+    name += '.';
+    for (int c = 0; c < 4; ++c)
+        if (g.channels & (1u << c)) name += "rgba"[c];
+    return name;
+}
+
+void checkShaderLine(JsonFields& f, const std::string& field, const std::string& text);
+
+// "body": statements ending in a return, as a string (lines split at line breaks) or an
+// array of lines; each line is checked as a call is, but for its breaks.
+std::string readBody(JsonFields& f) {
+    const Json& raw = f.raw("body");
+    std::vector<std::string> lines;
+    if (raw.is_string()) {
+        std::istringstream in(normaliseLineEnds(raw.get<std::string>()));
+        for (std::string line; std::getline(in, line);) lines.push_back(line);
+    } else if (raw.is_array() && !raw.empty()) {
+        for (const Json& l : raw) {
+            if (!l.is_string()) f.fail("body", "expected a string or an array of lines (strings)");
+            lines.push_back(l.get<std::string>());
+        }
+    } else {
+        f.fail("body", "expected a string or an array of lines (strings)");
+    }
+    std::string body;
+    for (const std::string& line : lines) {
+        checkShaderLine(f, "body", line);
+        body += line + "\n";
+    }
+    if (!mentionsIdentifier(body, "return"))
+        f.failValue("body", raw, "has no return: it ends in return <uv'>; (a 2-vector)");
+    return body;
+}
+
+// A call `F(...)` of a function that the file declares only as void (it answers through
+// out/inout parameters) would fail in the compiler with a message about pgt's wrapper.
+void checkCallNotVoid(JsonFields& f, const GlslSpec& spec) {
+    static const std::regex head(R"(^\s*([A-Za-z_]\w*)\s*\()");
+    std::smatch m;
+    if (!std::regex_search(spec.call, m, head)) return;
+    const std::regex declared("\\b([A-Za-z_]\\w*)\\s+" + m[1].str() + "\\s*\\(");
+    bool voidOnly = false;
+    for (auto it = std::sregex_iterator(spec.source.begin(), spec.source.end(), declared);
+         it != std::sregex_iterator(); ++it) {
+        const std::string type = (*it)[1].str();
+        if (type == "return" || type == "else") continue;  // a call, not a declaration
+        if (type != "void") return;
+        voidOnly = true;
+    }
+    if (voidOnly)
+        f.failValue("call", Json(spec.call),
+                    m[1].str() + " returns void in " + spec.path +
+                        " (it answers through out/inout parameters): write \"body\" instead, "
+                        "statements that call it and end in return <uv'>;");
 }
 
 // A define's value and a call are each one line of shader text placed into pgt's wrapper: a
@@ -216,8 +299,7 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     const std::string key = spec->hlsl ? "hlsl" : "glsl";
     if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
     spec->path = shaderPath(f, key, file);
-    // A shader is a few KB; 16 MiB bounds a stray file.
-    spec->source = readTextFile(spec->path, file, f.fieldPath(key), "shader file", 16u << 20);
+    readShaderSource(*spec, file, f.fieldPath(key));
     spec->function = f.string("function", "ParallaxMapping");
     if (spec->hlsl && f.has("version"))
         f.fail("version", "names a GLSL dialect; an HLSL method has none");
@@ -228,13 +310,27 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     for (const MapKindInfo& m : kMapKindTable)
         spec->samplers[size_t(m.kind)] =
             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
-    spec->layout = layoutNamed(f.choice("texture", layoutNames(), "height"));
+    readTexture(f, *spec);
     spec->call = f.string("call", "");
     checkShaderLine(f, "call", spec->call);
+    if (f.has("body")) {
+        if (f.has("call")) f.fail("body", "a method has \"call\" or \"body\", not both");
+        spec->body = readBody(f);
+    }
+    checkCallNotVoid(f, *spec);
+    spec->samplerState = f.string("sampler_state", "");
+    if (!spec->samplerState.empty() && (!spec->hlsl || !isShaderIdentifier(spec->samplerState)))
+        f.failValue("sampler_state", Json(spec->samplerState),
+                    spec->hlsl ? "is not an HLSL identifier"
+                               : "names an HLSL SamplerState; a GLSL sampler2D is \"sampler\"");
+    spec->api = spec->hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
+    if (f.has("api"))
+        spec->api =
+            f.choice("api", {"gl", "d3d"}, "") == "gl" ? GlslSpec::Api::Gl : GlslSpec::Api::D3d;
     if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     spec->stepsUniform = f.string("steps_uniform", "");
-    if (!spec->stepsUniform.empty() && !mentions(spec->source, spec->stepsUniform))
+    if (!spec->stepsUniform.empty() && !mentionsIdentifier(spec->source, spec->stepsUniform))
         f.fail("steps_uniform",
                "the shader " + spec->path + " has no uniform \"" + spec->stepsUniform + "\"");
     cfg.discardOutside = f.boolean("discard_outside", false);
@@ -256,10 +352,11 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         throw InputError(file, field, shortDump(value), message);
     };
     if (param == "scale" || param == "bias") {
-        if (cfg.shader() && !cfg.shader()->takesScale())
+        if (cfg.shader() && !cfg.shader()->reaches(param))
             fail("the method's own " + param + " would not reach " + cfg.shader()->path +
-                 ": no uniform is bound to \"scale\"/\"bias\" and there is no call (a "
-                 "preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
+                 ": no uniform is bound to \"" + param + "\" and no call or body names " +
+                 (param == "scale" ? "s" : "b") +
+                 " (a preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
                  "docs/methods.md)");
         if (!value.is_number() || !std::isfinite(value.get<double>()) ||
             std::abs(value.get<double>()) > kMaxOwnDisplacement)
@@ -278,7 +375,7 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
                            [&](const GlslSpec::Uniform& u) { return u.name == name; });
     if (it != spec->uniforms.end())
         *it = un;
-    else if (mentions(spec->source, name))
+    else if (mentionsIdentifier(spec->source, name))
         spec->uniforms.push_back(un);
     else
         fail("the shader " + spec->path + " has no uniform \"" + name + "\"");
@@ -295,15 +392,18 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
 // the SHA-1 of its text.
 void shaderJson(const GlslSpec& g, Json& j) {
     j[g.hlsl ? "hlsl" : "glsl"] = g.path;
-    if (g.call.empty()) j["function"] = g.function;
+    if (g.call.empty() && g.body.empty()) j["function"] = g.function;
     // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
     if (!g.hlsl && g.version != "110") j["version"] = g.version;
     // Every sampler it names (the height map's always: "" says it reads none).
     for (const MapKindInfo& m : kMapKindTable)
         if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
             j[m.samplerKey] = g.sampler(m.kind);
-    j["texture"] = layoutNames()[size_t(g.layout)];
+    j["texture"] = textureName(g);
     if (!g.call.empty()) j["call"] = g.call;
+    if (!g.body.empty()) j["body"] = g.body;
+    if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
+    if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
     Json u = Json::object();
@@ -348,7 +448,7 @@ MethodConfig glslTwin(const MethodConfig& builtIn) {
     const GlslTwin& twin = info.twin;
     auto spec = std::make_shared<GlslSpec>();
     spec->path = (std::filesystem::path(shaderDir()) / twin.file).lexically_normal().string();
-    spec->source = readTextFile(spec->path, spec->path, "glsl", "shader file", 16u << 20);
+    readShaderSource(*spec, spec->path, "glsl");
     spec->function = twin.function;
     spec->version = versionOfSource(*spec);
     for (const MapKindInfo& m : kMapKindTable)
