@@ -95,6 +95,34 @@ TEST(Fit, HlslMethodIsFittedLikeTheBuiltIn) {
         hlsl.best["bias"].get<double>());
 }
 
+// A call that reads s but not b: the fit varies the scale alone and reports no bias (a "best"
+// b would be a number the shader never sees); the same HLSL file called with b gets one.
+TEST(Fit, OnlyWhatReachesTheShaderIsFitted) {
+    const std::string pom = test::testDataDir() + "/hlsl/pom_twin.hlsl";
+    auto entry = [&](const char* name, const char* uniforms) {
+        return std::string(R"({"name": ")") + name + R"(", "hlsl": ")" + pom +
+               R"(", "function": "ParallaxOcclusion", "sampler": "heightMap", "uniforms": )" +
+               uniforms + "}";
+    };
+    Scene s = fitScene(R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})",
+                       R"({"theta": [30, 50], "resolution": [32, 32],
+                           "scale_factors": [0.5, 1, 1.5], "bias_ratios": [-0.75, -0.25],
+                           "refine": 1, "methods": [)" +
+                           entry("scale_only", R"({"height_scale": "scale", "height_bias": -0.03,
+                                                    "min_layers": 32, "max_layers": 32})") +
+                           ", " + entry("both", R"({"height_scale": "scale", "height_bias": "bias",
+                                              "min_layers": 32, "max_layers": 32})") +
+                           "]}");
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 2u);
+    EXPECT_TRUE(r.methods[0].best.contains("scale")) << r.methods[0].best.dump();
+    EXPECT_FALSE(r.methods[0].best.contains("bias")) << r.methods[0].best.dump();
+    EXPECT_TRUE(r.methods[1].best.contains("bias")) << r.methods[1].best.dump();
+    // Each bias ratio of the grid gives the scale-only method the same score: only the
+    // scale factors (and the refinement's) are candidates.
+    EXPECT_LT(r.methods[0].candidates, r.methods[1].candidates);
+}
+
 TEST(Fit, BadFitBlockNamesTheField) {
     EXPECT_THROW(
         runFit(fitScene(R"({"procedural": "constant"})", R"({"objectiv": "mean"})"), false),

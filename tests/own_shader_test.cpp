@@ -94,9 +94,95 @@ TEST(OwnShader, Es100HeightInTheNormalMapsAlphaEqualsPom) {
     pom.expectEqual(entry, "pom_alpha_es100.glsl, LEFT_HANDED_VIEW");
 }
 
+// Engines' files as they ship, in each style of docs/methods.md "Your engine's file" (pgt's own
+// files in those styles, tests/data): each equals the built-in pom with a scene entry only.
+// DX9 / Cg HLSL: a sampler2D global read with tex2Dlod; the file has a UTF-8 byte-order mark
+// and CRLF line ends.
+TEST(EngineFiles, Dx9SamplerWithByteOrderMarkAndCrlfEqualsPom) {
+    std::ifstream raw(data("hlsl/pom_dx9.hlsl"), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(raw)), {});
+    ASSERT_EQ(bytes.rfind("\xEF\xBB\xBF", 0), 0u);  // the file is as a Windows editor saves it
+    ASSERT_NE(bytes.find("\r\n"), std::string::npos);
+    PomCheck pom;
+    pom.expectEqual({{"name", "dx9"},
+                     {"hlsl", data("hlsl/pom_dx9.hlsl")},
+                     {"function", "ParallaxOcclusion"},
+                     {"sampler", "heightMap"},
+                     {"uniforms",
+                      {{"height_scale", "scale"},
+                       {"height_bias", "bias"},
+                       {"min_layers", 8.0},
+                       {"max_layers", 32.0}}}},
+                    "pom_dx9.hlsl");
+}
+
+// A function that answers through an inout float4 and takes its texture and sampler as
+// parameters (the sampler defaulting to a global), with enums and an include with
+// #pragma once: run through "body", the texture declared by pgt.
+TEST(EngineFiles, InoutFunctionThroughABodyEqualsPom) {
+    PomCheck pom;
+    pom.expectEqual(
+        {{"name", "inout"},
+         {"hlsl", data("hlsl/pom_inout.hlsl")},
+         {"sampler", "heightTex"},
+         {"body",
+          {"float4 uvsets = uv.xyxy;",
+           "ParallaxOcclusion_Impl(uvsets, V, s, b, 8.0, 32.0, heightTex);", "return uvsets.zw;"}}},
+        "pom_inout.hlsl, body");
+    // The same with the sampler passed: "sampler_state" names the one pgt declares.
+    pom.expectEqual(
+        {{"name", "inout"},
+         {"hlsl", data("hlsl/pom_inout.hlsl")},
+         {"sampler", "heightTex"},
+         {"sampler_state", "mySampler"},
+         {"body",
+          "float4 uvsets = uv.xyxy;\nParallaxOcclusion_Impl(uvsets, V, s, b, 8.0, 32.0, heightTex, "
+          "4u, mySampler);\nreturn uvsets.xy;"}},
+        "pom_inout.hlsl, body with the sampler");
+}
+
+// GLSL split over files with #include (one file included twice, kept once by #pragma once),
+// the height in G ("texture": "height.g"), a byte-order mark and CRLF.
+TEST(EngineFiles, GlslIncludeAndHeightInGreenEqualPom) {
+    PomCheck pom;
+    pom.expectEqual({{"name", "inc"},
+                     {"glsl", data("glsl/pom_include.glsl")},
+                     {"function", "ParallaxOcclusion"},
+                     {"sampler", "packedMap"},
+                     {"texture", "height.g"},
+                     {"uniforms",
+                      {{"height_scale", "scale"},
+                       {"height_bias", "bias"},
+                       {"min_layers", 8.0},
+                       {"max_layers", 32.0}}}},
+                    "pom_include.glsl, height.g");
+}
+
+// A whole GL 2 fragment shader (varyings, gl_FragColor, its own main()), whose parallax is
+// statements in main(): the same statements in "body".
+TEST(EngineFiles, WholeFragmentShaderThroughABodyEqualsPom) {
+    PomCheck pom;
+    pom.expectEqual(
+        {{"name", "whole"},
+         {"glsl", data("glsl/whole_frag.glsl")},
+         {"sampler", "uHeightMap"},
+         {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
+         {"body",
+          {"uv = uv + V.xy / V.z * (uHeightScale + uHeightBias);",
+           "float numLayers = mix(32.0, 8.0, abs(V.z));",
+           "vec2 delta = V.xy / V.z * uHeightScale / numLayers;",
+           "float depth = depthAt(uv), layer = 0.0;", "while (layer < depth) {", "    uv -= delta;",
+           "    depth = depthAt(uv);", "    layer += 1.0 / numLayers;", "}",
+           "vec2 prev = uv + delta;",
+           "float after = depth - layer, before = depthAt(prev) - layer + 1.0 / numLayers;",
+           "return mix(uv, prev, after / (after - before));"}}},
+        "whole_frag.glsl, body");
+}
+
 // Every channel of every layout, read at texel centres (no filtering): R = h or 1 - h for
 // "height" and "depth" (G, B = 0, A = 1 as GL reads R32F), RGB = 0.5 + 0.5 m and A = h or
-// 1 - h for the normal layouts, m being the normal map of the case's s and b.
+// 1 - h for the normal layouts, m being the normal map of the case's s and b; "height.C" and
+// "depth.C" the value in the channels C, the others R, G, B 0 and A 1.
 TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
     const auto dir = std::filesystem::temp_directory_path() / "pgt_own_shader_layouts";
     std::filesystem::create_directories(dir);
@@ -115,9 +201,12 @@ TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
         texel[k] = size_t(y) * 32 + size_t(x);
         in.uv0[k] = Vec2f((float(x) + 0.5f) / 32, (float(y) + 0.5f) / 32);
     }
-    for (const char* layout : {"height", "depth", "normal+height", "normal+depth"}) {
+    for (const char* layout : {"height", "depth", "normal+height", "normal+depth", "height.g",
+                               "depth.a", "height.rgb", "depth.rb", "height.rgba"}) {
         const bool normal = std::string(layout).rfind("normal", 0) == 0;
         const bool depth = std::string(layout).find("depth") != std::string::npos;
+        const size_t dot = std::string(layout).find('.');
+        const std::string channels = dot == std::string::npos ? "" : layout + dot + 1;
         for (int pair = 0; pair < 2; ++pair) {
             const MethodConfig m = method({{"name", "channels"},
                                            {"glsl", file},
@@ -130,6 +219,11 @@ TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
             for (size_t k = 0; k < in.uv0.size(); ++k) {
                 const float h = t.texels[texel[k]], a = depth ? 1.0f - h : h;
                 float want[4] = {a, 0.0f, 0.0f, 1.0f};
+                if (!channels.empty())  // the named channels hold it, the others R, G, B 0, A 1
+                    for (int c = 0; c < 4; ++c)
+                        want[c] = channels.find("rgba"[c]) != std::string::npos ? a
+                                  : c == 3                                      ? 1.0f
+                                                                                : 0.0f;
                 if (normal)
                     for (int c = 0; c < 4; ++c)
                         want[c] =
@@ -249,13 +343,47 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
         << e;
     e = errorOf({{"name", "v"}, {"hlsl", bad}, {"version", "300 es"}});
     EXPECT_NE(e.find("version"), std::string::npos) << e;
+    // A void function as a call: the message says so and names "body".
+    const std::string inout = data("hlsl/pom_inout.hlsl");
+    e = errorOf({{"name", "v"}, {"hlsl", inout}, {"call", "ParallaxOcclusion_Impl(uv, V)"}});
+    EXPECT_NE(e.find("returns void"), std::string::npos) << e;
+    EXPECT_NE(e.find("\"body\""), std::string::npos) << e;
+    // A body without a return; a body and a call; a body's error names its line.
+    e = errorOf({{"name", "b"}, {"hlsl", inout}, {"body", "float2 x = uv;"}});
+    EXPECT_NE(e.find("has no return"), std::string::npos) << e;
+    e = errorOf({{"name", "b"}, {"hlsl", inout}, {"body", "return uv;"}, {"call", "uv"}});
+    EXPECT_NE(e.find("not both"), std::string::npos) << e;
+    e = errorOf({{"name", "b"}, {"glsl", pom}, {"body", {"vec2 x = uv;", "return nosuch;"}}});
+    EXPECT_NE(e.find(pom + ": body:2:"), std::string::npos) << e;
+    e = errorOf({{"name", "b"}, {"hlsl", inout}, {"body", {"float2 x = uv;", "return nosuch;"}}});
+    EXPECT_NE(e.find(inout + ": body:2"), std::string::npos) << e;
+    // Channels only of "height" and "depth", in r, g, b, a order; sampler_state is HLSL's.
+    for (const char* texture : {"normal+height.a", "height.gr", "height.x", "height."}) {
+        e = errorOf({{"name", "c"}, {"glsl", pom}, {"texture", texture}});
+        EXPECT_NE(e.find("texture"), std::string::npos) << texture << ": " << e;
+    }
+    e = errorOf({{"name", "c"}, {"glsl", pom}, {"sampler_state", "s"}});
+    EXPECT_NE(e.find("sampler_state"), std::string::npos) << e;
+    // A GLSL file that includes itself stops at the depth limit, naming the file; an included
+    // file's error names that file and its own line.
+    const std::string self = (dir / "self.glsl").string();
+    std::ofstream(self) << "#include \"self.glsl\"\nvec2 F(vec2 uv, vec3 V) { return uv; }\n";
+    e = errorOf({{"name", "s"}, {"glsl", self}, {"function", "F"}});
+    EXPECT_NE(e.find("self.glsl"), std::string::npos) << e;
+    EXPECT_NE(e.find("includes nest more than 32 deep"), std::string::npos) << e;
+    std::ofstream(dir / "part.glsl") << "// a helper\nfloat helper() { return nosuch; }\n";
+    const std::string top = (dir / "top.glsl").string();
+    std::ofstream(top) << "#include \"part.glsl\"\nvec2 F(vec2 uv, vec3 V) { return uv; }\n";
+    e = errorOf({{"name", "t"}, {"glsl", top}, {"function", "F"}, {"sampler", ""}});
+    EXPECT_NE(e.find((dir / "part.glsl").string() + ":2:"), std::string::npos) << e;
     std::filesystem::remove_all(dir);
 }
 
 // The silent mistakes of docs/outputs.md "Warnings", each made on purpose: a shader that
 // gives uv back, one that reads the (always 1) alpha of the height layout, one with V's sign
-// flipped on a relief below the polygon, one that normalises V.xy (NaN head-on); the
-// built-ins, right on the same frames, get none.
+// flipped on a relief below the polygon, one that normalises V.xy (NaN head-on), one that
+// marches the wrong way twice as far (worse than no parallax); the built-ins, right on the
+// same frames, get none.
 TEST(OwnShader, SilentMistakesAreWarned) {
     const auto dir = test::tempDir("own_shader_warnings");
     const std::string head =
@@ -264,7 +392,8 @@ TEST(OwnShader, SilentMistakesAreWarned) {
         {"same", "    return uv - V.xy / V.z * 0.05 * texture(depthMap, uv).g;\n}\n"},
         {"alpha", "    return uv - V.xy / V.z * 0.05 * texture(depthMap, uv).a;\n}\n"},
         {"flipped", "    return uv + V.xy / V.z * 0.05 * (1.0 - texture(depthMap, uv).r);\n}\n"},
-        {"headon", "    return uv - normalize(V.xy) * 0.01 * texture(depthMap, uv).r;\n}\n"}};
+        {"headon", "    return uv - normalize(V.xy) * 0.01 * texture(depthMap, uv).r;\n}\n"},
+        {"inverted", "    return uv + V.xy / V.z * 0.1 * texture(depthMap, uv).r;\n}\n"}};
     nlohmann::json entries = {"none", "parallax", "pom"};
     for (const auto& [name, body] : bodies) {
         std::ofstream(dir / (name + ".glsl")) << head << body;
@@ -287,10 +416,11 @@ TEST(OwnShader, SilentMistakesAreWarned) {
     EXPECT_EQ(oblique.at("alpha"), "constant_offset");
     EXPECT_EQ(oblique.at("flipped"), "toward_eye");
     EXPECT_EQ(oblique.at("headon"), "");
+    EXPECT_EQ(oblique.at("inverted"), "toward_eye;worse_than_none");
     for (const char* fine : {"none", "parallax", "pom"}) EXPECT_EQ(oblique.at(fine), "") << fine;
     const auto headOn = kinds(0);
     EXPECT_EQ(headOn.at("headon"), "nonfinite_head_on");
-    for (const char* fine : {"none", "parallax", "pom", "same", "alpha", "flipped"})
+    for (const char* fine : {"none", "parallax", "pom", "same", "alpha", "flipped", "inverted"})
         EXPECT_EQ(headOn.at(fine), "") << fine;  // nothing to see without V.xy
 }
 

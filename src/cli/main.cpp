@@ -151,10 +151,16 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
                         m.method.c_str(), m.steps, "-", "-", "-", "-", m.nativeObjective);
             continue;
         }
-        double sc = m.best.value("scale", scene.displacement.scale);
-        double bi = m.best.value("bias", scene.displacement.bias);
-        std::printf("%-16s %5d %10.5f %10.5f %10.4f %10.4f %10.4f\n", m.method.c_str(), m.steps, sc,
-                    bi, m.bestObjective, m.bestP90, m.nativeObjective);
+        // A parameter that does not reach the shader is not fitted: "-" (fit.json leaves it out).
+        auto shown = [&](const char* key) {
+            char text[32] = "-";
+            if (m.best.contains(key))
+                std::snprintf(text, sizeof text, "%.5f", m.best[key].get<double>());
+            return std::string(text);
+        };
+        std::printf("%-16s %5d %10s %10s %10.4f %10.4f %10.4f\n", m.method.c_str(), m.steps,
+                    shown("scale").c_str(), shown("bias").c_str(), m.bestObjective, m.bestP90,
+                    m.nativeObjective);
     }
     std::printf(
         "objective: %s UV error in texels averaged over %zu view angles; "

@@ -4,18 +4,26 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compare/statistics.h"
 #include "core/format.h"
 
 namespace pgt {
 
 void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view,
-                       const Image2D<MethodPixel>& pixels) {
+                       const Image2D<MethodPixel>& pixels, const Image2D<TruthSample>* truth,
+                       ErrorMetric metric) {
     for (size_t k = 0; k < frags.size(); ++k) {
         const MethodPixel& p = pixels.data[size_t(frags.pixel[k])];
         if (!p.covered) continue;
         const Vec3d v = view[k];
         const double lateral = std::hypot(v.x, v.y);
         const bool finite = std::isfinite(p.uv.x) && std::isfinite(p.uv.y);
+        if (truth && finite && truth->data[size_t(frags.pixel[k])].hit) {
+            const Vec2d t = truth->data[size_t(frags.pixel[k])].uv;
+            ++compared_;
+            errSum_ += uvErrorTexels(p.uv, t, metric.width, metric.height, metric.address);
+            noneSum_ += uvErrorTexels(frags.uv0[k], t, metric.width, metric.height, metric.address);
+        }
         if (lateral == 0) {
             ++headOn_;
             headOnNonfinite_ += !finite;
@@ -62,6 +70,17 @@ std::vector<MethodWarning> MethodChecks::finish() const {
                                          " UV along V.xy) where the relief lies below the "
                                          "polygon, which the eye ray reaches beyond uv0: check "
                                          "the sign of V"});
+    // Worse than giving uv0 back, by more than a texel and a tenth: the offsets run the wrong
+    // way (a depth map read as a height map or the reverse, a scale of the wrong sign).
+    const double mean = compared_ > 0 ? errSum_ / double(compared_) : 0,
+                 none = compared_ > 0 ? noneSum_ / double(compared_) : 0;
+    if (c_.userCode && c_.displaced && !c_.skipNoOffset && mean > 1.1 * none + 1.0)
+        out.push_back({"worse_than_none",
+                       "its mean error (" + formatNumber(mean, 4) +
+                           " texels) is above no parallax's (" + formatNumber(none, 4) +
+                           ") on this view: is the map read the wrong way round (\"texture\": "
+                           "\"height\" for a depth map or \"depth\" for a height map), or the "
+                           "scale's sign?"});
     if (headOnNonfinite_ > 0)
         out.push_back({"nonfinite_head_on",
                        std::to_string(headOnNonfinite_) + " of " + std::to_string(headOn_) +

@@ -1,7 +1,8 @@
 // Silent mistakes a method's output shows on one frame (docs/outputs.md "Warnings"): a
 // shader that gives uv0 back everywhere, one whose offset does not depend on the map, one
 // whose offsets point toward the eye where the relief lies below the polygon (the sign of V),
-// and non-finite uv' at an exactly head-on view. Warnings never fail a run: they go to
+// one whose error is above no parallax's (uv0's) on the frame (a height read as a depth or the
+// reverse), and non-finite uv' at an exactly head-on view. Warnings never fail a run: they go to
 // stderr, summary.json and results.csv beside the statistics.
 #pragma once
 
@@ -10,12 +11,14 @@
 
 #include "core/image.h"
 #include "core/samples.h"
+#include "heightfield/texture.h"
 #include "raster/fragment_list.h"
 
 namespace pgt {
 
 struct MethodWarning {
-    std::string kind;  // "no_offset", "constant_offset", "toward_eye", "nonfinite_head_on"
+    // "no_offset", "constant_offset", "toward_eye", "worse_than_none", "nonfinite_head_on"
+    std::string kind;
     std::string text;  // one line, without the method's label
 };
 
@@ -25,14 +28,23 @@ struct CheckContext {
     bool below = false;         // the true relief lies under the polygon: s h + b <= 0 for all h
     bool mapVaries = false;     // the height map is not constant
     bool skipNoOffset = false;  // "none": gives uv0 back by definition (no offset checks)
+    bool userCode = false;      // a shader or preset (worse_than_none is asked of these)
+};
+
+// The map a band's errors are measured on (compare/statistics.h uvErrorTexels).
+struct ErrorMetric {
+    int width = 1, height = 1;
+    Address address = Address::Repeat;
 };
 
 // Fed band by band with the fragments and the method's pixels (V as the method got it).
 class MethodChecks {
   public:
     explicit MethodChecks(CheckContext c = {}) : c_(c) {}
+    // `truth` (optional): the band's truth, for the comparison with no parallax.
     void add(const FragmentList& frags, const std::vector<Vec3d>& view,
-             const Image2D<MethodPixel>& pixels);
+             const Image2D<MethodPixel>& pixels, const Image2D<TruthSample>* truth = nullptr,
+             ErrorMetric metric = {});
     std::vector<MethodWarning> finish() const;
 
   private:
@@ -41,6 +53,8 @@ class MethodChecks {
     int64_t unchanged_ = 0;  // of those, uv' = uv0 (to float rounding)
     double alongV_ = 0;      // sum of (uv' - uv0) . V.xy / |V.xy| over them
     int64_t headOn_ = 0, headOnNonfinite_ = 0;
+    int64_t compared_ = 0;             // finite uv', truth hit
+    double errSum_ = 0, noneSum_ = 0;  // their errors in texels, the method's and uv0's
     bool oneView_ = true, haveView_ = false, haveOffset_ = false;
     Vec3d view0_{0};
     Vec2d offMin_{0}, offMax_{0};

@@ -240,6 +240,11 @@ Fittable fittable(const MethodConfig& cfg) {
     return g && !g->takesScale() ? Fittable::ScaleUnused : Fittable::Yes;
 }
 
+bool reaches(const MethodConfig& cfg, const std::string& param) {
+    const GlslSpec* g = cfg.shader();
+    return !g || g->reaches(param);
+}
+
 bool readsDisplacement(const MethodConfig& cfg) {
     const BuiltinMethod* b = cfg.builtin();
     return !b || b->kind != MethodKind::None;

@@ -55,6 +55,10 @@ bool setStepCount(MethodConfig& cfg, int steps);
 // its (s, b) do not reach (no uniform bound to "scale"/"bias", no call).
 enum class Fittable { Yes, Preset, ScaleUnused };
 Fittable fittable(const MethodConfig& cfg);
+// Whether the case's "scale" (s) or "bias" (b) reaches the method: always a built-in's; a
+// shader's through a uniform bound to it or a call or body naming it. `pgt fit` varies and
+// reports only what reaches.
+bool reaches(const MethodConfig& cfg, const std::string& param);
 // Whether its answer depends on (s, b) at all (every method but `none`).
 bool readsDisplacement(const MethodConfig& cfg);
 // Whether a study varies it through "LABEL.scale|bias|uniforms.NAME" (setShaderParameter: a

@@ -146,14 +146,18 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
     fr.method = listed.label;
     fr.nativeObjective = scorer.score(listed).objective;
     const bool usesHeight = readsDisplacement(listed);
-    std::vector<double> fs = usesHeight ? plan.factors : std::vector<double>{1};
-    std::vector<double> rs = usesHeight ? plan.ratios : std::vector<double>{0};
+    // A shader that s or b does not reach is fitted in the other alone (and reported so).
+    const bool scaleReaches = usesHeight && reaches(listed, "scale"),
+               biasReaches = usesHeight && reaches(listed, "bias");
+    std::vector<double> fs = scaleReaches ? plan.factors : std::vector<double>{1};
+    std::vector<double> rs = biasReaches ? plan.ratios : std::vector<double>{0};
     MethodConfig best;
     Score bestScore;
     bool found = false;
     auto consider = [&](double factor, double ratio) {
         MethodConfig c = listed;
-        if (usesHeight) c.scale = s0 * factor, c.bias = s0 * factor * ratio;
+        if (scaleReaches) c.scale = s0 * factor;
+        if (biasReaches) c.bias = s0 * factor * ratio;
         Score sc = scorer.score(c);
         ++fr.candidates;
         if (sc.ok && sc.objective < bestScore.objective) bestScore = sc, best = c, found = true;
@@ -168,7 +172,8 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
         df /= 2, dr /= 2;
         for (int move = 0; move < 32; ++move) {
             double before = bestScore.objective;
-            double f0 = best.scale / s0, r0 = best.bias / best.scale;
+            const double sBest = scaleReaches ? best.scale : s0;
+            double f0 = sBest / s0, r0 = biasReaches ? best.bias / sBest : 0;
             for (int i = -1; i <= 1; ++i)
                 for (int k = -1; k <= 1; ++k)
                     if (i || k) consider(f0 + i * df, r0 + k * dr);
@@ -178,6 +183,8 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
     if (found) {
         Json out = toJson(best);
         out.erase("label");
+        if (!scaleReaches) out.erase("scale");
+        if (!biasReaches) out.erase("bias");
         fr.best = out;
         fr.bestObjective = bestScore.objective;
         fr.bestMean = bestScore.mean;

@@ -53,6 +53,7 @@ CheckContext checkContext(float lo, float hi, const MethodConfig& cfg, const Dis
         (d.scale != 0 || d.bias != 0) && d.scale * lo + d.bias <= 0 && d.scale * hi + d.bias <= 0;
     c.mapVaries = hi > lo;
     c.skipNoOffset = !readsDisplacement(cfg);
+    c.userCode = variedAsShader(cfg);
     return c;
 }
 
@@ -233,7 +234,8 @@ class BandPipeline {
             auto t0 = Clock::now();
             if (!gl) m.pixels = evaluate(m, false);
             r_.timingsMs["methods_eval"] += msSince(t0);
-            m.checks.add(*frags_, frags_->view, m.pixels);
+            m.checks.add(*frags_, frags_->view, m.pixels, truthBand_,
+                         {map.width, map.height, map.address});
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
             if (framesCanDiffer(scene_.base) && !frags_->pixel.empty())
