@@ -16,7 +16,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, save_figure, write_text  # noqa: E402
-from report_configs import common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402
+from report_configs import angle_table_lines, common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402,E501
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
@@ -71,8 +71,11 @@ def fig_pareto(df, figdir):
     gl = agg["backend"].astype(str) != "cpu"
     files = {}
     fronts = {}
-    for xkey, xlabel in [("ns", "method time [ns per pixel]: C++ single thread (o), GL (x)"),
-                         ("fetches", "height-map fetches per pixel")]:
+    axes = [("ns", "method time [ns per pixel]: C++ single thread (o), GL (x)"),
+            ("fetches", "height-map fetches per pixel")]
+    if not np.isfinite(agg["ns"]).any():  # an accuracy-only study ("repeats": 0)
+        axes = axes[1:]
+    for xkey, xlabel in axes:
         pts = [(x, y) for x, y in zip(agg[xkey], agg["mean"])]
         # GL times (another clock, all cores of a software GL or a GPU) are not on the same
         # axis as one C++ thread: the run-time front is over the C++ methods only.
@@ -209,16 +212,23 @@ def ranking_note(n_common, n_total, flagged):
     return lines + [""]
 
 
-def runtime_lines(theta_figs, agg, pareto_files, fronts, flagged):
-    """Error against view angle and against run time, with the Pareto fronts and the table."""
+def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged):
+    """Error against view angle (figures and a table) and against run time, with the Pareto
+    fronts and the table."""
     lines = ["## Error against view angle", ""]
     for scale, ratio, fname in theta_figs:
         lines += [f"![error vs theta, s = {scale:g}](figures/{fname})", ""]
-    lines += ["## Error against run time", "",
-              f"![error vs ns/px](figures/{pareto_files['ns']})", "",
-              f"![error vs fetches](figures/{pareto_files['fetches']})", "",
-              "Pareto front (mean error over all cases against ns/px): "
-              + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", ""]
+    lines += angle_table
+    lines += ["## Error against run time", ""]
+    if "ns" in pareto_files:
+        lines += [f"![error vs ns/px](figures/{pareto_files['ns']})", ""]
+    else:
+        lines += ["Nothing was timed (the study's `\"timing\": {\"repeats\": 0}`): error "
+                  "against fetches only.", ""]
+    lines += [f"![error vs fetches](figures/{pareto_files['fetches']})", ""]
+    if "ns" in fronts:
+        lines += ["Pareto front (mean error over all cases against ns/px): "
+                  + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", ""]
     if "gl" in fronts:
         backends = sorted({str(b) for b in agg["backend"] if str(b) != "cpu"})
         lines += ["GL Pareto front (the GLSL methods against their GL time, dashed; "
@@ -346,7 +356,8 @@ def main():
     pool.join()
 
     lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
-             + runtime_lines(theta_figs, agg, pareto_files, fronts, flagged)
+             + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
+                             flagged)
              + defaults_lines(table, table80, heat)
              + engine_lines(df, figdir)
              + depth_shadow_lines(common, figdir)

@@ -51,13 +51,18 @@ def _duplicates(series):
     return same
 
 
-def _angle_panel(ax, sub, family, labels):
+def _angle_series(sub, labels):
     series = []
     for label in labels:
         rows = sub[sub["label"] == label].groupby("theta")[["mean", "p50", "p90"]].mean()
         if not rows.empty:
             series.append((label, rows))
-    same = _duplicates([(l, r["mean"].values) for l, r in series])
+    return series
+
+
+def _angle_panel(ax, sub, family, labels, same):
+    """`same`: {label: the earlier label, in any panel, whose curve it equals}."""
+    series = _angle_series(sub, labels)
     for i, (label, rows) in enumerate(series):
         # Earlier lines wider and under later ones: a curve equal to another still shows.
         name = label + (f" (= {same[label]})" if label in same else "")
@@ -85,11 +90,14 @@ def fig_error_vs_theta(df, figdir):
         ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
         if ratios:
             sub = sub[np.isclose(sub["bias_ratio"], ratio)]
+        # Equal curves are named across the panels, not only within one.
+        everything = [s for labels in fams.values() for s in _angle_series(sub, labels)]
+        same = _duplicates([(l, r["mean"].values) for l, r in everything])
         rows, cols = _grid(len(fams))
         fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.1 * rows), sharex=True,
                                  sharey=True, squeeze=False)
         for ax, (family, labels) in zip(axes.flat, fams.items()):
-            _angle_panel(ax, sub, family, labels)
+            _angle_panel(ax, sub, family, labels, same)
         for ax in list(axes.flat)[len(fams):]:
             ax.set_visible(False)
         for i, ax in enumerate(list(axes.flat)[:len(fams)]):
@@ -111,6 +119,24 @@ def fig_error_vs_theta(df, figdir):
         plt.close(fig)
         out.append((scale, ratio, name))
     return out
+
+
+def angle_table_lines(df):
+    """Mean error (texels) per view angle for every configuration, over the cases each angle
+    has (every scale, bias ratio and azimuth): the angle figures' numbers, as a table."""
+    means = df.groupby(["label", "theta"])["mean"].mean().unstack("theta")
+    thetas = list(means.columns)
+    order = [l for labels in families(df).values() for l in labels if l in means.index]
+    same = _duplicates([(l, means.loc[l].values) for l in order])
+    lines = ["Mean error in texels per view angle θ, over every scale, bias ratio and azimuth "
+             "of the study; `(= X)`: the same numbers as X.", "",
+             "| configuration | " + " | ".join(f"θ {t:g}" for t in thetas) + " |",
+             "|---|" + "---|" * len(thetas)]
+    for label in order:
+        name = label + (f" (= {same[label]})" if label in same else "")
+        lines.append(f"| {name} | " + " | ".join(nice(v) for v in means.loc[label].values)
+                     + " |")
+    return lines + [""]
 
 
 def _heat_grid(sub):

@@ -175,6 +175,7 @@ struct CommandLine {
     pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
+    bool noTiming = false;
     std::string shard;
     std::vector<std::string> mergeDirs;
     std::vector<std::string> stressPaths;
@@ -193,6 +194,10 @@ void defineRender(CLI::App& app, CommandLine& c) {
         ->add_option("--timing-repeats", c.renderOpt.timingRepeats,
                      "Timing passes per method (median)")
         ->check(CLI::Range(1, 100));
+    c.render
+        ->add_flag("--no-timing", c.noTiming,
+                   "Measure accuracy only: no timing passes (ns/px nan), the fastest run")
+        ->excludes("--timing-repeats");
     c.render
         ->add_option("--timing-fragments", c.renderOpt.timingFragments,
                      "Time methods on a seeded subset of this many fragments (0: all)")
@@ -259,7 +264,9 @@ int runCommand(const CommandLine& c) {
         pgt::setMemoryLimitMb(c.memoryLimitMb);
         if (!c.glDevice.empty()) pgt::setGlDevice(c.glDevice);
         if (*c.render) {
-            renderCommand(c.scenePath, c.outDir, c.renderOpt, c.exrCompression);
+            pgt::RenderOptions opt = c.renderOpt;
+            if (c.noTiming) opt.timingRepeats = 0;
+            renderCommand(c.scenePath, c.outDir, opt, c.exrCompression);
         } else if (*c.sweep) {
             pgt::SweepOptions opt = c.sweepOpt;
             if (c.sweep->count("--shard")) pgt::parseShard(c.shard, opt.outDir, opt);

@@ -60,6 +60,17 @@ with tempfile.TemporaryDirectory() as d:
             failures.append(f"defaults table lacks {label}")
     if "over the 18 of 18 cases" not in text or "n/a" in text:
         failures.append("report does not say its 18 common cases, or has an n/a row")
+    # The error per view angle as a table: a column per theta, a row per configuration, each
+    # cell the mean of results.csv's means at that angle.
+    if "| configuration | θ 0 | θ 40 | θ 70 |" not in text:
+        failures.append("report lacks the table of error per view angle")
+    rows = list(csv.DictReader(open(os.path.join(out, "results.csv"))))
+    at70 = [float(r["mean"]) for r in rows if r["label"] == "relief" and float(r["theta"]) == 70]
+    want70 = sum(at70) / len(at70)
+    line = next((l for l in text.splitlines() if l.startswith("| relief | ")), "")
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    if len(cells) != 4 or abs(float(cells[3]) - want70) > 1e-3 * want70:
+        failures.append(f"angle table's relief row {line!r}: theta 70 should be {want70:.4g}")
     # A partial study (one configuration missing a case): every ranking over the 17 cases
     # all of them have, and said so.
     rows = list(csv.DictReader(open(os.path.join(out, "results.csv"))))
@@ -74,6 +85,19 @@ with tempfile.TemporaryDirectory() as d:
     ptext = open(os.path.join(partial, "report.md")).read() if r.returncode == 0 else r.stderr
     if "over the 17 of 18 cases" not in ptext or "| pom_4_16 | 17 |" not in ptext:
         failures.append(f"partial study not ranked over its 17 common cases: {ptext[:400]}")
+    # An accuracy-only study ("repeats": 0): no run-time figure, the report says why, and a
+    # configuration equal to another in another panel is named "(= X)" in the table.
+    fast = dict(scene, methods=["parallax", {"name": "parallax", "label": "again"}])
+    fast["sweep"] = {"theta": [0, 40], "timing": {"repeats": 0}}
+    fast_path = os.path.join(d, "fast.json")
+    json.dump(fast, open(fast_path, "w"))
+    fast_out = os.path.join(d, "fast")
+    r = subprocess.run([pgt, "sweep", fast_path, "--out", fast_out], capture_output=True,
+                       text=True,
+                       env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
+    ftext = open(os.path.join(fast_out, "report.md")).read() if r.returncode == 0 else r.stderr
+    if "Nothing was timed" not in ftext or "pareto_ns" in ftext or "again (= parallax)" not in ftext:
+        failures.append(f"accuracy-only report: {ftext[-600:]}")
     # plot_summary.py on one render of the same scene
     r = subprocess.run([pgt, "render", path, "--out", os.path.join(d, "frame")],
                        capture_output=True, text=True)
@@ -104,4 +128,4 @@ with tempfile.TemporaryDirectory() as d:
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("5 passed, 0 failed")
+print("7 passed, 0 failed")
