@@ -71,11 +71,9 @@ def fig_pareto(df, figdir):
     gl = agg["backend"].astype(str) != "cpu"
     files = {}
     fronts = {}
-    axes = [("ns", "method time [ns per pixel]: C++ single thread (o), GL (x)"),
-            ("fetches", "height-map fetches per pixel")]
-    if not np.isfinite(agg["ns"]).any():  # an accuracy-only study ("repeats": 0)
-        axes = axes[1:]
-    for xkey, xlabel in axes:
+    timed = np.isfinite(agg["ns"]).any()  # not in an accuracy-only study ("repeats": 0)
+    for xkey, xlabel in [("ns", "method time [ns per pixel]: C++ single thread (o), GL (x)"),
+                         ("fetches", "height-map fetches per pixel")][0 if timed else 1:]:
         pts = [(x, y) for x, y in zip(agg[xkey], agg["mean"])]
         # GL times (another clock, all cores of a software GL or a GPU) are not on the same
         # axis as one C++ thread: the run-time front is over the C++ methods only.

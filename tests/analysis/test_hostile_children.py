@@ -108,6 +108,44 @@ def shader_bounds(d):
               f"exit {r.returncode}, {r.stderr[:400]!r}")
 
 
+def shader_text(d):
+    """What pgt reads in a shader file before a compiler does (its samplers, functions, enums,
+    includes, sampler defaults, #pragma once) on text no engine writes: a 300,000-character
+    name, a 300,000-space run, 150,000 parameters, a 40,000-member enum, a 300,000-character
+    include name, a body of 20,000 lines. Each is exit 2 with a message naming the file (a
+    regular-expression scan of these crashed pgt, exit 139), within the compile time limit."""
+    F = "float2 F(float2 uv, float3 V) { return uv; }\n"
+    cases = [
+        ("a 300,000-character name", shader_scene(
+            d, "ident", "float f(" + "a" * 300000 + " = 1) { return 0; }\n" + F, "hlsl",
+            function="F"), ["ident.hlsl"]),
+        ("300,000 spaces", shader_scene(
+            d, "space", "Texture2D" + " " * 300000 + "x;\n" + F, "hlsl", function="F"),
+         ["space.hlsl"]),
+        ("150,000 parameters and a sampler default", shader_scene(
+            d, "params", "float f(" + "a, " * 150000 + "SamplerState s = t) { return 0; }\n" + F,
+            "hlsl", function="F"), ["params.hlsl"]),
+        ("a 40,000-member enum", shader_scene(
+            d, "enum", "enum E { " + ", ".join(f"A{i}" for i in range(40000)) + " };\n" + F,
+            "hlsl", function="F"), ["enum.hlsl"]),
+        ("a 300,000-character include", shader_scene(
+            d, "inc", '#include "' + "a" * 300000 + '"\nvec2 F(vec2 uv, vec3 V) { return uv; }\n',
+            function="F"), ["inc.glsl", "#include"]),
+    ]
+    for name, path, words in cases:
+        out = os.path.join(d, "out_" + os.path.basename(path))
+        r = run(["render", path, "--out", out, "--no-timing"], timeout=200)
+        first = (r.stderr.splitlines() or [""])[0]  # a compiler's messages follow the first line
+        check(name, r.returncode == 2 and all(w in first for w in words) and
+              not os.path.exists(out), f"exit {r.returncode} (want 2), {r.stderr[:400]!r}")
+    # A body of 20,000 lines compiles through the same scans (and the GL's bounds).
+    body = ["float x = 0.0;"] + ["x += uv.x * 0.0;"] * 20000 + ["return uv + vec2(x);"]
+    path = shader_scene(d, "body", "float unused() { return 1.0; }\n", body=body, sampler="")
+    r = run(["render", path, "--out", os.path.join(d, "body_out"), "--no-timing"], timeout=200)
+    check("a 20,000-line body runs or is refused by a bound, never a crash",
+          r.returncode in (0, 2), f"exit {r.returncode}, {r.stderr[:400]!r}")
+
+
 def children_of(pid):
     """The pids whose parent is `pid` (from /proc)."""
     out = []
@@ -223,4 +261,4 @@ def python_cancel(d):
 
 
 if __name__ == "__main__":
-    main([shader_bounds, orphans, python_cancel])
+    main([shader_bounds, shader_text, orphans, python_cancel])

@@ -20,6 +20,7 @@
 #include "core/json_read.h"
 #include "core/process.h"
 #include "methods/shader/shader_gate.h"
+#include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
 
 namespace pgt::gl {
@@ -172,13 +173,16 @@ struct TextLines {
     int user = 0, call = 0, bodyFirst = 0, bodyCount = 0;
 };
 
-// Whether the HLSL source declares `name` at global scope as a texture or sampler (a function
-// parameter of the same name is not a declaration).
-bool declaresGlobal(const std::string& src, const std::string& name) {
-    const std::regex decl(
-        R"((^|[;}\n])\s*(?:uniform\s+)?(?:Texture2D\s*(?:<[^>]*>)?|texture2D|Texture|sampler2D|sampler|SamplerState|SamplerComparisonState)\s+)" +
-        name + R"(\s*(?::\s*register\s*\([^)]*\)\s*)?[;=\[])");
-    return std::regex_search(src, decl);
+// The types a texture or sampler the file declares may have.
+const std::vector<std::string>& textureTypes() {
+    static const std::vector<std::string> types = {"Texture2D",
+                                                   "texture2D",
+                                                   "Texture",
+                                                   "sampler2D",
+                                                   "sampler",
+                                                   "SamplerState",
+                                                   "SamplerComparisonState"};
+    return types;
 }
 
 // The declarations a file leaves to pgt, as glslang's preamble (which moves no line): each
@@ -190,9 +194,9 @@ std::string declarationsFor(const GlslSpec& spec) {
     const std::string all = spec.source + "\n" + spec.included;
     const char* type = mentionsIdentifier(all, "sampler2D") ? "sampler2D " : "Texture2D ";
     for (const std::string& name : spec.samplers)
-        if (!name.empty() && isShaderIdentifier(name) && !declaresGlobal(all, name))
+        if (!name.empty() && isShaderIdentifier(name) && !declaresGlobal(all, name, textureTypes()))
             out += type + name + ";\n";
-    if (!spec.samplerState.empty() && !declaresGlobal(all, spec.samplerState))
+    if (!spec.samplerState.empty() && !declaresGlobal(all, spec.samplerState, textureTypes()))
         out += "SamplerState " + spec.samplerState + ";\n";
     return out;
 }
@@ -202,7 +206,7 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     static const bool initialised = glslang::InitializeProcess();
     (void)initialised;
     std::string preamble = declarationsFor(spec);
-    if (!std::regex_search(text, std::regex(R"(\b\w+\s+select\s*\([^)]*\)\s*\{)")))
+    if (functionTypes(spec.source + "\n" + spec.included, "select").empty())
         preamble += selectFunctions();
     for (const auto& [name, value] : spec.defines)
         preamble += "#define " + name + " " + value + "\n";

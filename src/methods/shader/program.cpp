@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "methods/shader/hlsl.h"
 #include "methods/shader/shader_gate.h"
+#include "methods/shader/shader_words.h"
 
 namespace pgt::gl {
 
@@ -256,8 +257,7 @@ void checkDialect(const GlslSpec& spec) {
 
 // Whether a GLSL source declares `name` as a uniform sampler2D.
 bool declaresSampler(const std::string& src, const std::string& name) {
-    const std::regex decl("uniform\\s+(?:(?:lowp|mediump|highp)\\s+)?sampler2D\\s+" + name + "\\b");
-    return std::regex_search(src, decl);
+    return declaresGlobal(src, name, {"sampler2D"});
 }
 
 // The wrapper's parts around kMain: the prelude (pgt's counting functions, the legacy names,
@@ -315,7 +315,8 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     for (const auto& [name, value] : spec.defines)
         p.prelude += "#define " + name + " " + value + "\n";
     p.user = spec.source;
-    if (std::regex_search(spec.source, std::regex(R"(\bvoid\s+main\s*\()"))) {
+    const std::vector<std::string> mains = functionTypes(spec.source, "main");
+    if (std::find(mains.begin(), mains.end(), "void") != mains.end()) {
         p.prelude += kOwnMain;
         p.glue = kOwnMainEnd;
     }

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <regex>
 #include <sstream>
 
 #include "core/format.h"
@@ -17,6 +16,7 @@
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_spec.h"
+#include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
 
 namespace pgt {
@@ -159,21 +159,14 @@ std::string readBody(JsonFields& f) {
 // A call `F(...)` of a function that the file declares only as void (it answers through
 // out/inout parameters) would fail in the compiler with a message about pgt's wrapper.
 void checkCallNotVoid(JsonFields& f, const GlslSpec& spec) {
-    static const std::regex head(R"(^\s*([A-Za-z_]\w*)\s*\()");
-    std::smatch m;
-    if (!std::regex_search(spec.call, m, head)) return;
-    const std::regex declared("\\b([A-Za-z_]\\w*)\\s+" + m[1].str() + "\\s*\\(");
-    bool voidOnly = false;
-    for (auto it = std::sregex_iterator(spec.source.begin(), spec.source.end(), declared);
-         it != std::sregex_iterator(); ++it) {
-        const std::string type = (*it)[1].str();
-        if (type == "return" || type == "else") continue;  // a call, not a declaration
-        if (type != "void") return;
-        voidOnly = true;
-    }
-    if (voidOnly)
+    const std::vector<ShaderWord> words = shaderWords(spec.call);
+    if (words.size() < 2 || !words[0].ident || spec.call[words[1].begin] != '(') return;
+    const std::string name = wordText(spec.call, words[0]);
+    const std::vector<std::string> types = functionTypes(spec.source, name);
+    if (!types.empty() &&
+        std::all_of(types.begin(), types.end(), [](const std::string& t) { return t == "void"; }))
         f.failValue("call", Json(spec.call),
-                    m[1].str() + " returns void in " + spec.path +
+                    name + " returns void in " + spec.path +
                         " (it answers through out/inout parameters): write \"body\" instead, "
                         "statements that call it and end in return <uv'>;");
 }

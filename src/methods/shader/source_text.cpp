@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/json_read.h"
+#include "methods/shader/shader_words.h"
 
 namespace pgt {
 
@@ -32,54 +32,119 @@ namespace {
 
 int countNewlines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
-// The members of an enum's body "A = 1, B, C = B + 2": `static const int` lines, a member
-// without a value one more than the one before (the first 0).
-std::string enumConstants(const std::string& name, const std::string& body, bool scoped) {
-    static const std::regex member(R"(^\s*([A-Za-z_]\w*)\s*(?:=\s*([\s\S]*?))?\s*$)");
-    std::ostringstream out;
-    out << "typedef int " << name << ";";
-    std::string previous;
-    std::stringstream items(body);
-    std::string item;
-    while (std::getline(items, item, ',')) {
-        std::smatch m;
-        if (!std::regex_match(item, m, member)) continue;  // a trailing comma's empty item
-        const std::string qualified = name + "_" + m[1].str();
-        std::string value = m[2].str();
-        std::replace(value.begin(), value.end(), '\n', ' ');
-        out << " static const int " << qualified << " = ";
-        if (!value.empty())
-            out << "(" << value << ");";
-        else if (previous.empty())
-            out << "0;";
-        else
-            out << "(" << previous << " + 1);";
-        if (!scoped) out << " static const int " << m[1].str() << " = " << qualified << ";";
-        previous = qualified;
-    }
-    return out.str();
+bool isWord(const std::string& t, const ShaderWord& w, const char* s) {
+    return t.compare(w.begin, w.end - w.begin, s) == 0 &&
+           std::char_traits<char>::length(s) == w.end - w.begin;
 }
 
-}  // namespace
+// One change to a text: [begin, end) becomes `with`.
+struct Edit {
+    size_t begin, end;
+    std::string with;
+};
+std::string applyEdits(const std::string& t, std::vector<Edit> edits) {
+    std::sort(edits.begin(), edits.end(),
+              [](const Edit& a, const Edit& b) { return a.begin < b.begin; });
+    std::string out;
+    size_t at = 0;
+    for (const Edit& e : edits) {
+        if (e.begin < at) continue;  // overlapping: the first wins
+        out.append(t, at, e.begin - at);
+        out += e.with;
+        at = e.end;
+    }
+    out.append(t, at, std::string::npos);
+    return out;
+}
 
-namespace {
+// `#include "F"` or `#include <F>` on a line: F, else "".
+std::string includeTarget(const std::string& line) {
+    size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line[i] != '#') return "";
+    i = line.find_first_not_of(" \t", i + 1);
+    if (i == std::string::npos || line.compare(i, 7, "include") != 0) return "";
+    i = line.find_first_not_of(" \t", i + 7);
+    if (i == std::string::npos || (line[i] != '"' && line[i] != '<')) return "";
+    const size_t close = line.find(line[i] == '"' ? '"' : '>', i + 1);
+    return close == std::string::npos ? "" : line.substr(i + 1, close - i - 1);
+}
 
-const std::regex& enumDeclaration() {
-    static const std::regex declaration(
-        R"(\benum\s+(class\s+|struct\s+)?([A-Za-z_]\w*)\s*(?::\s*[A-Za-z_]\w*\s*)?\{([^{}]*)\}\s*;)");
-    return declaration;
+// The enums of a text: each `enum [class|struct] E [: T] { members };` as its span (from
+// `enum` to the ';'), its name, whether scoped, and its members' words.
+struct EnumDecl {
+    size_t begin = 0, end = 0;
+    std::string name;
+    bool scoped = false;
+    size_t first = 0, last = 0;  // the members' words [first, last)
+};
+std::vector<EnumDecl> enumDeclarations(const std::string& t, const std::vector<ShaderWord>& w) {
+    std::vector<EnumDecl> out;
+    for (size_t i = 0; i + 3 < w.size(); ++i) {
+        if (!isWord(t, w[i], "enum")) continue;
+        EnumDecl e;
+        size_t j = i + 1;
+        e.scoped = isWord(t, w[j], "class") || isWord(t, w[j], "struct");
+        if (e.scoped) ++j;
+        if (j >= w.size() || !w[j].ident) continue;
+        e.name = wordText(t, w[j++]);
+        if (j + 1 < w.size() && isWord(t, w[j], ":")) j += 2;  // the underlying type
+        if (j >= w.size() || !isWord(t, w[j], "{")) continue;
+        size_t k = j + 1;
+        while (k < w.size() && !isWord(t, w[k], "}") && !isWord(t, w[k], "{")) ++k;
+        if (k + 1 >= w.size() || !isWord(t, w[k], "}") || !isWord(t, w[k + 1], ";")) continue;
+        e.begin = w[i].begin;
+        e.end = w[k + 1].end;
+        e.first = j + 1;
+        e.last = k;
+        out.push_back(e);
+        i = k + 1;
+    }
+    return out;
+}
+
+// The constants of an enum: a member without a value one more than the one before (the
+// first 0).
+std::string enumConstants(const std::string& t, const std::vector<ShaderWord>& w,
+                          const EnumDecl& e) {
+    std::ostringstream out;
+    out << "typedef int " << e.name << ";";
+    std::string previous;
+    for (size_t i = e.first; i < e.last;) {
+        size_t end = i;
+        while (end < e.last && !isWord(t, w[end], ",")) ++end;
+        if (end > i && w[i].ident) {
+            const std::string member = wordText(t, w[i]);
+            const std::string qualified = e.name + "_" + member;
+            std::string value;
+            if (i + 1 < end && isWord(t, w[i + 1], "="))
+                value = t.substr(w[i + 2 < end ? i + 2 : i + 1].begin,
+                                 w[end - 1].end - w[i + 2 < end ? i + 2 : i + 1].begin);
+            std::replace(value.begin(), value.end(), '\n', ' ');
+            out << " static const int " << qualified << " = ";
+            if (!value.empty())
+                out << "(" << value << ");";
+            else if (previous.empty())
+                out << "0;";
+            else
+                out << "(" << previous << " + 1);";
+            if (!e.scoped) out << " static const int " << member << " = " << qualified << ";";
+            previous = qualified;
+        }
+        i = end + 1;
+    }
+    return out.str();
 }
 
 // The text of the files `text` includes, to `depth` levels, each once.
 void collectIncludes(const std::string& path, const std::string& text, size_t depth,
                      std::set<std::string>& seen, std::string& out) {
-    static const std::regex include(R"((?:^|\n)[ \t]*#[ \t]*include[ \t]*["<]([^">\n]+)[">])");
     if (depth >= kMaxIncludeDepth) return;
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), include);
-         it != std::sregex_iterator(); ++it) {
-        const std::string name = (std::filesystem::path(path).parent_path() / (*it)[1].str())
-                                     .lexically_normal()
-                                     .string();
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        const std::string target = includeTarget(line);
+        if (target.empty()) continue;
+        const std::string name =
+            (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
         if (!seen.insert(name).second) continue;
         try {
             const std::string sub = normaliseLineEnds(
@@ -104,131 +169,146 @@ std::string hlslIncludedText(const std::string& path, const std::string& text) {
 
 std::vector<std::string> hlslEnumNames(const std::string& text) {
     std::vector<std::string> names;
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), enumDeclaration());
-         it != std::sregex_iterator(); ++it)
-        names.push_back((*it)[2].str());
+    for (const EnumDecl& e : enumDeclarations(text, shaderWords(text))) names.push_back(e.name);
     return names;
 }
 
 std::string hlslEnumsAsConstants(const std::string& text, const std::vector<std::string>& known) {
-    const std::regex& declaration = enumDeclaration();
-    std::string out;
-    std::vector<std::string> names = known;
-    auto begin = text.cbegin();
-    std::smatch m;
-    while (std::regex_search(begin, text.cend(), m, declaration)) {
-        out.append(begin, m[0].first);
-        names.push_back(m[2].str());
+    const std::vector<ShaderWord> w = shaderWords(text);
+    std::vector<Edit> edits;
+    std::set<std::string> names(known.begin(), known.end());
+    for (const EnumDecl& e : enumDeclarations(text, w)) {
+        names.insert(e.name);
         // The constants on the enum's first line, then its line breaks: no later line moves.
-        out += enumConstants(m[2].str(), m[3].str(), m[1].matched);
-        out += std::string(size_t(countNewlines(m[0].str())), '\n');
-        begin = m[0].second;
+        edits.push_back(
+            {e.begin, e.end,
+             enumConstants(text, w, e) +
+                 std::string(size_t(countNewlines(text.substr(e.begin, e.end - e.begin))), '\n')});
     }
-    out.append(begin, text.cend());
-    for (const std::string& name : names)
-        out = std::regex_replace(out, std::regex("\\b" + name + "\\s*::\\s*([A-Za-z_]\\w*)"),
-                                 name + "_$1");
-    return out;
+    for (size_t i = 0; i + 3 < w.size(); ++i)  // E::A -> E_A
+        if (w[i].ident && isWord(text, w[i + 1], ":") && isWord(text, w[i + 2], ":") &&
+            w[i + 3].ident && names.count(wordText(text, w[i])))
+            edits.push_back(
+                {w[i].begin, w[i + 3].end, wordText(text, w[i]) + "_" + wordText(text, w[i + 3])});
+    return edits.empty() ? text : applyEdits(text, std::move(edits));
 }
-
-namespace {
-
-// A parameter list split at its top-level commas.
-std::vector<std::string> splitParameters(const std::string& list) {
-    std::vector<std::string> out(1);
-    int depth = 0;
-    for (char c : list) {
-        depth += (c == '(' || c == '<') - (c == ')' || c == '>');
-        if (c == ',' && depth == 0)
-            out.emplace_back();
-        else
-            out.back() += c;
-    }
-    return out;
-}
-
-// The name a parameter declares: its last identifier before any ':' semantic or '=' default.
-std::string parameterName(const std::string& parameter) {
-    const std::string head = parameter.substr(0, parameter.find_first_of(":="));
-    static const std::regex last(R"(([A-Za-z_]\w*)\s*$)");
-    std::smatch m;
-    return std::regex_search(head, m, last) ? m[1].str() : "";
-}
-
-}  // namespace
 
 std::string hlslSamplerDefaults(const std::string& text) {
-    static const std::regex function(
-        R"(\b([A-Za-z_][\w<>]*)\s+([A-Za-z_]\w*)\s*\(((?:[^(){};]|\([^(){};]*\))*=(?:[^(){};]|\([^(){};]*\))*)\)\s*\{)");
-    static const std::regex samplerDefault(
-        R"(^\s*(?:in\s+|uniform\s+)?(?:SamplerState|SamplerComparisonState|sampler)\s+[A-Za-z_]\w*\s*=)");
-    std::string out;
-    auto begin = text.cbegin();
-    std::smatch m;
-    while (std::regex_search(begin, text.cend(), m, function)) {
-        const std::vector<std::string> params = splitParameters(m[3].str());
+    static const char* kNotTypes[] = {"return", "if", "while", "for", "switch", "else"};
+    const std::vector<ShaderWord> w = shaderWords(text);
+    std::vector<Edit> edits;
+    for (size_t i = 0; i + 2 < w.size(); ++i) {
+        // TYPE NAME ( parameters ) {
+        if (!w[i].ident || !w[i + 1].ident || !isWord(text, w[i + 2], "(")) continue;
+        if (std::any_of(std::begin(kNotTypes), std::end(kNotTypes),
+                        [&](const char* k) { return isWord(text, w[i], k); }))
+            continue;
+        size_t close = i + 3;
+        for (int depth = 1; close < w.size(); ++close) {
+            depth += isWord(text, w[close], "(") - isWord(text, w[close], ")");
+            if (depth == 0) break;
+        }
+        if (close + 1 >= w.size() || !isWord(text, w[close + 1], "{")) continue;
+        // The parameters at the top-level commas: [first, last) words each.
+        std::vector<std::pair<size_t, size_t>> params;
+        size_t from = i + 3;
+        for (size_t k = i + 3, depth = 0; k <= close; ++k) {
+            if (k == close || (depth == 0 && isWord(text, w[k], ","))) {
+                if (k > from) params.push_back({from, k});
+                from = k + 1;
+            } else {
+                depth += isWord(text, w[k], "(") - isWord(text, w[k], ")");
+            }
+        }
+        auto eqOf = [&](std::pair<size_t, size_t> p) {
+            for (size_t k = p.first; k < p.second; ++k)
+                if (isWord(text, w[k], "=")) return k;
+            return size_t(0);
+        };
         size_t first = params.size();  // the first parameter with a default
         bool sampler = false;
-        for (size_t k = params.size(); k-- > 0 && params[k].find('=') != std::string::npos;) {
+        for (size_t k = params.size(); k-- > 0 && eqOf(params[k]);) {
             first = k;
-            sampler = sampler || std::regex_search(params[k], samplerDefault);
+            size_t type = params[k].first;
+            while (type < params[k].second &&
+                   (isWord(text, w[type], "in") || isWord(text, w[type], "uniform")))
+                ++type;
+            sampler = sampler || isWord(text, w[type], "SamplerState") ||
+                      isWord(text, w[type], "SamplerComparisonState") ||
+                      isWord(text, w[type], "sampler");
         }
-        if (!sampler) {
-            out.append(begin, m[0].second);
-            begin = m[0].second;
-            continue;
-        }
-        // The definition without its defaults (each `= value` blanked, so that nothing after
-        // it on the line moves) ...
-        std::string head = m[0].str();
+        if (!sampler) continue;
+        // The definition without its defaults (each `= value` blanked, line breaks kept) ...
         std::vector<std::string> values;
         for (size_t k = first; k < params.size(); ++k) {
-            const size_t eq = params[k].find('=');
-            values.push_back(params[k].substr(eq + 1));
-            const size_t at = head.find(params[k]);
-            head.replace(at + eq, params[k].size() - eq, std::string(params[k].size() - eq, ' '));
+            const size_t eq = eqOf(params[k]);
+            const size_t b = w[eq].begin, e = w[params[k].second - 1].end;
+            values.push_back(text.substr(w[eq + 1 < params[k].second ? eq + 1 : eq].begin,
+                                         e - w[eq + 1 < params[k].second ? eq + 1 : eq].begin));
+            std::string blank = text.substr(b, e - b);
+            for (char& c : blank)
+                if (c != '\n') c = ' ';
+            edits.push_back({b, e, blank});
         }
-        out.append(begin, m[0].first);
-        out += head;
-        // ... its body to the closing brace ...
-        auto at = m[0].second;
-        for (int depth = 1; at != text.cend() && depth > 0; ++at)
-            depth += (*at == '{') - (*at == '}');
-        out.append(m[0].second, at);
-        // ... and, on the same line, an overload for each number of defaults left out, which
-        // passes them.
-        const bool isVoid = m[1].str() == "void";
+        // ... and after its body, on the same line, an overload for each number of defaults
+        // left out, which passes them.
+        size_t end = close + 2;
+        for (int depth = 1; end < w.size(); ++end) {
+            depth += isWord(text, w[end], "{") - isWord(text, w[end], "}");
+            if (depth == 0) break;
+        }
+        if (end >= w.size()) continue;
+        const std::string type = wordText(text, w[i]), name = wordText(text, w[i + 1]);
+        std::string overloads;
         for (size_t kept = first; kept < params.size(); ++kept) {
             std::string list, args;
             for (size_t k = 0; k < params.size(); ++k) {
                 const std::string sep = k ? ", " : "";
-                if (k < kept) list += sep + params[k];
-                args += sep + (k < kept ? parameterName(params[k]) : values[k - first]);
+                if (k < kept) {
+                    list +=
+                        sep + text.substr(w[params[k].first].begin,
+                                          w[params[k].second - 1].end - w[params[k].first].begin);
+                    size_t nameWord = params[k].second - 1;  // the last identifier before ':'
+                    for (size_t q = params[k].first; q < params[k].second; ++q)
+                        if (isWord(text, w[q], ":")) nameWord = q - 1;
+                    args += sep + wordText(text, w[nameWord]);
+                } else {
+                    args += sep + values[k - first];
+                }
             }
-            out += " " + m[1].str() + " " + m[2].str() + "(" + list + ") { " +
-                   (isVoid ? "" : "return ") + m[2].str() + "(" + args + "); }";
+            overloads += " " + type + " " + name + "(" + list + ") { " +
+                         (type == "void" ? "" : "return ") + name + "(" + args + "); }";
         }
-        begin = at;
+        edits.push_back({w[end].end, w[end].end, overloads});
+        i = end;
     }
-    out.append(begin, text.cend());
-    return out;
+    return edits.empty() ? text : applyEdits(text, std::move(edits));
 }
 
 bool takePragmaOnce(std::string& text) {
-    static const std::regex once(R"((^|\n)[ \t]*#[ \t]*pragma[ \t]+once[ \t]*(?=\n|$))");
-    if (!std::regex_search(text, once)) return false;
-    text = std::regex_replace(text, once, "$1");
-    return true;
+    bool found = false;
+    for (size_t at = 0; at < text.size();) {
+        size_t end = text.find('\n', at);
+        if (end == std::string::npos) end = text.size();
+        size_t i = text.find_first_not_of(" \t", at);
+        if (i < end && text[i] == '#') {
+            i = text.find_first_not_of(" \t", i + 1);
+            if (i < end && text.compare(i, 6, "pragma") == 0) {
+                i = text.find_first_not_of(" \t", i + 6);
+                const size_t tail = i < end ? text.find_first_not_of(" \t", i + 4) : end;
+                if (i < end && text.compare(i, 4, "once") == 0 && (tail >= end)) {
+                    text.erase(at, end - at);  // the line blanked, its break kept
+                    found = true;
+                    end = at;
+                }
+            }
+        }
+        at = end + 1;
+    }
+    return found;
 }
 
 namespace {
-
-// `#include "F"` or `#include <F>` on a line: F, else "".
-std::string includeTarget(const std::string& line) {
-    static const std::regex include(R"(^[ \t]*#[ \t]*include[ \t]*["<]([^">]+)[">][ \t]*(//.*)?$)");
-    std::smatch m;
-    return std::regex_match(line, m, include) ? m[1].str() : "";
-}
 
 // GLSL's #include, expanded in place, each line's origin recorded.
 class GlslIncludes {

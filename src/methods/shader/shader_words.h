@@ -1,0 +1,38 @@
+// A shader's text as words, for the few questions pgt asks of a user's file before a compiler
+// sees it (which samplers it declares, which functions it defines, where its enums are). One
+// pass, no regular expression: any file, however long its lines or runs of spaces, is read in
+// time and stack proportional to its size (std::regex recurses per character and overflows
+// the stack on runs of some 50,000).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace pgt {
+
+// An identifier or number (`ident` when it starts with a letter or '_'), or one punctuation
+// character; comments, whitespace and string literals are skipped, and each preprocessor line
+// (`#...` to its end, with its continuations) is one ";" word: a boundary between
+// declarations, as a line of its own.
+struct ShaderWord {
+    size_t begin = 0, end = 0;  // [begin, end) in the text
+    bool ident = false;
+};
+std::vector<ShaderWord> shaderWords(const std::string& text);
+
+// A word's text.
+inline std::string wordText(const std::string& text, const ShaderWord& w) {
+    return text.substr(w.begin, w.end - w.begin);
+}
+
+// Whether `text` declares `name` at global scope with one of `types` (a template argument
+// list after the type, `uniform` and precision qualifiers before it allowed): a declaration
+// starts after ";", "}", a preprocessor line or the file's start and ends in ";", ":", "=",
+// "[" or ",". A function parameter of that name is no declaration.
+bool declaresGlobal(const std::string& text, const std::string& name,
+                    const std::vector<std::string>& types);
+// The types of each function named `name` that `text` defines or declares (`T name(`, T a
+// word other than a statement's keyword).
+std::vector<std::string> functionTypes(const std::string& text, const std::string& name);
+
+}  // namespace pgt
