@@ -32,6 +32,10 @@ namespace {
 
 int countNewlines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
+// The braces as words (named, so that no brace stands unmatched in the code's text).
+constexpr const char* kOpen = "\x7b";
+constexpr const char* kClose = "\x7d";
+
 bool isWord(const std::string& t, const ShaderWord& w, const char* s) {
     return t.compare(w.begin, w.end - w.begin, s) == 0 &&
            std::char_traits<char>::length(s) == w.end - w.begin;
@@ -88,10 +92,10 @@ std::vector<EnumDecl> enumDeclarations(const std::string& t, const std::vector<S
         if (j >= w.size() || !w[j].ident) continue;
         e.name = wordText(t, w[j++]);
         if (j + 1 < w.size() && isWord(t, w[j], ":")) j += 2;  // the underlying type
-        if (j >= w.size() || !isWord(t, w[j], "{")) continue;
+        if (j >= w.size() || !isWord(t, w[j], kOpen)) continue;
         size_t k = j + 1;
-        while (k < w.size() && !isWord(t, w[k], "}") && !isWord(t, w[k], "{")) ++k;
-        if (k + 1 >= w.size() || !isWord(t, w[k], "}") || !isWord(t, w[k + 1], ";")) continue;
+        while (k < w.size() && !isWord(t, w[k], kClose) && !isWord(t, w[k], kOpen)) ++k;
+        if (k + 1 >= w.size() || !isWord(t, w[k], kClose) || !isWord(t, w[k + 1], ";")) continue;
         e.begin = w[i].begin;
         e.end = w[k + 1].end;
         e.first = j + 1;
@@ -193,93 +197,120 @@ std::string hlslEnumsAsConstants(const std::string& text, const std::vector<std:
     return edits.empty() ? text : applyEdits(text, std::move(edits));
 }
 
+namespace {
+
+// The word after the one that closes the bracket opened at `open` (`o`, `c`: the pair).
+size_t matching(const std::string& t, const std::vector<ShaderWord>& w, size_t open, const char* o,
+                const char* c) {
+    size_t k = open + 1;
+    for (int depth = 1; k < w.size(); ++k) {
+        depth += isWord(t, w[k], o) - isWord(t, w[k], c);
+        if (depth == 0) break;
+    }
+    return k;
+}
+
+// A function's parameters, [first, last) words each, split at the top-level commas of the
+// words between `open` and `close` (its parentheses).
+using WordRange = std::pair<size_t, size_t>;
+std::vector<WordRange> parametersOf(const std::string& t, const std::vector<ShaderWord>& w,
+                                    size_t open, size_t close) {
+    std::vector<WordRange> params;
+    size_t from = open + 1;
+    for (size_t k = open + 1, depth = 0; k <= close; ++k) {
+        if (k == close || (depth == 0 && isWord(t, w[k], ","))) {
+            if (k > from) params.push_back({from, k});
+            from = k + 1;
+        } else {
+            depth += isWord(t, w[k], "(") - isWord(t, w[k], ")");
+        }
+    }
+    return params;
+}
+
+std::string rangeText(const std::string& t, const std::vector<ShaderWord>& w, WordRange r) {
+    return t.substr(w[r.first].begin, w[r.second - 1].end - w[r.first].begin);
+}
+
+// The '=' word of a parameter with a default (a value after it), else 0.
+size_t defaultOf(const std::string& t, const std::vector<ShaderWord>& w, WordRange p) {
+    for (size_t k = p.first; k + 1 < p.second; ++k)
+        if (isWord(t, w[k], "=")) return k;
+    return 0;
+}
+
+bool samplerParameter(const std::string& t, const std::vector<ShaderWord>& w, WordRange p) {
+    size_t type = p.first;
+    while (type < p.second && (isWord(t, w[type], "in") || isWord(t, w[type], "uniform"))) ++type;
+    return type < p.second &&
+           (isWord(t, w[type], "SamplerState") || isWord(t, w[type], "SamplerComparisonState") ||
+            isWord(t, w[type], "sampler"));
+}
+
+// A function TYPE NAME(params) whose parameters from `first` on have defaults: an overload
+// for each number of them left out, which passes them.
+std::string defaultOverloads(const std::string& t, const std::vector<ShaderWord>& w,
+                             const std::string& type, const std::string& name,
+                             const std::vector<WordRange>& params, size_t first) {
+    std::string out;
+    for (size_t kept = first; kept < params.size(); ++kept) {
+        std::string list, args;
+        for (size_t k = 0; k < params.size(); ++k) {
+            const std::string sep = k ? ", " : "";
+            if (k >= kept) {
+                const size_t eq = defaultOf(t, w, params[k]);
+                args += sep + rangeText(t, w, {eq + 1, params[k].second});
+                continue;
+            }
+            list += sep + rangeText(t, w, params[k]);
+            size_t nameWord = params[k].second - 1;  // the last identifier before a ':'
+            for (size_t q = params[k].first; q < params[k].second; ++q)
+                if (isWord(t, w[q], ":")) nameWord = q - 1;
+            args += sep + wordText(t, w[nameWord]);
+        }
+        out += " " + type + " " + name + "(" + list + ") " + kOpen + " " +
+               (type == "void" ? "" : "return ") + name + "(" + args + "); " + kClose;
+    }
+    return out;
+}
+
+}  // namespace
+
 std::string hlslSamplerDefaults(const std::string& text) {
     static const char* kNotTypes[] = {"return", "if", "while", "for", "switch", "else"};
     const std::vector<ShaderWord> w = shaderWords(text);
     std::vector<Edit> edits;
     for (size_t i = 0; i + 2 < w.size(); ++i) {
-        // TYPE NAME ( parameters ) {
-        if (!w[i].ident || !w[i + 1].ident || !isWord(text, w[i + 2], "(")) continue;
-        if (std::any_of(std::begin(kNotTypes), std::end(kNotTypes),
+        // TYPE NAME ( parameters ) { body }
+        if (!w[i].ident || !w[i + 1].ident || !isWord(text, w[i + 2], "(") ||
+            std::any_of(std::begin(kNotTypes), std::end(kNotTypes),
                         [&](const char* k) { return isWord(text, w[i], k); }))
             continue;
-        size_t close = i + 3;
-        for (int depth = 1; close < w.size(); ++close) {
-            depth += isWord(text, w[close], "(") - isWord(text, w[close], ")");
-            if (depth == 0) break;
-        }
-        if (close + 1 >= w.size() || !isWord(text, w[close + 1], "{")) continue;
-        // The parameters at the top-level commas: [first, last) words each.
-        std::vector<std::pair<size_t, size_t>> params;
-        size_t from = i + 3;
-        for (size_t k = i + 3, depth = 0; k <= close; ++k) {
-            if (k == close || (depth == 0 && isWord(text, w[k], ","))) {
-                if (k > from) params.push_back({from, k});
-                from = k + 1;
-            } else {
-                depth += isWord(text, w[k], "(") - isWord(text, w[k], ")");
-            }
-        }
-        auto eqOf = [&](std::pair<size_t, size_t> p) {
-            for (size_t k = p.first; k < p.second; ++k)
-                if (isWord(text, w[k], "=")) return k;
-            return size_t(0);
-        };
+        const size_t close = matching(text, w, i + 2, "(", ")");
+        if (close + 1 >= w.size() || !isWord(text, w[close + 1], kOpen)) continue;
+        const size_t end = matching(text, w, close + 1, kOpen, kClose);
+        if (end >= w.size()) continue;
+        const std::vector<WordRange> params = parametersOf(text, w, i + 2, close);
         size_t first = params.size();  // the first parameter with a default
         bool sampler = false;
-        for (size_t k = params.size(); k-- > 0 && eqOf(params[k]);) {
+        for (size_t k = params.size(); k-- > 0 && defaultOf(text, w, params[k]) > 0;) {
             first = k;
-            size_t type = params[k].first;
-            while (type < params[k].second &&
-                   (isWord(text, w[type], "in") || isWord(text, w[type], "uniform")))
-                ++type;
-            sampler = sampler || isWord(text, w[type], "SamplerState") ||
-                      isWord(text, w[type], "SamplerComparisonState") ||
-                      isWord(text, w[type], "sampler");
+            sampler = sampler || samplerParameter(text, w, params[k]);
         }
-        if (!sampler) continue;
-        // The definition without its defaults (each `= value` blanked, line breaks kept) ...
-        std::vector<std::string> values;
+        if (!sampler || first == params.size()) continue;
+        // The definition without its defaults (each `= value` blanked, line breaks kept), and
+        // after its body, on the same line, the overloads that pass them.
         for (size_t k = first; k < params.size(); ++k) {
-            const size_t eq = eqOf(params[k]);
-            const size_t b = w[eq].begin, e = w[params[k].second - 1].end;
-            values.push_back(text.substr(w[eq + 1 < params[k].second ? eq + 1 : eq].begin,
-                                         e - w[eq + 1 < params[k].second ? eq + 1 : eq].begin));
+            const size_t b = w[defaultOf(text, w, params[k])].begin,
+                         e = w[params[k].second - 1].end;
             std::string blank = text.substr(b, e - b);
             for (char& c : blank)
                 if (c != '\n') c = ' ';
             edits.push_back({b, e, blank});
         }
-        // ... and after its body, on the same line, an overload for each number of defaults
-        // left out, which passes them.
-        size_t end = close + 2;
-        for (int depth = 1; end < w.size(); ++end) {
-            depth += isWord(text, w[end], "{") - isWord(text, w[end], "}");
-            if (depth == 0) break;
-        }
-        if (end >= w.size()) continue;
-        const std::string type = wordText(text, w[i]), name = wordText(text, w[i + 1]);
-        std::string overloads;
-        for (size_t kept = first; kept < params.size(); ++kept) {
-            std::string list, args;
-            for (size_t k = 0; k < params.size(); ++k) {
-                const std::string sep = k ? ", " : "";
-                if (k < kept) {
-                    list +=
-                        sep + text.substr(w[params[k].first].begin,
-                                          w[params[k].second - 1].end - w[params[k].first].begin);
-                    size_t nameWord = params[k].second - 1;  // the last identifier before ':'
-                    for (size_t q = params[k].first; q < params[k].second; ++q)
-                        if (isWord(text, w[q], ":")) nameWord = q - 1;
-                    args += sep + wordText(text, w[nameWord]);
-                } else {
-                    args += sep + values[k - first];
-                }
-            }
-            overloads += " " + type + " " + name + "(" + list + ") { " +
-                         (type == "void" ? "" : "return ") + name + "(" + args + "); }";
-        }
-        edits.push_back({w[end].end, w[end].end, overloads});
+        edits.push_back({w[end].end, w[end].end,
+                         defaultOverloads(text, w, wordText(text, w[i]), wordText(text, w[i + 1]),
+                                          params, first)});
         i = end;
     }
     return edits.empty() ? text : applyEdits(text, std::move(edits));
