@@ -16,7 +16,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, save_figure, write_text  # noqa: E402
-from report_configs import angle_table_lines, common_cases, fig_error_vs_theta, fig_heatmaps  # noqa: E402,E501
+from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
+from report_configs import fig_heatmaps, storage_lines  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
@@ -358,6 +359,7 @@ def main():
                              flagged)
              + defaults_lines(table, table80, heat)
              + engine_lines(df, figdir)
+             + storage_lines(common)
              + depth_shadow_lines(common, figdir)
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))

@@ -3,6 +3,7 @@ families (results.csv's `method`: a built-in's name, a GLSL/HLSL method's or pre
 the cases every configuration finished (rankings are over those only), and the figures drawn
 as small multiples, one panel per family, so that no axes holds twenty lines and identical
 curves stay visible."""
+import json
 import math
 import os
 
@@ -196,3 +197,40 @@ def fig_heatmaps(df, figdir):
         plt.close(fig)
         files.append(fname)
     return files
+
+
+def storage_lines(df):
+    """The error a stored format adds (results.csv's `params` "format": docs/methods.md "Texture
+    storage"): each unorm configuration against the float one with the same parameters, mean
+    error added per view angle over the study's scales and bias ratios, beside the float
+    configuration's own error. Nothing where the study has no format."""
+    def key(params):
+        p = json.loads(params)
+        fmt = p.pop("format", "float")
+        p.pop("label", None)
+        return fmt, json.dumps(p, sort_keys=True)
+
+    keyed = df.assign(**dict(zip(["fmt", "pkey"], zip(*df["params"].map(key)))))
+    if (keyed["fmt"] == "float").all():
+        return []
+    cols = ["case", "method", "pkey"]
+    base = keyed[keyed["fmt"] == "float"][cols + ["label", "mean"]]
+    stored = keyed[keyed["fmt"] != "float"][cols + ["label", "fmt", "theta", "mean"]]
+    both = stored.merge(base, on=cols, suffixes=("", "_float"))
+    if both.empty:
+        return []
+    both["added"] = both["mean"] - both["mean_float"]
+    thetas = sorted(both["theta"].unique())
+    lines = ["## Texture storage", "",
+             "The mean error (texels) a stored format adds to the same configuration reading "
+             "the float map, per view angle θ over every scale and bias ratio (the float "
+             "configuration's own mean error in brackets): where the added error passes the "
+             "method's own, the format costs more than the method.", "",
+             "| configuration | format | " + " | ".join(f"θ {t:g}" for t in thetas) + " |",
+             "|---|---|" + "---|" * len(thetas)]
+    for (label, fmt), g in both.groupby(["label", "fmt"], sort=True):
+        by = g.groupby("theta")[["added", "mean_float"]].mean()
+        cells = [f"{nice(by.loc[t, 'added'], 2)} ({nice(by.loc[t, 'mean_float'], 2)})"
+                 if t in by.index else "—" for t in thetas]
+        lines.append(f"| {label} | {fmt} | " + " | ".join(cells) + " |")
+    return lines + [""]

@@ -67,4 +67,25 @@ void addMipmaps(Texture& t) {
     if (!t.mips) t.mips = buildMipChain(t);
 }
 
+namespace {
+
+void roundTexels(Texture& t, double steps) {
+    for (float& h : t.texels)
+        h = float(std::nearbyint(std::clamp(double(h), 0.0, 1.0) * steps) / steps);
+}
+
+}  // namespace
+
+Texture storedMap(const Texture& t, int bits) {
+    const double steps = double((1u << bits) - 1);
+    Texture out = t;
+    out.mips = nullptr;
+    roundTexels(out, steps);
+    if (!t.mips) return out;
+    auto levels = std::make_shared<std::vector<Texture>>(*buildMipChain(out));
+    for (Texture& level : *levels) roundTexels(level, steps);
+    out.mips = std::move(levels);
+    return out;
+}
+
 }  // namespace pgt

@@ -19,4 +19,10 @@ std::shared_ptr<const std::vector<Texture>> buildMipChain(const Texture& t);
 // `t` with its chain (a no-op when it has one).
 void addMipmaps(Texture& t);
 
+// The map as a normalised `bits`-bit texture stores it (an engine's unorm8 or unorm16 upload):
+// each texel clamped to [0, 1] and rounded to the nearest k / (2^bits - 1) (ties to even), and
+// where `t` has mipmaps, levels made from the rounded level 0 and rounded again, as an engine
+// builds them from what it uploaded.
+Texture storedMap(const Texture& t, int bits);
+
 }  // namespace pgt

@@ -49,6 +49,7 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
     if (BuiltinMethod* b = cfg.builtin()) readShadowParameters(f, *b);
+    readStorageFormat(f, cfg);
     if (f.has("uniforms")) {
         const Json& u = f.raw("uniforms");
         if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
@@ -77,6 +78,8 @@ std::string parameterSuffix(const MethodConfig& c) {
         if (b->gpu8Filter) add("gpu8");
     }
     if (c.lodGrad) add("grad");
+    if (c.format == StorageFormat::Unorm8) add("u8");
+    if (c.format == StorageFormat::Unorm16) add("u16");
     if (c.discardOutside) add("discard");
     if (b && b->shadow != ShadowMarch::Hard) add("shadow_", shadowNames()[size_t(b->shadow)]);
     if (b && b->shadowSteps != BuiltinMethod{}.shadowSteps)
@@ -103,7 +106,16 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
                                  b.doublePrecision ? "double" : "float") == "double";
     b.gpu8Filter = f.choice("filter", {"exact", "gpu8"}, b.gpu8Filter ? "gpu8" : "exact") == "gpu8";
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, cfg.lodGrad ? "grad" : "zero") == "grad";
+    readStorageFormat(f, cfg);
     readShadowParameters(f, b);
+}
+
+void readStorageFormat(JsonFields& f, MethodConfig& cfg) {
+    const std::string name =
+        f.choice("format", {"float", "unorm16", "unorm8"}, storageFormatName(cfg.format));
+    cfg.format = name == "unorm8"    ? StorageFormat::Unorm8
+                 : name == "unorm16" ? StorageFormat::Unorm16
+                                     : StorageFormat::Float;
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -203,6 +215,7 @@ Json toJson(const MethodConfig& c) {
     if (std::isfinite(c.scale)) j["scale"] = c.scale;
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
     if (c.lodGrad) j["lod"] = "grad";
+    if (c.format != StorageFormat::Float) j["format"] = storageFormatName(c.format);
     return j;
 }
 

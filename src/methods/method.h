@@ -67,6 +67,15 @@ struct ShaderMethod {
     std::shared_ptr<const GlslSpec> spec;
 };
 
+// How an engine stores the height map the method reads (`"format"`): 32-bit float (pgt's
+// authored map), or normalised 16- or 8-bit integers, each texel rounded to the nearest of
+// 2^n - 1 steps over [0, 1] as a texture upload rounds it, mip levels made from the rounded
+// level 0 and rounded again. The truth always runs on the authored map.
+enum class StorageFormat { Float, Unorm16, Unorm8 };
+inline const char* storageFormatName(StorageFormat f) {
+    return f == StorageFormat::Float ? "float" : f == StorageFormat::Unorm16 ? "unorm16" : "unorm8";
+}
+
 // One method as a scene lists it: what every method has (its name, label, own (s, b), the
 // preset it came from, discard and level of detail), and the method itself, a built-in or a
 // shader. What differs by the two is decided in two places: methods/config.h (parse, JSON,
@@ -83,6 +92,7 @@ struct MethodConfig {
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (docs/model.md §3).
     double scale = NAN, bias = NAN;
+    StorageFormat format = StorageFormat::Float;  // the height map as the method reads it
     std::variant<BuiltinMethod, ShaderMethod> method;
 
     // The built-in (null for a shader), and the shader's spec (null for a built-in).

@@ -13,6 +13,7 @@
 #include "core/interrupt.h"
 #include "core/overloaded.h"
 #include "core/percentile.h"
+#include "heightfield/mipmaps.h"
 #include "methods/builtin/shadow.h"
 #include "methods/config.h"
 #include "methods/registry.h"
@@ -53,7 +54,29 @@ void buildOnce(std::shared_ptr<const T>& map, double& ms, Build build) {
 }
 }  // namespace
 
+MethodTextureCache& MethodTextureCache::stored(StorageFormat format) {
+    std::unique_ptr<Stored>& s = stored_[format];
+    if (!s) {
+        s = std::make_unique<Stored>();
+        s->map = storedMap(height_, format == StorageFormat::Unorm8 ? 8 : 16);
+        s->cache = std::make_unique<MethodTextureCache>(s->map, uvExtent_, format);
+    }
+    return *s->cache;
+}
+
+const MethodTextureCache& MethodTextureCache::storedAt(StorageFormat format) const {
+    auto it = stored_.find(format);
+    PGT_CHECK(it != stored_.end());
+    return *it->second->cache;
+}
+
+void MethodTextureCache::clear() {
+    cache_.clear();
+    for (auto& [format, s] : stored_) s->cache->clear();
+}
+
 const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Displacement& view) {
+    if (cfg.format != own_) return stored(cfg.format).get(cfg, view);
     const auto key = methodScaleBias(cfg, view);
     auto it = cache_.find(key);
     if (it == cache_.end())
@@ -97,6 +120,21 @@ const MethodTextures& MethodTextureCache::get(const MethodConfig& cfg, const Dis
 }
 
 double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& configs) {
+    // Each stored format its own maps, and a rounded copy of the height map (with its chain).
+    std::map<StorageFormat, std::vector<MethodConfig>> byFormat;
+    for (const MethodConfig& cfg : configs) byFormat[cfg.format].push_back(cfg);
+    if (byFormat.size() > 1 ||
+        (!byFormat.empty() && byFormat.begin()->first != StorageFormat::Float)) {
+        double bytes = 0;
+        for (auto& [format, group] : byFormat) {
+            for (MethodConfig& c : group) c.format = StorageFormat::Float;
+            bytes += estimateMapBytes(height, group);
+            if (format != StorageFormat::Float)
+                bytes += 4.0 * double(height.width) * double(height.height) *
+                         (height.mips ? 4.0 / 3.0 : 1.0);
+        }
+        return bytes;
+    }
     const double texels = double(height.width) * double(height.height);
     const double chain = height.mips ? 4.0 / 3.0 : 1.0;
     // Per kind: whether any configuration reads it, and the (s, b) a per-(s, b) one is made
@@ -123,6 +161,7 @@ double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& 
 }
 
 double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacement& view) const {
+    if (cfg.format != own_) return storedAt(cfg.format).precomputeMs(cfg, view);
     const int sign = methodScaleBias(cfg, view).first < 0 ? 1 : 0;
     const MapSet want = needs(cfg);
     double ms = want.has(MapKind::Pyramid) ? pyramidMs_ : 0.0;
@@ -133,6 +172,7 @@ double MethodTextureCache::precomputeMs(const MethodConfig& cfg, const Displacem
 
 const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,
                                              const Displacement& view) const {
+    if (cfg.format != own_) return storedAt(cfg.format).at(cfg, view);
     auto it = cache_.find(methodScaleBias(cfg, view));
     PGT_CHECK(it != cache_.end());
     return it->second;

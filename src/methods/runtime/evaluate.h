@@ -61,10 +61,13 @@ MethodContext<Real> makeMethodContext(const MethodTextures& tex) {
 }
 
 // Method textures by (s, b), built on first use: the truth's (s, b) and any method's own.
+// A method whose "format" stores the map in fewer bits reads a rounded copy of it
+// (heightfield/mipmaps.h storedMap), with maps of its own made from that copy.
 class MethodTextureCache {
   public:
-    MethodTextureCache(const Texture& height, const UvExtent& uvExtent)
-        : height_(height), uvExtent_(uvExtent) {}
+    MethodTextureCache(const Texture& height, const UvExtent& uvExtent,
+                       StorageFormat own = StorageFormat::Float)
+        : height_(height), uvExtent_(uvExtent), own_(own) {}
     // The maps `cfg` reads in a view of (s, b) `view`: its own (s, b) where it has one.
     // Builds the entry on first use (not thread-safe then; a hit only reads).
     const MethodTextures& get(const MethodConfig& cfg, const Displacement& view);
@@ -72,7 +75,7 @@ class MethodTextureCache {
     const MethodTextures& at(const MethodConfig& cfg, const Displacement& view) const;
     // Drops every entry (a study moving to the next (s, b): its derived maps are W x H x 16
     // bytes each, so keeping every (s, b) would grow with the study).
-    void clear() { cache_.clear(); }
+    void clear();
     // The time its maps took to build a configuration's precomputed data in a view of (s, b)
     // `view` (ms; 0 if none): maxmip's pyramid, cone's map for the sign of s, and for
     // relaxed_cone that map plus the relaxed one built from it; each is built once for the map
@@ -80,8 +83,18 @@ class MethodTextureCache {
     double precomputeMs(const MethodConfig& cfg, const Displacement& view) const;
 
   private:
+    // The cache of the map as `format` stores it (its rounded copy made on first use).
+    MethodTextureCache& stored(StorageFormat format);
+    const MethodTextureCache& storedAt(StorageFormat format) const;
+    struct Stored {
+        Texture map;
+        std::unique_ptr<MethodTextureCache> cache;
+    };
+
     const Texture& height_;
     UvExtent uvExtent_;
+    StorageFormat own_;
+    std::map<StorageFormat, std::unique_ptr<Stored>> stored_;
     std::map<std::pair<double, double>, MethodTextures> cache_;
     std::shared_ptr<const MinMaxPyramid> pyramid_;
     double pyramidMs_ = 0;

@@ -330,6 +330,7 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
     // pgt_sample (docs/methods.md "GLSL methods").
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, "zero") == "grad";
+    readStorageFormat(f, cfg);
     cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.label = f.string("label", "");
@@ -357,9 +358,18 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
         return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
     }
+    if (param == "format") {  // the storage of the map it reads, as any method's
+        const Json entry = {{"format", value}};
+        JsonFields one(entry, file, field.substr(0, field.rfind('.')));
+        readStorageFormat(one, cfg);
+        one.finish();
+        return storageFormatName(cfg.format);
+    }
     const std::string prefix = "uniforms.";
     if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
-        fail("a GLSL/HLSL method or preset varies \"scale\", \"bias\" or \"uniforms.NAME\"");
+        fail(
+            "a GLSL/HLSL method or preset varies \"scale\", \"bias\", \"format\" or "
+            "\"uniforms.NAME\"");
     if (!cfg.shader()) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
     const std::string name = param.substr(prefix.size());
     const GlslSpec::Uniform un = uniformValue(name, value, false, fail);
