@@ -24,9 +24,18 @@ struct Agreement {
     int64_t fetchMismatch = 0;  // fragments whose fetch counts differ
 };
 
+// The C++ side of a comparison with the GL: a hardware GPU filters with 8 fractional bits of
+// weight (docs/methods.md "GPU filter precision"), so there the C++ method filters as
+// "filter": "gpu8" does; a software GL (llvmpipe, CI) filters exactly, as pgt's C++ does.
+inline MethodConfig filteredAsTheGl(MethodConfig cpu) {
+    if (BuiltinMethod* b = cpu.builtin(); b && !glContext().software) b->gpu8Filter = true;
+    return cpu;
+}
+
 // The C++ method and its GLSL twin on the same inputs.
-inline Agreement agree(const MethodConfig& cpu, const MethodConfig& gl, const Texture& t, double s,
-                       double b, const Fragments& in, double tolTexels) {
+inline Agreement agree(const MethodConfig& cpuAsListed, const MethodConfig& gl, const Texture& t,
+                       double s, double b, const Fragments& in, double tolTexels) {
+    const MethodConfig cpu = filteredAsTheGl(cpuAsListed);
     DerivedMaps dm = makeDerivedMaps(t, s, b);
     const MinMaxPyramid pyramid = buildMinMaxPyramid(t);
     const ConeMap cone = buildConeMap(t, s < 0);
