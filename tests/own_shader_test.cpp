@@ -43,6 +43,13 @@ struct PomCheck {
 };
 
 std::string data(const std::string& rel) { return test::testDataDir() + "/" + rel; }
+// The uniforms of pgt's pom written as a user's file (tests/data): s and b bound, 8-32 layers.
+nlohmann::json pomUniforms() {
+    return {{"height_scale", "scale"},
+            {"height_bias", "bias"},
+            {"min_layers", 8.0},
+            {"max_layers", 32.0}};
+}
 // The shaders scenes/own_shader.json ships.
 std::string scene(const std::string& file) {
     return test::testSourceDir() + "/../scenes/own_shader/" + file;
@@ -54,11 +61,7 @@ TEST(OwnShader, HlslTwinOfPomEqualsTheBuiltIn) {
                      {"hlsl", data("hlsl/pom_twin.hlsl")},
                      {"function", "ParallaxOcclusion"},
                      {"sampler", "heightMap"},
-                     {"uniforms",
-                      {{"height_scale", "scale"},
-                       {"height_bias", "bias"},
-                       {"min_layers", 8.0},
-                       {"max_layers", 32.0}}}},
+                     {"uniforms", pomUniforms()}},
                     "pom_twin.hlsl");
 }
 
@@ -108,11 +111,7 @@ TEST(EngineFiles, Dx9SamplerWithByteOrderMarkAndCrlfEqualsPom) {
                      {"hlsl", data("hlsl/pom_dx9.hlsl")},
                      {"function", "ParallaxOcclusion"},
                      {"sampler", "heightMap"},
-                     {"uniforms",
-                      {{"height_scale", "scale"},
-                       {"height_bias", "bias"},
-                       {"min_layers", 8.0},
-                       {"max_layers", 32.0}}}},
+                     {"uniforms", pomUniforms()}},
                     "pom_dx9.hlsl");
 }
 
@@ -150,11 +149,7 @@ TEST(EngineFiles, GlslIncludeAndHeightInGreenEqualPom) {
                      {"function", "ParallaxOcclusion"},
                      {"sampler", "packedMap"},
                      {"texture", "height.g"},
-                     {"uniforms",
-                      {{"height_scale", "scale"},
-                       {"height_bias", "bias"},
-                       {"min_layers", 8.0},
-                       {"max_layers", 32.0}}}},
+                     {"uniforms", pomUniforms()}},
                     "pom_include.glsl, height.g");
 }
 

@@ -87,30 +87,25 @@ with tempfile.TemporaryDirectory() as d:
         failures.append(f"partial study not ranked over its 17 common cases: {ptext[:400]}")
     # An accuracy-only study ("repeats": 0): no run-time figure, the report says why, and a
     # configuration equal to another in another panel is named "(= X)" in the table.
-    fast = dict(scene, methods=["parallax", {"name": "parallax", "label": "again"}])
-    fast["sweep"] = {"theta": [0, 40], "timing": {"repeats": 0}}
-    fast_path = os.path.join(d, "fast.json")
-    json.dump(fast, open(fast_path, "w"))
-    fast_out = os.path.join(d, "fast")
-    r = subprocess.run([pgt, "sweep", fast_path, "--out", fast_out], capture_output=True,
-                       text=True,
-                       env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
-    ftext = open(os.path.join(fast_out, "report.md")).read() if r.returncode == 0 else r.stderr
+    def study_report(name, methods, sweep):
+        """report.md of a sweep of the scene with these methods and sweep block (or stderr)."""
+        path = os.path.join(d, name + ".json")
+        json.dump(dict(scene, methods=methods, sweep=sweep), open(path, "w"))
+        r = subprocess.run([pgt, "sweep", path, "--out", os.path.join(d, name)],
+                           capture_output=True, text=True,
+                           env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
+        return open(os.path.join(d, name, "report.md")).read() if r.returncode == 0 else r.stderr
+
+    ftext = study_report("fast", ["parallax", {"name": "parallax", "label": "again"}],
+                         {"theta": [0, 40], "timing": {"repeats": 0}})
     if "Nothing was timed" not in ftext or "pareto_ns" in ftext or "again (= parallax)" not in ftext:
         failures.append(f"accuracy-only report: {ftext[-600:]}")
     # A study of stored formats: the report's "Texture storage" table, each unorm row against
     # the float configuration with the same parameters (parallax's error added by unorm8 on
     # this constant-free map is not 0).
-    stored = dict(scene, methods=["parallax"])
-    stored["sweep"] = {"theta": [40, 70], "parallax.format": ["float", "unorm8"],
-                       "timing": {"repeats": 0}}
-    stored_path = os.path.join(d, "stored.json")
-    json.dump(stored, open(stored_path, "w"))
-    stored_out = os.path.join(d, "stored")
-    r = subprocess.run([pgt, "sweep", stored_path, "--out", stored_out], capture_output=True,
-                       text=True,
-                       env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
-    stext = open(os.path.join(stored_out, "report.md")).read() if r.returncode == 0 else r.stderr
+    stext = study_report("stored", ["parallax"],
+                         {"theta": [40, 70], "parallax.format": ["float", "unorm8"],
+                          "timing": {"repeats": 0}})
     row = next((l for l in stext.splitlines() if l.startswith("| parallax_u8 | unorm8 |")), "")
     if "## Texture storage" not in stext or row.count("(") != 2:
         failures.append(f"texture storage table: {row!r} in {stext[-800:]}")

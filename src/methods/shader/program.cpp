@@ -268,29 +268,21 @@ struct Pieces {
     EntryLines entry;  // counted from the glue's first line
 };
 
-// "call": the expression on a line of its own (a message on it or on the lines around it names
-// the call), in a function with the names docs/methods.md
-// lists (uv, V, N, s, b).
-constexpr const char* kCallHead = R"(uniform float pgt_s;
-uniform float pgt_b;
-vec2 pgt_call(vec2 uv, vec3 V) {
-    const vec3 N = vec3(0.0, 0.0, 1.0);
-    float s = pgt_s;
-    float b = pgt_b;
-    vec2 pgt_r =
-)";
-constexpr const char* kCallTail = R"(
-    ;
-    return pgt_r;
-}
-)";
-// "body": the same function with the entry's statements as its own.
+// "body": the entry's statements in a function with the names docs/methods.md lists (uv, V,
+// N, s, b); "call": the same function returning the expression, which stands on a line of its
+// own (a message on it or on the lines around it names the call).
 constexpr const char* kBodyHead = R"(uniform float pgt_s;
 uniform float pgt_b;
 vec2 pgt_call(vec2 uv, vec3 V) {
     const vec3 N = vec3(0.0, 0.0, 1.0);
     float s = pgt_s;
     float b = pgt_b;
+)";
+const std::string kCallHead = std::string(kBodyHead) + "    vec2 pgt_r =\n";
+constexpr const char* kCallTail = R"(
+    ;
+    return pgt_r;
+}
 )";
 
 // "api": "gl": the framebuffer's y runs up, as in OpenGL and WebGL; pgt draws with y down
@@ -323,7 +315,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     p.function = spec.function;
     if (!spec.call.empty()) {
         p.entry.call = countLines(p.glue + kCallHead) + 1;
-        p.glue += std::string(kCallHead) + spec.call + kCallTail;
+        p.glue += kCallHead + spec.call + kCallTail;
         p.function = "pgt_call";
     }
     if (!spec.body.empty()) {
