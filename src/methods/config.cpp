@@ -233,10 +233,8 @@ MapSet needs(const MethodConfig& cfg) {
 }
 
 bool hasStepCount(const MethodConfig& cfg) {
-    return std::visit(
-        Overloaded{[](const BuiltinMethod& b) { return !!kindInfo(b.kind).stepKey; },
-                   [](const ShaderMethod& m) { return !m.spec->stepsUniform.empty(); }},
-        cfg.method);
+    MethodConfig probe = cfg;  // a step count is there where one can be set
+    return setStepCount(probe, 1);
 }
 
 bool setStepCount(MethodConfig& cfg, int steps) {
@@ -249,8 +247,7 @@ bool setStepCount(MethodConfig& cfg, int steps) {
 
 Fittable fittable(const MethodConfig& cfg) {
     if (!cfg.preset.empty()) return Fittable::Preset;
-    const GlslSpec* g = cfg.shader();
-    return g && !g->takesScale() ? Fittable::ScaleUnused : Fittable::Yes;
+    return reaches(cfg, "scale") || reaches(cfg, "bias") ? Fittable::Yes : Fittable::ScaleUnused;
 }
 
 bool reaches(const MethodConfig& cfg, const std::string& param) {
@@ -263,6 +260,49 @@ bool readsDisplacement(const MethodConfig& cfg) {
     return !b || b->kind != MethodKind::None;
 }
 
-bool variedAsShader(const MethodConfig& cfg) { return cfg.shader() || !cfg.preset.empty(); }
+bool runsInGl(const MethodConfig& cfg) { return cfg.shader() != nullptr; }
+
+bool variedAsShader(const MethodConfig& cfg) { return runsInGl(cfg) || !cfg.preset.empty(); }
+
+std::string setShaderParameter(MethodConfig& cfg, const std::string& param, const Json& value,
+                               const std::string& file, const std::string& field) {
+    auto fail = [&](const std::string& message) -> void {
+        throw InputError(file, field, shortDump(value), message);
+    };
+    if (param == "scale" || param == "bias") {
+        if (!reaches(cfg, param))
+            fail("the method's own " + param + " would not reach the shader of \"" + cfg.label +
+                 "\": no uniform is bound to \"" + param + "\" and no call or body names " +
+                 (param == "scale" ? "s" : "b") +
+                 " (a preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
+                 "docs/methods.md)");
+        if (!value.is_number() || !std::isfinite(value.get<double>()) ||
+            std::abs(value.get<double>()) > kMaxOwnDisplacement)
+            fail("expected a finite number of at most 1e3 in magnitude");
+        (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
+        return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
+    }
+    if (param == "format") {  // the storage of the map it reads, as any method's
+        const Json entry = {{"format", value}};
+        JsonFields one(entry, file, field.substr(0, field.rfind('.')));
+        readStorageFormat(one, cfg);
+        one.finish();
+        return storageFormatName(cfg.format);
+    }
+    const std::string prefix = "uniforms.";
+    if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
+        fail(
+            "a GLSL/HLSL method or preset varies \"scale\", \"bias\", \"format\" or "
+            "\"uniforms.NAME\"");
+    return std::visit(
+        Overloaded{[&](const BuiltinMethod&) -> std::string {
+                       fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
+                       return "";
+                   },
+                   [&](ShaderMethod& m) {
+                       return setShaderUniform(m, param.substr(prefix.size()), value, file, field);
+                   }},
+        cfg.method);
+}
 
 }  // namespace pgt

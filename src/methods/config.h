@@ -66,6 +66,8 @@ bool readsDisplacement(const MethodConfig& cfg);
 // Whether a study varies it through "LABEL.scale|bias|uniforms.NAME" (setShaderParameter: a
 // shader or a preset) rather than through a built-in's own parameters (readMethodParameters).
 bool variedAsShader(const MethodConfig& cfg);
+// Whether it runs in OpenGL (a GLSL/HLSL method or GLSL preset) rather than in C++.
+bool runsInGl(const MethodConfig& cfg);
 // A built-in configuration's GLSL twin (its row of the method table, methods/registry.h:
 // "LABEL_gl", the shipped shader, its samplers, s and b and the configuration's parameters as
 // uniforms), made directly; the built-in's kind must have one. twinEntry writes the same as a

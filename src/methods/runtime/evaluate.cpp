@@ -214,8 +214,6 @@ MethodPixel runOne(const MethodConfig& cfg, const BuiltinMethod& b, const Method
 
 }  // namespace
 
-bool runsInGl(const MethodConfig& cfg) { return cfg.shader() != nullptr; }
-
 void compileMethod(const MethodConfig& cfg) {
     if (const GlslSpec* g = cfg.shader()) compileGlsl(*g);
 }

@@ -13,6 +13,7 @@
 #include "heightfield/cone_map.h"
 #include "heightfield/heightfield.h"
 #include "heightfield/minmax_pyramid.h"
+#include "methods/config.h"
 #include "methods/method.h"
 #include "raster/fragment_list.h"
 #include "scene/scene.h"
@@ -116,10 +117,9 @@ Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList&
                                     bool exactFrame = false);
 
 // What differs between a built-in and a shader for running them (the rest is
-// methods/config.h's): a shader runs in OpenGL, over the fragments in screen layout
-// (methods/shader/glsl_method.h GlslInputs: `frags`' pixels are y * width + x of the frame), one GL
-// draw at a time; a built-in in C++ on all cores.
-bool runsInGl(const MethodConfig& cfg);
+// methods/config.h's, runsInGl among it): a shader runs in OpenGL, over the fragments in
+// screen layout (methods/shader/glsl_method.h GlslInputs: `frags`' pixels are y * width + x of
+// the frame), one GL draw at a time; a built-in in C++ on all cores.
 // Compiles a shader's program now (a study compiles every configuration before its first
 // case, so that a compile error costs no case); nothing for a built-in.
 void compileMethod(const MethodConfig& cfg);

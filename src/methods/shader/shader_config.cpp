@@ -340,40 +340,13 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     return cfg;
 }
 
-std::string setShaderParameter(MethodConfig& cfg, const std::string& param, const Json& value,
-                               const std::string& file, const std::string& field) {
+std::string setShaderUniform(ShaderMethod& m, const std::string& name, const Json& value,
+                             const std::string& file, const std::string& field) {
     auto fail = [&](const std::string& message) -> void {
         throw InputError(file, field, shortDump(value), message);
     };
-    if (param == "scale" || param == "bias") {
-        if (cfg.shader() && !cfg.shader()->reaches(param))
-            fail("the method's own " + param + " would not reach " + cfg.shader()->path +
-                 ": no uniform is bound to \"" + param + "\" and no call or body names " +
-                 (param == "scale" ? "s" : "b") +
-                 " (a preset's height scale is its own uniform: set \"uniforms.NAME\", listed in "
-                 "docs/methods.md)");
-        if (!value.is_number() || !std::isfinite(value.get<double>()) ||
-            std::abs(value.get<double>()) > kMaxOwnDisplacement)
-            fail("expected a finite number of at most 1e3 in magnitude");
-        (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
-        return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
-    }
-    if (param == "format") {  // the storage of the map it reads, as any method's
-        const Json entry = {{"format", value}};
-        JsonFields one(entry, file, field.substr(0, field.rfind('.')));
-        readStorageFormat(one, cfg);
-        one.finish();
-        return storageFormatName(cfg.format);
-    }
-    const std::string prefix = "uniforms.";
-    if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
-        fail(
-            "a GLSL/HLSL method or preset varies \"scale\", \"bias\", \"format\" or "
-            "\"uniforms.NAME\"");
-    if (!cfg.shader()) fail("\"" + cfg.label + "\" is a built-in preset: it has no uniforms");
-    const std::string name = param.substr(prefix.size());
     const GlslSpec::Uniform un = uniformValue(name, value, false, fail);
-    auto spec = std::make_shared<GlslSpec>(*cfg.shader());  // configurations share no spec
+    auto spec = std::make_shared<GlslSpec>(*m.spec);  // configurations share no spec
     auto it = std::find_if(spec->uniforms.begin(), spec->uniforms.end(),
                            [&](const GlslSpec::Uniform& u) { return u.name == name; });
     if (it != spec->uniforms.end())
@@ -382,7 +355,7 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         spec->uniforms.push_back(un);
     else
         fail("the shader " + spec->path + " has no uniform \"" + name + "\"");
-    cfg.method = ShaderMethod{std::move(spec)};
+    m.spec = std::move(spec);
     std::string part = name;
     for (size_t k = 0; k < un.values.size(); ++k) {
         if (k > 0) part += '_';
