@@ -21,6 +21,7 @@
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
+#include "study/view_memory.h"
 #include "truth/builder.h"
 #include "truth/truth.h"
 
@@ -158,25 +159,5 @@ struct RenderOptions {
 
 // The whole `pgt render`: builds the truth for the scene's (s, b) and renders its view.
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options = {});
-
-// Memory one view needs, estimated before anything is allocated (bytes): per band, the
-// truth (two rates), the rasteriser's fragments and the methods' images; per pixel of the
-// frame, each method's kept error (float) for the percentiles and, when `writesImages`, for
-// its error map, or the whole frame's images when `keepsImages`; the maps the methods read
-// (estimateMapBytes); plus the truth geometry (a plane's lattice at the scene's rate and 2x,
-// capped by truth.memory_mb when the frame may be traced in blocks, which then keeps the whole
-// frame's truth). Throws InputError naming `field` when it exceeds the memory limit
-// (core/memory.h).
-struct ViewMemory {
-    const std::vector<MethodConfig>* configs = nullptr;  // the methods run at once
-    // The methods whose maps are held (pgt fit runs one method at a time over all); null: configs.
-    const std::vector<MethodConfig>* mapConfigs = nullptr;
-    bool writesImages = false;  // frame.exr and the error maps
-    bool keepsImages = false;   // the whole frame's images in memory (FrameOptions)
-    bool truthInBlocks = false;
-};
-double estimateViewBytes(const Scene& scene, int width, int height, const ViewMemory& m);
-void checkViewMemory(const Scene& scene, int width, int height, const ViewMemory& m,
-                     const std::string& field);
 
 }  // namespace pgt
