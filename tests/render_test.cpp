@@ -140,11 +140,12 @@ TEST(Render, OutputsRoundTrip) {
     ASSERT_TRUE(in);
     const OIIO::ImageSpec& spec = in->spec();
     std::vector<std::string> want = {
-        "truth.u",         "truth.v",        "truth.hit",      "base.u",          "base.v",
-        "base.hit",        "parallax.u",     "parallax.v",     "parallax.err",    "pom_8_16.u",
-        "pom_8_16.v",      "pom_8_16.err",   "pom_8_32.u",     "pom_8_32.v",      "pom_8_32.err",
-        "truth.depth",     "truth.shadow",   "parallax.depth", "parallax.shadow", "pom_8_16.depth",
-        "pom_8_16.shadow", "pom_8_32.depth", "pom_8_32.shadow"};
+        "truth.u",         "truth.v",        "truth.hit",       "base.u",          "base.v",
+        "base.hit",        "parallax.u",     "parallax.v",      "parallax.err",    "pom_8_16.u",
+        "pom_8_16.v",      "pom_8_16.err",   "pom_8_32.u",      "pom_8_32.v",      "pom_8_32.err",
+        "truth.depth",     "truth.shadow",   "parallax.depth",  "parallax.shadow", "pom_8_16.depth",
+        "pom_8_16.shadow", "pom_8_32.depth", "pom_8_32.shadow", "base.V.x",        "base.V.y",
+        "base.V.z",        "base.Vexact.x",  "base.Vexact.y",   "base.Vexact.z"};
     ASSERT_EQ(spec.nchannels, int(want.size()));
     std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
     ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
@@ -161,6 +162,16 @@ TEST(Render, OutputsRoundTrip) {
             size_t k = size_t(y) * spec.width + x;
             const float* p = &px[k * spec.nchannels];
             EXPECT_EQ(p[channel("truth.hit")], r.truth.data[k].hit ? 1.f : 0.f);
+            // The V the methods were given: on a plane under an orthographic camera both
+            // frames give the view direction at (theta 45, phi 10) in tangent space.
+            const Vec3d view = viewFromAngles(45, 10);
+            if (r.fragments.data[k].covered)
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_NEAR(p[channel(std::string("base.V.") + "xyz"[c])], view[c], 1e-6);
+                    EXPECT_NEAR(p[channel(std::string("base.Vexact.") + "xyz"[c])], view[c], 1e-6);
+                }
+            else
+                EXPECT_TRUE(std::isnan(p[channel("base.V.x")]));
             if (!r.truth.data[k].hit) {
                 EXPECT_TRUE(std::isnan(p[channel("truth.u")]));
                 continue;

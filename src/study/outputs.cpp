@@ -284,6 +284,11 @@ std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& conf
     names.push_back("truth.shadow");
     for (const MethodConfig& cfg : configs)
         for (const char* c : {".depth", ".shadow"}) names.push_back(cfg.label + c);
+    // The tangent-space V every method was given (the base's frame: pgt's, the asset's or
+    // MikkTSpace) and V in the exact frame of the drawn surface (docs/model.md §2).
+    for (const char* c :
+         {"base.V.x", "base.V.y", "base.V.z", "base.Vexact.x", "base.Vexact.y", "base.Vexact.z"})
+        names.push_back(c);
     return names;
 }
 
@@ -292,7 +297,8 @@ float shadowChannel(int8_t state) { return state == kShadowNone ? NAN : float(st
 }  // namespace
 
 void interleaveFrameBand(const FrameBand& b, float* rows) {
-    const size_t methods = b.pixels.size(), nc = 8 + 5 * methods, tail = 6 + 3 * methods;
+    const size_t methods = b.pixels.size(), nc = kFrameChannels + 5 * methods,
+                 tail = 6 + 3 * methods, view = 8 + 5 * methods;
     const size_t n = b.truth->data.size();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
@@ -313,6 +319,10 @@ void interleaveFrameBand(const FrameBand& b, float* rows) {
             }
             p[tail] = float(t.depth);
             p[tail + 1] = shadowChannel(t.shadow);
+            for (int c = 0; c < 3; ++c) {
+                p[view + size_t(c)] = f.covered ? float(f.viewTangent[c]) : NAN;
+                p[view + 3 + size_t(c)] = f.covered ? float(f.viewTangentExact[c]) : NAN;
+            }
         }
     });
 }

@@ -57,7 +57,9 @@ void writeRenderOutputs(const Scene& scene, const RenderResult& result, const st
 double share(int64_t part, int64_t whole);
 // frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
 // LABEL.u, LABEL.v, LABEL.err per method, then truth.depth, truth.shadow and LABEL.depth,
-// LABEL.shadow per method (docs/outputs.md).
+// LABEL.shadow per method, then base.V.x/y/z and base.Vexact.x/y/z (docs/outputs.md):
+// kFrameChannels + 5 per method.
+constexpr size_t kFrameChannels = 14;
 std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
 // A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
 // channel has no value), into `rows` (width x rows x channels floats).

@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/memory.h"
+#include "study/outputs.h"
 #include "study/render.h"
 #include "truth/tessellation.h"
 
@@ -17,11 +18,12 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
     // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
-    // interleaved rows (8 + 5 per method floats).
+    // interleaved rows (kFrameChannels + 5 per method floats).
     const double band = double(width) * std::min(height, bandRows(width));
     double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 68 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
-    if (m.writesImages) perBandPixel += (8.0 + 5.0 * methods) * sizeof(float) * 2;
+    if (m.writesImages)
+        perBandPixel += (double(kFrameChannels) + 5.0 * methods) * sizeof(float) * 2;
     // The frame: each method's kept errors (float) for its percentiles, the truth's own, the
     // error maps' float images; or everything when the images are kept.
     double perPixel = (methods + 1) * sizeof(float);
