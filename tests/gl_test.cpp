@@ -413,8 +413,8 @@ TEST(Gl, BandDrawsRunThroughTheRunnerAndEqualAWholeFrameDraw) {
                        }};
     RenderResult r = renderView(s, s.view(), truths, s.methods, textures, timing, frame);
     const Camera camera = makeCamera(s);
-    const FragmentList all =
-        compactFragments(rasterize(drawnBaseMesh(s.base, camera), camera, {s.cullBackFaces}));
+    const FragmentList all = compactFragments(
+        rasterize(drawnBaseMesh(s.base, camera), camera, {s.cullBackFaces, s.worldPerUv()}));
     std::set<int> bands;  // 139 rows: bands of 108 and 31
     for (int32_t p : all.pixel) bands.insert(p / 150 / bandRows(150));
     EXPECT_EQ(draws, int(bands.size()));

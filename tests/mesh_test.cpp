@@ -482,3 +482,57 @@ TEST(MeshRender, DiscardOutsideUsesTheMeshUvExtent) {
 
 }  // namespace
 }  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// The exact frame on a sheared, unequally scaled quad (docs/model.md §2): positions
+// (0,0) (2,0) (2.6,1) (0.6,1) over UV [0,1]^2, so dS/du = (2,0,0), dS/dv = (0.6,1,0) and
+// l = sqrt(2) (world area 2 over UV area 1). Closed forms: V_exact is M^-1 V normalised for
+// M = [dS/du dS/dv l N] (inverted here with glm, not with the rasteriser's Cramer's rule), and
+// on a constant map `parallax` fed V_exact lands on the truth (its offset (s h + b) V.xy / V.z
+// is then the ray's own), while the orthonormal per-vertex frame misses by far more.
+TEST(MeshRender, ExactFrameIsTheUvSpaceRayOnAShearedQuad) {
+    auto dir = test::tempDir("shearquad");
+    {
+        std::ofstream obj(dir / "quad.obj");
+        obj << "v 0 0 0\nv 2 0 0\nv 2.6 1 0\nv 0.6 1 0\n"
+               "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    }
+    const double theta = 50, phi = 30;
+    std::string json = R"({"heightmap": {"procedural": "constant", "value": 0.6, "size": [32, 32]},
+        "displacement": {"scale": 0.04, "bias": -0.02},
+        "base": {"type": "mesh", "file": "quad.obj", "scheme": "bilinear", "refine": 0},
+        "camera": {"type": "orthographic", "theta": 50, "phi": 30, "target": [1.3, 0.5, 0],
+                   "view_height": 0.7, "resolution": [48, 48]},
+        "methods": ["parallax"], "truth": {"rate": 2, "uncertainty": false}})";
+    Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
+    const double l = s.worldPerUv();
+    EXPECT_NEAR(l, std::sqrt(2.0), 1e-6);  // from the float cage
+    RenderResult r = renderFrame(s, {.timingRepeats = 1});
+    // The orthographic V: theta from +z, phi from +x toward +y (model.md §4: the plane's T, B).
+    const double t = theta * kPi / 180, p = phi * kPi / 180;
+    const Vec3d view(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+    const glm::dmat3 m(Vec3d(2, 0, 0), Vec3d(0.6, 1, 0), Vec3d(0, 0, l));
+    const Vec3d want = glm::normalize(glm::inverse(m) * view);
+    int checked = 0;
+    for (const Fragment& f : r.fragments.data) {
+        if (!f.covered) continue;
+        ASSERT_TRUE(f.exactFrame);
+        // 1e-6: the cage's positions are read as floats (0.6 is 0.6000000238).
+        EXPECT_NEAR(glm::length(f.viewTangentExact - want), 0.0, 1e-6);
+        ++checked;
+    }
+    EXPECT_GT(checked, 1000);
+    const auto& mf = r.methods[0];
+    // The truth's own uncertainty on a flat relief is far below 1e-3 texel.
+    EXPECT_LT(mf.statsExactFrame.error.max, 1e-3);
+    EXPECT_GT(mf.stats.error.mean, 0.05);
+    EXPECT_GT(1.0 - mf.statsExactFrame.error.mean / mf.stats.error.mean, 0.98);
+    std::printf("sheared quad: parallax %.4f texel, %.2e with the exact frame\n",
+                mf.stats.error.mean, mf.statsExactFrame.error.mean);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt

@@ -155,7 +155,7 @@ struct ScreenTriangle {
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
 // (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
 void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
-           const SurfaceDerivatives& d, const Camera& camera) {
+           const SurfaceDerivatives& d, const Camera& camera, double l) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
@@ -172,16 +172,14 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     f.viewTangentExact = f.viewTangent;
     f.exactFrame = d.exact;
     if (d.exact) {
-        Vec3d te = glm::normalize(d.dSdu - n * glm::dot(n, d.dSdu));
-        Vec3d be = d.dSdv - n * glm::dot(n, d.dSdv);
-        be = glm::normalize(be - te * glm::dot(te, be));
-        f.viewTangentExact =
-            glm::normalize(Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
+        const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, l, view);
+        f.exactFrame = ve != Vec3d(0);
+        if (f.exactFrame) f.viewTangentExact = ve;
     }
 }
 
 // Every sample the triangle covers, nearest first (depth test on camera-space forward).
-void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera,
+void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera, double l,
           Image2D<Fragment>& frags, Image2D<double>& depth) {
     std::array<double, 3> b;
     for (int py = tri.py0; py <= tri.py1; ++py)
@@ -191,7 +189,7 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             double z = b[0] * c[0]->cam.z + b[1] * c[1]->cam.z + b[2] * c[2]->cam.z;
             if (!(z < depth.at(px, py))) continue;
             depth.at(px, py) = z;
-            shade(frags.at(px, py), tri, b, d, camera);
+            shade(frags.at(px, py), tri, b, d, camera, l);
         }
 }
 
@@ -221,7 +219,7 @@ Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
         for (size_t k = 1; k + 1 < poly.size(); ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera, {&poly[0], &poly[k], &poly[k + 1]}))
-                scan(screen, d, camera, frags, depth);
+                scan(screen, d, camera, options.worldPerUv, frags, depth);
         }
     }
     for (const auto& f : frags.data) {

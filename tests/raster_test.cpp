@@ -172,8 +172,9 @@ TEST(Raster, BinnedEqualsTheWholeFrameRasteriserOnEveryBundledScene) {
                 const Camera cam = makeCamera(scene, v);
                 const BaseMesh mesh = drawnBaseMesh(scene.base, cam);
                 RasterStats s1, s2;
-                auto binned = rasterize(mesh, cam, {scene.cullBackFaces}, &s1);
-                auto whole = reference::rasterize(mesh, cam, {scene.cullBackFaces}, &s2);
+                auto binned = rasterize(mesh, cam, {scene.cullBackFaces, scene.worldPerUv()}, &s1);
+                auto whole =
+                    reference::rasterize(mesh, cam, {scene.cullBackFaces, scene.worldPerUv()}, &s2);
                 const std::string what =
                     entry.path().filename().string() + " theta " + std::to_string(v.camera.theta);
                 expectSameFragments(binned, whole, what);
@@ -193,8 +194,8 @@ TEST(Raster, AnyRectangleEqualsTheWholeFrame) {
     v.camera.width = 150, v.camera.height = 70;
     const Camera cam = makeCamera(scene, v);
     const BaseMesh mesh = drawnBaseMesh(scene.base, cam);
-    auto whole = rasterize(mesh, cam, {scene.cullBackFaces});
-    Rasterizer raster(mesh, cam, {scene.cullBackFaces});
+    auto whole = rasterize(mesh, cam, {scene.cullBackFaces, scene.worldPerUv()});
+    Rasterizer raster(mesh, cam, {scene.cullBackFaces, scene.worldPerUv()});
     std::mt19937 rng(5);
     for (int k = 0; k < 40; ++k) {
         int x0 = int(rng() % 150), y0 = int(rng() % 70);

@@ -49,7 +49,7 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
     if (BuiltinMethod* b = cfg.builtin()) readShadowParameters(f, *b);
-    readStorageFormat(f, cfg);
+    readMethodInputs(f, cfg);
     if (f.has("uniforms")) {
         const Json& u = f.raw("uniforms");
         if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
@@ -80,6 +80,7 @@ std::string parameterSuffix(const MethodConfig& c) {
     if (c.lodGrad) add("grad");
     if (c.format == StorageFormat::Unorm8) add("u8");
     if (c.format == StorageFormat::Unorm16) add("u16");
+    if (c.viewPerVertex) add("pv");
     if (c.discardOutside) add("discard");
     if (b && b->shadow != ShadowMarch::Hard) add("shadow_", shadowNames()[size_t(b->shadow)]);
     if (b && b->shadowSteps != BuiltinMethod{}.shadowSteps)
@@ -106,16 +107,18 @@ void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
                                  b.doublePrecision ? "double" : "float") == "double";
     b.gpu8Filter = f.choice("filter", {"exact", "gpu8"}, b.gpu8Filter ? "gpu8" : "exact") == "gpu8";
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, cfg.lodGrad ? "grad" : "zero") == "grad";
-    readStorageFormat(f, cfg);
+    readMethodInputs(f, cfg);
     readShadowParameters(f, b);
 }
 
-void readStorageFormat(JsonFields& f, MethodConfig& cfg) {
+void readMethodInputs(JsonFields& f, MethodConfig& cfg) {
     const std::string name =
         f.choice("format", {"float", "unorm16", "unorm8"}, storageFormatName(cfg.format));
     cfg.format = name == "unorm8"    ? StorageFormat::Unorm8
                  : name == "unorm16" ? StorageFormat::Unorm16
                                      : StorageFormat::Float;
+    cfg.viewPerVertex = f.choice("V", {"per_pixel", "per_vertex"},
+                                 cfg.viewPerVertex ? "per_vertex" : "per_pixel") == "per_vertex";
 }
 
 MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
@@ -216,6 +219,7 @@ Json toJson(const MethodConfig& c) {
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
     if (c.lodGrad) j["lod"] = "grad";
     if (c.format != StorageFormat::Float) j["format"] = storageFormatName(c.format);
+    if (c.viewPerVertex) j["V"] = "per_vertex";
     return j;
 }
 
@@ -282,17 +286,18 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
         (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
         return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
     }
-    if (param == "format") {  // the storage of the map it reads, as any method's
-        const Json entry = {{"format", value}};
+    if (param == "format" || param == "V") {  // what it reads, as any method's
+        const Json entry = {{param, value}};
         JsonFields one(entry, file, field.substr(0, field.rfind('.')));
-        readStorageFormat(one, cfg);
+        readMethodInputs(one, cfg);
         one.finish();
-        return storageFormatName(cfg.format);
+        return param == "V" ? (cfg.viewPerVertex ? "per_vertex" : "per_pixel")
+                            : storageFormatName(cfg.format);
     }
     const std::string prefix = "uniforms.";
     if (param.rfind(prefix, 0) != 0 || param.size() == prefix.size())
         fail(
-            "a GLSL/HLSL method or preset varies \"scale\", \"bias\", \"format\" or "
+            "a GLSL/HLSL method or preset varies \"scale\", \"bias\", \"format\", \"V\" or "
             "\"uniforms.NAME\"");
     return std::visit(
         Overloaded{[&](const BuiltinMethod&) -> std::string {

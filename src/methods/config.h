@@ -27,8 +27,9 @@ MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
 // scale, bias, discard_outside, precision) over cfg's current values. The caller calls f.finish(),
 // which rejects every other key. A study varies a configuration through this.
 void readMethodParameters(JsonFields& f, MethodConfig& cfg);
-// "format": "float" | "unorm16" | "unorm8" (MethodConfig::format), any method's.
-void readStorageFormat(JsonFields& f, MethodConfig& cfg);
+// What any method reads, as an engine hands it: "format": "float" | "unorm16" | "unorm8"
+// (MethodConfig::format) and "V": "per_pixel" | "per_vertex" (MethodConfig::viewPerVertex).
+void readMethodInputs(JsonFields& f, MethodConfig& cfg);
 // Sets one parameter of a GLSL/HLSL method or a preset as a study varies it
 // ("LABEL.PARAM": [values]) or a preset entry overrides it: "scale" or "bias" (the method's
 // own s or b), or "uniforms.NAME" (a GLSL/HLSL method's or GLSL preset's uniform: a number or

@@ -31,6 +31,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
     list.uvDy.resize(total);
     list.light.resize(total);
     list.lightExact.resize(total);
+    list.viewVertex.resize(total);
+    list.engine.resize(total);
     tbb::parallel_for(0, H, [&](int y) {
         size_t k = start[size_t(y)];
         for (int x = 0; x < W; ++x) {
@@ -44,6 +46,8 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             list.uvDy[k] = f.uvDy;
             list.light[k] = f.lightTangent;
             list.lightExact[k] = f.lightTangentExact;
+            list.viewVertex[k] = f.viewTangentVertex;
+            list.engine[k] = f.engine;
             ++k;
         }
     });
@@ -60,6 +64,8 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     for (size_t k = 0; k < from.size(); ++k) {
         light.push_back(from.lightAt(k));
         lightExact.push_back(from.lightAt(k, true));
+        viewVertex.push_back(from.viewVertexAt(k));
+        engine.push_back(from.engineAt(k));
     }
 }
 
@@ -73,6 +79,8 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.uvDy.push_back(from.uvDy[k]);
     to.light.push_back(from.lightAt(k));
     to.lightExact.push_back(from.lightAt(k, true));
+    to.viewVertex.push_back(from.viewVertexAt(k));
+    to.engine.push_back(from.engineAt(k));
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
@@ -83,6 +91,8 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.uvDy[slot] = from.uvDy[k];
     to.light[slot] = from.lightAt(k);
     to.lightExact[slot] = from.lightAt(k, true);
+    to.viewVertex[slot] = from.viewVertexAt(k);
+    to.engine[slot] = from.engineAt(k);
 }
 }  // namespace
 

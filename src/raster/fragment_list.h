@@ -14,7 +14,7 @@ namespace pgt {
 
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
-// reads them as they are. 148 bytes per fragment.
+// reads them as they are. 236 bytes per fragment.
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
@@ -22,7 +22,13 @@ struct FragmentList {
     std::vector<Vec3d> viewExact;   // V in the exact frame of the drawn surface (meshes)
     std::vector<Vec2d> uvDx, uvDy;  // uv0's screen derivatives (Fragment::uvDx, uvDy)
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
+    std::vector<Vec3d> viewVertex;         // V per vertex, interpolated (Fragment)
+    std::vector<EngineInputs> engine;      // an engine's varyings (Fragment::engine)
     size_t size() const { return pixel.size(); }
+    // Fragment k's per-vertex V and engine inputs; a list made by hand (tests) that left them
+    // out gives the per-pixel V and zero inputs.
+    Vec3d viewVertexAt(size_t k) const { return k < viewVertex.size() ? viewVertex[k] : view[k]; }
+    EngineInputs engineAt(size_t k) const { return k < engine.size() ? engine[k] : EngineInputs{}; }
     // Fragment k's light in either frame; zero (no light) where a list made by hand (tests)
     // left the lights out.
     Vec3d lightAt(size_t k, bool exactFrame = false) const {

@@ -25,13 +25,14 @@ struct ClipVertex {
     Vec2d uv;
     Vec3d t, b, n;
     double w;
+    Vec3d eyeTangent;  // the vertex's eye vector in its own frame (Fragment::viewTangentVertex)
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
     return {a.cam + (c.cam - a.cam) * s, a.world + (c.world - a.world) * s,
             a.uv + (c.uv - a.uv) * s,    a.t + (c.t - a.t) * s,
             a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s,
-            a.w + (c.w - a.w) * s};
+            a.w + (c.w - a.w) * s,       a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s};
 }
 
 // Top-left rule in a y-down raster, for edges oriented so that the interior is on the
@@ -81,6 +82,15 @@ SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v)
     return d;
 }
 
+// The eye vector at a vertex in its Listing 7.8 frame, unnormalised (a per-vertex V).
+Vec3d vertexEyeVector(const BaseVertex& p, const Camera& camera) {
+    const Vec3d n = glm::normalize(p.normal);
+    const Vec3d t = glm::normalize(p.tangent - n * glm::dot(n, p.tangent));
+    const Vec3d b = glm::cross(n, t) * (p.handedness < 0 ? -1.0 : 1.0);
+    const Vec3d e = camera.isOrthographic() ? -camera.forward() : camera.eye() - p.position;
+    return {glm::dot(t, e), glm::dot(b, e), glm::dot(n, e)};
+}
+
 // A triangle clipped at the near plane: up to 4 vertices (one plane cuts off at most one
 // corner's worth), kept in place, no allocation.
 struct ClippedPolygon {
@@ -101,7 +111,8 @@ ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camer
                            p->tangent,
                            p->bitangent,
                            p->normal,
-                           p->handedness};
+                           p->handedness,
+                           vertexEyeVector(*p, camera)};
     }
     ClippedPolygon out;
     if (camera.isOrthographic()) {
@@ -180,6 +191,13 @@ struct ScreenTriangle {
         const auto b = weights(e);
         return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
     }
+    // The same for the world position.
+    Vec3d positionAt(Vec2d p) const {
+        std::array<double, 3> e;
+        for (int i = 0; i < 3; ++i) e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
+        const auto b = weights(e);
+        return c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
+    }
 
   private:
     // Screen weights divided by w, normalised.
@@ -197,12 +215,16 @@ void quadDerivatives(Fragment& f, const ScreenTriangle& tri, int px, int py) {
     const int x0 = px & ~1, y0 = py & ~1;
     f.uvDx = at(x0 + 1, py) - at(x0, py);
     f.uvDy = at(px, y0 + 1) - at(px, y0);
+    auto pos = [&](int x, int y) { return Vec3f(tri.positionAt({x + 0.5, y + 0.5})); };
+    f.engine.positionDx = pos(x0 + 1, py) - pos(x0, py);
+    f.engine.positionDy = pos(px, y0 + 1) - pos(px, y0);
 }
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
 // (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
 void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
-           const SurfaceDerivatives& d, const Camera& camera, const Ray& ray, Vec3d light) {
+           const SurfaceDerivatives& d, const Camera& camera, const Ray& ray, Vec3d light,
+           double l) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
@@ -211,12 +233,19 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     // n)); b = cross(normal, tangent) * sigma.
     Vec3d n = glm::normalize(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
     Vec3d t = c[0]->t * b[0] + c[1]->t * b[1] + c[2]->t * b[2];
+    f.engine.tangent = Vec3f(t);  // as interpolated (EngineInputs)
     double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];
     t = glm::normalize(t - n * glm::dot(n, t));
     Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
     Vec3d view = camera.viewVector(position);
     f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
     f.viewTangentExact = f.viewTangent;
+    f.viewTangentVertex =
+        glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] + c[2]->eyeTangent * b[2]);
+    f.engine.position = Vec3f(position);
+    f.engine.normal = Vec3f(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
+    f.engine.tangentW = w < 0 ? -1.0f : 1.0f;
+    f.engine.camera = Vec3f(ray.origin);
     f.rayT = glm::dot(position - ray.origin, ray.dir);
     auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
         return light == Vec3d(0) ? Vec3d(0)
@@ -226,19 +255,37 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     f.lightTangent = f.lightTangentExact = toFrame(t, bt, n);
     f.exactFrame = d.exact;
     if (d.exact) {
-        Vec3d te = glm::normalize(d.dSdu - n * glm::dot(n, d.dSdu));
-        Vec3d be = d.dSdv - n * glm::dot(n, d.dSdv);
-        be = glm::normalize(be - te * glm::dot(te, be));
-        f.viewTangentExact =
-            glm::normalize(Vec3d(glm::dot(te, view), glm::dot(be, view), glm::dot(n, view)));
-        f.lightTangentExact = toFrame(te, be, n);
+        const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, l, view);
+        f.exactFrame = ve != Vec3d(0);
+        if (f.exactFrame) {
+            f.viewTangentExact = ve;
+            if (light != Vec3d(0))
+                f.lightTangentExact = uvSpaceDirection(d.dSdu, d.dSdv, n, l, light);
+        }
     }
 }
+
+}  // namespace
+
+Vec3d uvSpaceDirection(const Vec3d& dSdu, const Vec3d& dSdv, const Vec3d& n, double l,
+                       const Vec3d& dir) {
+    // Cramer's rule for dir = a dSdu + b dSdv + c (l n).
+    const Vec3d ln = n * l;
+    const double det = glm::dot(dSdu, glm::cross(dSdv, ln));
+    const double size = glm::length(dSdu) * glm::length(dSdv) * l;
+    if (!(std::fabs(det) > 1e-9 * size) || !std::isfinite(det)) return Vec3d(0);
+    const Vec3d abc(glm::dot(dir, glm::cross(dSdv, ln)), glm::dot(dSdu, glm::cross(dir, ln)),
+                    glm::dot(dSdu, glm::cross(dSdv, dir)));
+    const double len = glm::length(abc);  // of det times the direction
+    return len > 0 && std::isfinite(len) ? abc / (det > 0 ? len : -len) : Vec3d(0);
+}
+
+namespace {
 
 // Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
 // forward); `frags` and `depth` are the rectangle's.
 void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera, Vec3d light,
-          PixelRect rect, Image2D<Fragment>& frags, Image2D<double>& depth) {
+          double l, PixelRect rect, Image2D<Fragment>& frags, Image2D<double>& depth) {
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
@@ -251,7 +298,7 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             if (!(z < nearest)) continue;
             nearest = z;
             Fragment& f = frags.at(px - rect.x0, py - rect.y0);
-            shade(f, tri, b, d, camera, camera.pixelRay(px, py), light);
+            shade(f, tri, b, d, camera, camera.pixelRay(px, py), light, l);
             quadDerivatives(f, tri, px, py);
         }
 }
@@ -294,7 +341,7 @@ BinRange binRange(const std::array<const BaseVertex*, 3>& v, const Camera& camer
 }  // namespace
 
 Rasterizer::Rasterizer(const BaseMesh& mesh, const Camera& camera, const RasterOptions& options)
-    : mesh_(mesh), camera_(camera) {
+    : mesh_(mesh), camera_(camera), worldPerUv_(options.worldPerUv) {
     nearZ_ = camera.isOrthographic() ? 0 : nearPlane(mesh, camera);
     binsX_ = (camera.width() + kBin - 1) / kBin;
     binsY_ = (camera.height() + kBin - 1) / kBin;
@@ -360,7 +407,8 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
                 // A fragment's light is a unit vector, zero where the view has none.
-                scan(screen, d, camera_, camera_.light().value_or(Vec3d(0)), rect, out, depth);
+                scan(screen, d, camera_, camera_.light().value_or(Vec3d(0)), worldPerUv_, rect, out,
+                     depth);
         }
     }
     for (const Fragment& f : out.data) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/engine_inputs.h"
 #include "core/image.h"
 #include "core/math.h"
 #include "mesh/base_mesh.h"
@@ -21,10 +22,19 @@ struct Fragment {
     bool exactFrame = false;
     Vec2d uv0{0};
     Vec3d viewTangent{0};  // unit V in tangent space (V.T, V.B, V.N); methods round to float
-    // V in the exact frame of the drawn surface: T along dS/du, B along dS/dv of the drawn
-    // triangle, N the interpolated normal the truth displaces along, orthonormalised
-    // (docs/model.md §2). Equal to viewTangent on a plane.
+    // V in the exact frame of the drawn surface (docs/model.md §2): the true UV-space
+    // direction of the ray, (a, b, c) normalised with V = a dS/du + b dS/dv + c l N for the
+    // drawn triangle's dS/du, dS/dv and the interpolated normal N the truth displaces along
+    // (uvSpaceDirection). A method marching along it follows the ray exactly over an affine
+    // patch, shear and unequal scales included. Equal to viewTangent on a plane.
     Vec3d viewTangentExact{0};
+    // V computed per vertex and interpolated, as jMonkeyEngine's and Ogre's vertex shaders
+    // do: at each vertex the eye vector (eye - position; orthographic: minus the view
+    // direction) in that vertex's Listing 7.8 frame, unnormalised, interpolated perspective-
+    // correctly, then normalised (methods' "V": "per_vertex"). Equal to viewTangent on a
+    // flat triangle with one frame.
+    Vec3d viewTangentVertex{0};
+    EngineInputs engine;
     // uv0's screen derivatives as a GPU's fine dFdx/dFdy give them: differences of this
     // triangle's perspective-correct uv (extended beyond its edges, as for a helper
     // invocation) between the two pixel centres of the 2x2 quad's row (x) and column (y).
@@ -40,7 +50,15 @@ struct Fragment {
 
 struct RasterOptions {
     bool cullBackFaces = true;
+    double worldPerUv = 1;  // l (docs/model.md §2): the height axis of the exact frame
 };
+
+// The UV-space direction of world direction `dir` at a point whose surface derivatives are
+// dSdu, dSdv and whose unit normal is n, l world units to one UV unit of height: (a, b, c)
+// normalised, with dir = a dSdu + b dSdv + c l n (docs/model.md §2, the exact frame). Zero
+// where dSdu, dSdv and n are (near) coplanar or `dir` is zero.
+Vec3d uvSpaceDirection(const Vec3d& dSdu, const Vec3d& dSdv, const Vec3d& n, double l,
+                       const Vec3d& dir);
 
 struct RasterStats {
     int64_t covered = 0;
@@ -74,6 +92,7 @@ class Rasterizer {
   private:
     const BaseMesh& mesh_;
     const Camera& camera_;
+    double worldPerUv_ = 1;
     double nearZ_ = 0;
     int binsX_ = 0, binsY_ = 0;
     // Bin b's triangles (first index of each) in mesh order: binTriangles_[binStart_[b] ..

@@ -116,7 +116,8 @@ class BandPipeline {
         const BaseMesh mesh = truth_.prepared ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         std::optional<Rasterizer> raster;
         if (!truth_.prepared) {
-            raster.emplace(mesh, r_.camera, RasterOptions{scene_.cullBackFaces});
+            raster.emplace(mesh, r_.camera,
+                           RasterOptions{scene_.cullBackFaces, scene_.worldPerUv()});
             r_.raster = raster->setupStats();
         }
         r_.timingsMs["raster"] += msSince(t0);
@@ -353,7 +354,8 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
     v.build = truths.truth->stats();
     const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
     const Image2D<Fragment> fragments =
-        rasterize(drawnBaseMesh(scene.base, v.camera), v.camera, {scene.cullBackFaces}, &v.raster);
+        rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
+                  {scene.cullBackFaces, scene.worldPerUv()}, &v.raster);
     const int W = v.camera.width(), H = v.camera.height();
     for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
         const int rows = std::min(H, y0 + bandRows(W)) - y0;
@@ -406,8 +408,8 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
 FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing) {
     const Camera camera = makeCamera(scene, view);
-    const Image2D<Fragment> frame =
-        rasterize(drawnBaseMesh(scene.base, camera), camera, {scene.cullBackFaces});
+    const Image2D<Fragment> frame = rasterize(drawnBaseMesh(scene.base, camera), camera,
+                                              {scene.cullBackFaces, scene.worldPerUv()});
     return sampleFragments(compactFragments(frame), timing.maxFragments, timing.seed);
 }
 

@@ -16,11 +16,11 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double pixels = double(width) * height;
     // Twice with the exact-frame pass of a base whose vertex frames can differ from it.
     const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
-    // A band: truth at two rates, the raster's fragments and their list (68 bytes), per
+    // A band: truth at two rates, the raster's fragments and their list (236 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
     // interleaved rows (kFrameChannels + 5 per method floats).
     const double band = double(width) * std::min(height, bandRows(width));
-    double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 68 +
+    double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 236 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     if (m.writesImages)
         perBandPixel += (double(kFrameChannels) + 5.0 * methods) * sizeof(float) * 2;

@@ -233,16 +233,30 @@ std::vector<To> toFloat(const std::vector<From>& values) {
     return std::vector<To>(values.begin(), values.end());
 }
 
+// The V a configuration is handed: the exact frame's (the diagnostic pass), V per vertex
+// ("V": "per_vertex", where the list has it) or per pixel.
+const std::vector<Vec3d>& methodViews(const MethodConfig& cfg, const FragmentList& frags,
+                                      bool exactFrame) {
+    if (exactFrame) return frags.viewExact;
+    if (cfg.viewPerVertex && frags.viewVertex.size() == frags.size()) return frags.viewVertex;
+    return frags.view;
+}
+
 GlslMaps glslMaps(const MethodConfig& cfg, const MethodTextures& tex) {
     return {tex.refs(), tex.scale, tex.bias, tex.glMaps.get(), cfg.lodGrad};
 }
 
-// The fragments as a GL draw takes them (V in the exact frame or not); in screen layout
-// when `width` > 0.
-GlslInputs glslInputs(const FragmentList& frags, bool exactFrame, int width = 0, int height = 0) {
+// The fragments as a GL draw of `cfg` takes them (V in the exact frame or not, and an
+// engine's inputs where its shader reads them); in screen layout when `width` > 0.
+GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool exactFrame,
+                      int width = 0, int height = 0) {
     GlslInputs in;
     in.uv0 = toFloat<Vec2f>(frags.uv0);
-    in.view = toFloat<Vec3f>(exactFrame ? frags.viewExact : frags.view);
+    in.view = toFloat<Vec3f>(methodViews(cfg, frags, exactFrame));
+    if (cfg.shader() && cfg.shader()->engineInputs) {
+        in.engine.resize(frags.size());
+        for (size_t k = 0; k < frags.size(); ++k) in.engine[k] = frags.engineAt(k);
+    }
     in.uvDx = toFloat<Vec2f>(frags.uvDx);
     in.uvDy = toFloat<Vec2f>(frags.uvDy);
     if (width > 0) {
@@ -261,7 +275,8 @@ Image2D<MethodPixel> evaluateShader(const MethodConfig& cfg, const GlslSpec& spe
                                     const FragmentList& frags, const MethodTextures& tex, int width,
                                     int height, bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run = runGlsl(spec, glslMaps(cfg, tex), glslInputs(frags, exactFrame, width, height));
+    GlslRun run =
+        runGlsl(spec, glslMaps(cfg, tex), glslInputs(cfg, frags, exactFrame, width, height));
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
         p.covered = true;
@@ -279,7 +294,7 @@ Image2D<MethodPixel> evaluateBuiltin(const MethodConfig& cfg, const BuiltinMetho
                                      int width, int height, bool exactFrame) {
     Image2D<MethodPixel> out(width, height);
     const size_t n = frags.pixel.size();
-    const auto& view = exactFrame ? frags.viewExact : frags.view;
+    const auto& view = methodViews(cfg, frags, exactFrame);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
@@ -331,7 +346,7 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const BuiltinMethod& b,
                               const FragmentList& frags, const MethodTextures& tex, int repeats) {
     // The inputs rounded before the clock starts: the time is the method's alone.
     const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
-    const auto view = toFloat<Vec3<Real>>(frags.view);
+    const auto view = toFloat<Vec3<Real>>(methodViews(cfg, frags, false));
     std::vector<Real> lod(frags.size());
     for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(cfg, tex, frags, k);
     std::vector<double> samples;
@@ -358,7 +373,8 @@ MethodTiming timeShader(const MethodConfig& cfg, const GlslSpec& spec, const Fra
                     : glContext().software        ? kGlMinMsSoftware
                                                   : kGlMinMsHardware;
     plan.minRepeats = timing.repeats;
-    const GlslTiming g = timeGlsl(spec, glslMaps(cfg, tex), glslInputs(frags, false), plan).timing;
+    const GlslTiming g =
+        timeGlsl(spec, glslMaps(cfg, tex), glslInputs(cfg, frags, false), plan).timing;
     MethodTiming t;
     t.median = g.nsPerPixel;
     t.p25 = g.p25;

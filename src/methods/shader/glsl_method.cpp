@@ -3,6 +3,7 @@
 #include "methods/shader/glsl_method.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -76,23 +77,32 @@ struct DrawMaps : GlslMaps {
 };
 
 // One draw's images, w x h: the inputs (uv0; V with the texel's state in w: 2 a fragment, 1
-// a helper, 0 nothing; uv0's derivatives) and the two outputs; deleted with this object.
-// `texel[i]` is where fragment `fragment[i]` of the GlslInputs sits.
+// a helper, 0 nothing; uv0's derivatives; an engine's varyings where the draw has them) and
+// the two outputs; deleted with this object. `texel[i]` is where fragment `fragment[i]` of the
+// GlslInputs sits.
 struct DrawImages {
+    static constexpr int kEngineImages = 4;  // position, normal, tangent, camera (RGBA32F)
     int w = 0, h = 0;
+    bool engine = false;
     std::vector<size_t> fragment;
     std::vector<size_t> texel;
     std::vector<float> uvData, viewData, gradData;
+    std::array<std::vector<float>, kEngineImages> engineData;
     GLuint uv0 = 0, view = 0, grad = 0, outUv = 0, outFetches = 0, fbo = 0;
+    std::array<GLuint, kEngineImages> engineImages{};
 
-    DrawImages(int width, int height)
+    DrawImages(int width, int height, bool withEngine)
         : w(width),
           h(height),
+          engine(withEngine),
           uvData(size_t(w) * h * 2, 0.0f),
           viewData(size_t(w) * h * 4, 0.0f),
-          gradData(size_t(w) * h * 4, 0.0f) {}
+          gradData(size_t(w) * h * 4, 0.0f) {
+        if (engine)
+            for (auto& d : engineData) d.assign(size_t(w) * h * 4, 0.0f);
+    }
     // Texel t gets fragment k of `in` (state 2) or, as a helper (state 1), k's values with uv0
-    // moved by `offset` pixels along its derivatives.
+    // (and an engine's position) moved by `offset` pixels along its derivatives.
     void put(size_t t, const GlslInputs& in, size_t k, float state, Vec2f offset = {0, 0}) {
         Vec2f uv = in.uv0[k];
         if (!in.uvDx.empty()) {
@@ -103,10 +113,20 @@ struct DrawImages {
         uvData[2 * t] = uv.x, uvData[2 * t + 1] = uv.y;
         viewData[4 * t] = in.view[k].x, viewData[4 * t + 1] = in.view[k].y;
         viewData[4 * t + 2] = in.view[k].z, viewData[4 * t + 3] = state;
+        if (engine) putEngine(t, in.engine[k], offset);
         if (state == 2.0f) {
             fragment.push_back(k);
             texel.push_back(t);
         }
+    }
+    void putEngine(size_t t, const EngineInputs& e, Vec2f offset) {
+        const Vec3f p = e.position + e.positionDx * offset.x + e.positionDy * offset.y;
+        const float values[kEngineImages][4] = {{p.x, p.y, p.z, 1.0f},
+                                                {e.normal.x, e.normal.y, e.normal.z, 0.0f},
+                                                {e.tangent.x, e.tangent.y, e.tangent.z, e.tangentW},
+                                                {e.camera.x, e.camera.y, e.camera.z, 1.0f}};
+        for (int i = 0; i < kEngineImages; ++i)
+            std::copy_n(values[i], 4, engineData[size_t(i)].data() + 4 * t);
     }
     float state(size_t t) const { return viewData[4 * t + 3]; }
     // The GL images (after every put).
@@ -117,6 +137,12 @@ struct DrawImages {
         grad =
             makeTexture(GL_RGBA32F, GL_RGBA, w, h, gradData.data(), GL_NEAREST, GL_CLAMP_TO_EDGE);
         uvData = {}, viewData = {}, gradData = {};
+        if (engine)
+            for (size_t i = 0; i < engineImages.size(); ++i) {
+                engineImages[i] = makeTexture(GL_RGBA32F, GL_RGBA, w, h, engineData[i].data(),
+                                              GL_NEAREST, GL_CLAMP_TO_EDGE);
+                engineData[i] = {};
+            }
         outUv = makeTexture(GL_RG32F, GL_RG, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
         outFetches = makeTexture(GL_R32F, GL_RED, w, h, nullptr, GL_NEAREST, GL_CLAMP_TO_EDGE);
         glGenFramebuffers(1, &fbo);
@@ -133,6 +159,7 @@ struct DrawImages {
         glDeleteFramebuffers(1, &fbo);
         GLuint textures[5] = {uv0, view, grad, outUv, outFetches};
         glDeleteTextures(5, textures);
+        if (engine) glDeleteTextures(kEngineImages, engineImages.data());
     }
     DrawImages(const DrawImages&) = delete;
     DrawImages& operator=(const DrawImages&) = delete;
@@ -141,7 +168,7 @@ struct DrawImages {
 // Fragments [first, last) of `in` packed: the i-th at texel (i % w, i / w).
 std::unique_ptr<DrawImages> packedImages(const GlslInputs& in, size_t first, size_t last) {
     const int n = int(last - first), w = std::min(n, 2048);
-    auto img = std::make_unique<DrawImages>(w, (n + w - 1) / w);
+    auto img = std::make_unique<DrawImages>(w, (n + w - 1) / w, !in.engine.empty());
     for (size_t k = first; k < last; ++k) img->put(k - first, in, k, 2.0f);
     return img;
 }
@@ -150,7 +177,7 @@ std::unique_ptr<DrawImages> packedImages(const GlslInputs& in, size_t first, siz
 // pixels, then the helpers of their quads (GlslInputs).
 std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<size_t>& inTile,
                                        int x0, int y0, int w, int h) {
-    auto img = std::make_unique<DrawImages>(w, h);
+    auto img = std::make_unique<DrawImages>(w, h, !in.engine.empty());
     auto texelOf = [&](int x, int y) { return size_t(y - y0) * size_t(w) + size_t(x - x0); };
     for (size_t k : inTile) {
         const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
@@ -295,7 +322,7 @@ void bindMaps(GLuint prog, const GlslSpec& spec, const DrawMaps& maps) {
 
 // Everything the program reads. Units: 0 = the height/depth map, 1 = uv0, 2 = V,
 // 3 = normal map, 4 = parallax map, 5 = the minimum-maximum pyramid, 6 = the cone map, 7 = the
-// relaxed cone map, 8 = uv0's derivatives.
+// relaxed cone map, 8 = uv0's derivatives, 9-12 an engine's inputs.
 void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const DrawImages& img) {
     bindMaps(prog, spec, maps);
     const std::pair<const char*, GLuint> inputs[3] = {
@@ -305,6 +332,15 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
         glActiveTexture(GLenum(GL_TEXTURE0 + units[i]));
         glBindTexture(GL_TEXTURE_2D, inputs[i].second);
         glUniform1i(glGetUniformLocation(prog, inputs[i].first), units[i]);
+    }
+    if (img.engine) {  // units 9-12 (GlslSpec::engineInputs)
+        const char* names[DrawImages::kEngineImages] = {"pgt_engine_position", "pgt_engine_normal",
+                                                        "pgt_engine_tangent", "pgt_engine_camera"};
+        for (int i = 0; i < DrawImages::kEngineImages; ++i) {
+            glActiveTexture(GLenum(GL_TEXTURE0 + 9 + i));
+            glBindTexture(GL_TEXTURE_2D, img.engineImages[size_t(i)]);
+            glUniform1i(glGetUniformLocation(prog, names[i]), 9 + i);
+        }
     }
     glUniform1i(glGetUniformLocation(prog, "pgt_lod_grad"), maps.lodGrad ? 1 : 0);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
@@ -532,6 +568,7 @@ GlslRun timeGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& i
     for (size_t k = 0; k < total; ++k) {
         work.uv0.push_back(in.uv0[k % n]);
         work.view.push_back(in.view[k % n]);
+        if (!in.engine.empty()) work.engine.push_back(in.engine[k % n]);
         if (!in.uvDx.empty()) {
             work.uvDx.push_back(in.uvDx[k % n]);
             work.uvDy.push_back(in.uvDy[k % n]);

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/engine_inputs.h"
 #include "core/math.h"
 #include "heightfield/cone_map.h"
 #include "heightfield/minmax_pyramid.h"
@@ -102,6 +103,9 @@ struct GlslMaps : MapRefs {
 // texture() then see the draw's neighbours as in an engine.
 struct GlslInputs {
     std::vector<Vec2f> uv0;
+    // An engine's varyings (GlslSpec::engineInputs; empty: none), a helper's position moved
+    // along the fragment's position derivatives as its uv0 is, its other inputs the fragment's.
+    std::vector<EngineInputs> engine;
     std::vector<Vec3f> view;
     std::vector<Vec2f> uvDx, uvDy;  // uv0's derivatives (pgt_uv_dx, pgt_uv_dy); empty = 0
     std::vector<int32_t> pixel;     // screen layout only

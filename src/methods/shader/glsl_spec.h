@@ -101,6 +101,12 @@ struct GlslSpec {
     enum class Api { Gl, D3d };
     Api api = Api::Gl;
     bool defaultApi() const { return api == (hlsl ? Api::D3d : Api::Gl); }
+    // "inputs": "engine": the function also gets what an engine's vertex stage would pass
+    // (docs/methods.md "Engine inputs"): pgt_world_position, pgt_world_normal,
+    // pgt_world_tangent (w: the handedness sign) and pgt_camera_position, with dFdx/dFdy on
+    // them as a GPU has them, so that a frame built from derivatives or a V computed from the
+    // camera runs as the engine runs it; "tangent" (default): uv and V only.
+    bool engineInputs = false;
     // "defines": #define NAME VALUE lines put before the source, in the entry's order.
     std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;

@@ -30,7 +30,7 @@ namespace {
 // What pgt adds after the user's file: `pgt_s` and `pgt_b`, the case's s and b (set by
 // methods/shader/glsl_method.cpp like any uniform); a "body" as a function (kBodyHead, the
 // body, "}"); the entry point, which runs the call (or F(uv, V), or the body's function) with
-// the names a call may use. The call stands alone on the line after kEntryHead, so that a
+// the names a call may use. The call stands alone on the line after kEntryNames, so that a
 // message about that line names the call.
 constexpr const char* kGlobals = R"(
 float pgt_s;
@@ -41,9 +41,28 @@ constexpr const char* kBodyHead = R"(float2 pgt_body(float2 uv, float3 V) {
     float s = pgt_s;
     float b = pgt_b;
 )";
-constexpr const char* kEntryHead =
-    R"(float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1) : SV_Target {
-    float2 uv = pgt_uv;
+// "inputs": "engine": an engine's varyings as static globals any function reads (in the
+// preamble, before the user's file), set from the entry's inputs 2-5 (nameStageVariables).
+constexpr const char* kEngineGlobals = R"(static float3 pgt_world_position;
+static float3 pgt_world_normal;
+static float4 pgt_world_tangent;
+static float3 pgt_camera_position;
+)";
+// The entry point: its signature (with the engine's inputs 2-5 where asked), its opening, the
+// engine's globals set, and the names a call may use.
+constexpr const char* kEntrySignature =
+    "float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1";
+constexpr const char* kEngineSignature = R"(,
+                      float3 pgt_wp : TEXCOORD2, float3 pgt_wn : TEXCOORD3,
+                      float4 pgt_wt : TEXCOORD4, float3 pgt_wc : TEXCOORD5)";
+constexpr const char* kEntryOpen = R"() : SV_Target {
+)";
+constexpr const char* kEngineAssign = R"(    pgt_world_position = pgt_wp;
+    pgt_world_normal = pgt_wn;
+    pgt_world_tangent = pgt_wt;
+    pgt_camera_position = pgt_wc;
+)";
+constexpr const char* kEntryNames = R"(    float2 uv = pgt_uv;
     float3 V = pgt_v;
     const float3 N = float3(0.0, 0.0, 1.0);
     float s = pgt_s;
@@ -206,6 +225,7 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     static const bool initialised = glslang::InitializeProcess();
     (void)initialised;
     std::string preamble = declarationsFor(spec);
+    if (spec.engineInputs) preamble += kEngineGlobals;  // before the user's functions
     if (functionTypes(spec.source + "\n" + spec.included, "select").empty())
         preamble += selectFunctions();
     for (const auto& [name, value] : spec.defines)
@@ -321,9 +341,11 @@ void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string&
     size_t n = 0;
     check(spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &n),
           ctx, file);
+    const char* names[] = {"pgt_hlsl_uv", "pgt_hlsl_v",  "pgt_hlsl_wp",
+                           "pgt_hlsl_wn", "pgt_hlsl_wt", "pgt_hlsl_wc"};
     for (size_t i = 0; i < n; ++i) {
         const unsigned loc = spvc_compiler_get_decoration(comp, list[i].id, SpvDecorationLocation);
-        spvc_compiler_set_name(comp, list[i].id, loc == 0 ? "pgt_hlsl_uv" : "pgt_hlsl_v");
+        spvc_compiler_set_name(comp, list[i].id, names[std::min<unsigned>(loc, 5)]);
     }
     check(
         spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &n),
@@ -386,6 +408,13 @@ std::string asWrapperPiece(const std::string& glsl) {
     if (declared("pgt_hlsl_uv")) out << "    pgt_hlsl_uv = uv;\n";
     if (declared("pgt_hlsl_v")) out << "    pgt_hlsl_v = v;\n";
     out << "    pgt_hlsl_main();\n    return pgt_hlsl_out.xy;\n}\n";
+    // An engine's inputs (GlslSpec::engineInputs), set by the wrapper's main() before the call.
+    out << "void pgt_set_engine(vec3 p, vec3 n, vec4 t, vec3 c) {\n";
+    const char* engine[4][2] = {
+        {"pgt_hlsl_wp", "p"}, {"pgt_hlsl_wn", "n"}, {"pgt_hlsl_wt", "t"}, {"pgt_hlsl_wc", "c"}};
+    for (const auto& [name, value] : engine)
+        if (declared(name)) out << "    " << name << " = " << value << ";\n";
+    out << "}\n";
     return out.str();
 }
 
@@ -405,7 +434,8 @@ std::string hlslToGlsl(const GlslSpec& spec) {
         text += spec.body + "}\n";
         call = "pgt_body(uv, V)";
     }
-    text += kEntryHead;
+    text += std::string(kEntrySignature) + (spec.engineInputs ? kEngineSignature : "") +
+            kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
     lines.call = countLines(text) + 1;
     text += call + kEntryTail;
     return asWrapperPiece(spirvToGlsl(compileToSpirv(spec, text, lines), spec.path));

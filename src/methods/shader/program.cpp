@@ -65,7 +65,24 @@ constexpr const char* kOwnMainEnd = "#undef main\n";
 constexpr const char* kCoreExtensions[] = {
     "GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod", "GL_ARB_shader_texture_lod"};
 
+// "inputs": "engine" (GlslSpec::engineInputs): an engine's varyings as globals any function
+// reads, set by main() before the call (an HLSL method's pgt_set_engine is its own, hlsl.cpp).
+constexpr const char* kEngineGlobals = R"(vec3 pgt_world_position = vec3(0.0);
+vec3 pgt_world_normal = vec3(0.0);
+vec4 pgt_world_tangent = vec4(0.0);
+vec3 pgt_camera_position = vec3(0.0);
+void pgt_set_engine(vec3 p, vec3 n, vec4 t, vec3 c) {
+    pgt_world_position = p;
+    pgt_world_normal = n;
+    pgt_world_tangent = t;
+    pgt_camera_position = c;
+}
+)";
+
 constexpr const char* kMain = R"(
+#ifdef PGT_ENGINE
+uniform sampler2D pgt_engine_position, pgt_engine_normal, pgt_engine_tangent, pgt_engine_camera;
+#endif
 uniform sampler2D pgt_uv0;   // RG32F: uv0 per texel (packed, or the frame's pixels)
 uniform sampler2D pgt_view;  // RGBA32F: tangent-space V; w: 2 a fragment, 1 a helper, 0 none
 uniform sampler2D pgt_grad;  // RGBA32F: uv0's derivatives (dx.xy, dy.xy)
@@ -80,6 +97,10 @@ void main() {
     vec4 g = texelFetch(pgt_grad, p, 0);
     pgt_uv_dx = g.xy;
     pgt_uv_dy = g.zw;
+#ifdef PGT_ENGINE
+    pgt_set_engine(texelFetch(pgt_engine_position, p, 0).xyz, texelFetch(pgt_engine_normal, p, 0).xyz,
+                   texelFetch(pgt_engine_tangent, p, 0), texelFetch(pgt_engine_camera, p, 0).xyz);
+#endif
     pgt_fetches = 0;
     pgt_out_uv = PGT_FUNCTION(uv0, v);
     pgt_out_fetches = float(pgt_fetches);
@@ -301,6 +322,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
         p.function = kHlslCall;
         return p;
     }
+    if (spec.engineInputs) p.prelude += kEngineGlobals;
     for (const std::string& name : spec.samplers)
         if (!name.empty() && isShaderIdentifier(name) && !declaresSampler(spec.source, name))
             p.prelude += "uniform sampler2D " + name + ";  // declared by pgt\n";
@@ -360,8 +382,8 @@ GLuint programFor(const GlslSpec& spec) {
         if (pieces.entry.bodyCount)
             entry = {0, glueAt + pieces.entry.bodyFirst, pieces.entry.bodyCount};
     }
-    std::string fs =
-        prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
+    std::string fs = prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function +
+                     "\n" + (spec.engineInputs ? "#define PGT_ENGINE 1\n" : "") + kMain;
     checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     const std::vector<GlslSpec::LineOrigin> none;

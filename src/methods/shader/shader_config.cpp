@@ -320,6 +320,7 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     if (f.has("api"))
         spec->api =
             f.choice("api", {"gl", "d3d"}, "") == "gl" ? GlslSpec::Api::Gl : GlslSpec::Api::D3d;
+    spec->engineInputs = f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
     if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     spec->stepsUniform = f.string("steps_uniform", "");
@@ -330,7 +331,7 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     // Level 0 or textureGrad with uv0's derivatives in the shaders that sample through
     // pgt_sample (docs/methods.md "GLSL methods").
     cfg.lodGrad = f.choice("lod", {"zero", "grad"}, "zero") == "grad";
-    readStorageFormat(f, cfg);
+    readMethodInputs(f, cfg);
     cfg.scale = f.number("scale", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", NAN, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.label = f.string("label", "");
@@ -380,6 +381,7 @@ void shaderJson(const GlslSpec& g, Json& j) {
     if (!g.body.empty()) j["body"] = g.body;
     if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
     if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
+    if (g.engineInputs) j["inputs"] = "engine";
     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
     Json u = Json::object();
