@@ -15,6 +15,7 @@
 #include "methods/presets/presets.h"
 #include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
+#include "study/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -29,11 +30,12 @@ GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragmen
     return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
 }
 
-// Every GLSL preset (a shader file), in the preset table's order.
+// Every GLSL preset (a shader file) fed V, in the preset table's order: those that build V from
+// the engine's inputs (their _tangents variants are here) are held on a rendered plane below.
 std::vector<std::string> glslPresets() {
     std::vector<std::string> out;
     for (const MethodPreset& p : methodPresets())
-        if (!p.shaderFile.empty()) out.push_back(p.name);
+        if (!p.shaderFile.empty() && !p.glsl.engineInputs) out.push_back(p.name);
     return out;
 }
 
@@ -45,19 +47,19 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatHeight) {
     Texture t = test::makeTexture(16, 16, [&](int, int) { return h; });
     test::Fragments in = test::randomFragments(400, 31, 80);
     const GlslRun jme = runPreset("jme", t, in), steep = runPreset("jme_steep", t, in);
-    const GlslRun basic = runPreset("threejs_basic", t, in);
-    const GlslRun pc = runPreset("playcanvas", t, in),
-                  pcFixed = runPreset("playcanvas_fixed", t, in);
-    const GlslRun occlusion = runPreset("threejs_occlusion", t, in);
+    const GlslRun basic = runPreset("threejs_basic_tangents", t, in);
+    const GlslRun pc = runPreset("playcanvas_tangents", t, in),
+                  pcFixed = runPreset("playcanvas_fixed_tangents", t, in);
+    const GlslRun occlusion = runPreset("threejs_occlusion_tangents", t, in);
     const GlslRun ogre = runPreset("ogre_parallax", t, in), ogrePom = runPreset("ogre_pom", t, in);
     const GlslRun o3de = runPreset("o3de_pom", t, in), o3deBasic = runPreset("o3de_basic", t, in);
     const GlslRun dp = runPreset("darkplaces_offset", t, in);
     const GlslRun dpRelief = runPreset("darkplaces_relief", t, in);
-    const GlslRun bjs = runPreset("babylon_offset", t, in);
-    const GlslRun bjsPom = runPreset("babylon_occlusion", t, in);
+    const GlslRun bjs = runPreset("babylon_offset_tangents", t, in);
+    const GlslRun bjsPom = runPreset("babylon_occlusion_tangents", t, in);
     const GlslRun ogreFixed = runPreset("ogre_pom_fixed", t, in);
-    const GlslRun bjsFixed = runPreset("babylon_occlusion_fixed", t, in);
-    const GlslRun pcLimited = runPreset("playcanvas_offset_limited", t, in);
+    const GlslRun bjsFixed = runPreset("babylon_occlusion_fixed_tangents", t, in);
+    const GlslRun pcLimited = runPreset("playcanvas_offset_limited_tangents", t, in);
     for (size_t k = 0; k < in.uv0.size(); ++k) {
         const Vec2d uv0(in.uv0[k]);
         const Vec3d v = glm::normalize(Vec3d(in.view[k]));
@@ -137,12 +139,12 @@ TEST(Gl, ThreeJsOcclusionConvergesWithItsLayers) {
     Texture t = test::bricks(64);
     test::Fragments in = test::randomFragments(2000, 33, 60);
     double previous = INFINITY;
-    const GlslRun fine = runPreset("threejs_occlusion", t, in,
+    const GlslRun fine = runPreset("threejs_occlusion_tangents", t, in,
                                    R"("parallax_min_layers":29,"parallax_max_layers":29,)"
                                    R"("parallax_scale":-0.1)");
     for (int layers : {4, 8, 24}) {
         const std::string n = std::to_string(layers);
-        const GlslRun r = runPreset("threejs_occlusion", t, in,
+        const GlslRun r = runPreset("threejs_occlusion_tangents", t, in,
                                     R"("parallax_min_layers":)" + n + R"(,"parallax_max_layers":)" +
                                         n + R"(,"parallax_scale":-0.1)");
         double sum = 0;
@@ -211,6 +213,50 @@ TEST(Gl, EnginePresetsMatchTheirCppTwins) {
         ++checked;
     }
     EXPECT_GE(checked, 29);
+}
+
+// Each preset that builds V as its engine does (from screen derivatives, or per vertex) against
+// its _tangents variant, rendered on a plane under an orthographic and a pinhole camera: on a
+// plane the derivative frames are the base's frame (T, B along the plane's u and v, equal
+// lengths) and V per vertex is V per pixel, so both give the same uv' (closed form). Float
+// derivatives of float positions move V by about 1e-6: at least 99.5% within 1e-3 texel (a
+// march may flip a layer where a comparison ties).
+TEST(Gl, EngineFramePresetsEqualTheirTangentsOnAPlane) {
+    nlohmann::json methods = nlohmann::json::array();
+    for (const MethodPreset& p : methodPresets())
+        if (p.glsl.engineInputs || p.config.viewPerVertex)
+            methods.push_back({{"preset", p.name}}), methods.push_back({{"preset", p.name + "_tangents"}});
+    ASSERT_EQ(methods.size(), 2u * 13);
+    for (const char* camera :
+         {R"({"type": "orthographic", "theta": 55, "phi": 35, "resolution": [64, 64]})",
+          R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target": [0, 0, 0], "up": [0, 0, 1],
+              "fov": 50, "resolution": [64, 64]})"}) {
+        const Scene s = parseScene(
+            nlohmann::json::parse(R"({"heightmap": {"procedural": "bricks", "size": [128, 128]},
+                "displacement": {"scale": 0.05, "bias": -0.025}, "base": {"type": "plane"},
+                "truth": {"rate": 1, "uncertainty": false}, "camera": )" +
+                                  std::string(camera) + R"(, "methods": )" + methods.dump() + "}"),
+            "test.json");
+        const RenderResult r = renderFrame(s, {.timingRepeats = 0});
+        for (size_t m = 0; m < r.methods.size(); m += 2) {
+            const auto& a = r.methods[m].pixels.data;
+            const auto& b = r.methods[m + 1].pixels.data;
+            int n = 0, over = 0;
+            double worst = 0;
+            for (size_t k = 0; k < a.size(); ++k) {
+                if (!a[k].covered || !b[k].covered) continue;
+                const double d = glm::length(a[k].uv - b[k].uv) * 128;
+                ++n;
+                over += !(d <= 1e-3);
+                if (d <= 1e-3) worst = std::max(worst, d);
+            }
+            std::printf("%s: %d pixels, %d over 1e-3 texel from %s, max within %.2e\n",
+                        r.methods[m].config.label.c_str(), n, over,
+                        r.methods[m + 1].config.label.c_str(), worst);
+            EXPECT_GT(n, 1000);
+            EXPECT_LE(over, n / 200) << r.methods[m].config.label;
+        }
+    }
 }
 
 // The stiff suite's maps and views (scenes/stress): every preset gives a finite uv' where the

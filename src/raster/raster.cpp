@@ -245,8 +245,12 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     f.engine.position = Vec3f(position);
     f.engine.normal = Vec3f(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
     f.engine.tangentW = w < 0 ? -1.0f : 1.0f;
-    f.engine.camera = Vec3f(ray.origin);
     f.rayT = glm::dot(position - ray.origin, ray.dir);
+    // The eye; orthographic rays start on a plane through the target, so their origin moves
+    // back to one world unit beyond the drawn point (EngineInputs::camera).
+    f.engine.camera = Vec3f(camera.isOrthographic()
+                                ? ray.origin - ray.dir * (std::fabs(f.rayT) + 1.0)
+                                : ray.origin);
     auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
         return light == Vec3d(0) ? Vec3d(0)
                                  : glm::normalize(Vec3d(glm::dot(x, light), glm::dot(y, light),

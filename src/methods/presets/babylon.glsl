@@ -5,7 +5,10 @@
 // "Engine presets"). With the default mesh frame and PARALLAX_RHS set from the scene's
 // handedness, the offset goes toward the eye by scale h |V.xy| (a bump above the polygon) and
 // the occlusion march away from it (a depth below); Babylon's textures load with v up
-// (invertY), as pgt's. pgt's V is Babylon's normalised V in tangent space, level 1.
+// (invertY), as pgt's. V is Babylon's tangent-space vector, level 1: the transpose of its
+// frame times the unit eye direction, used as it is (unit in the mesh tangents' frame, where
+// pgt's per-pixel V stands for it; of another length in the cotangent frame, cotangent_frame.glsl).
+#include "cotangent_frame.glsl"
 uniform sampler2D heightMap;
 uniform float parallax_scale;  // parallaxScaleBias, 0.05 (no bias is ever added)
 
@@ -13,8 +16,7 @@ float babylonHeight(vec2 uv) { return texture(heightMap, uv).r; }
 
 // parallaxOffset: scale h V.xy, no division by V.z, h at the unshifted uv.
 vec2 BabylonOffset(vec2 uv, vec3 V) {
-    vec3 v = normalize(V);
-    return uv + parallax_scale * babylonHeight(uv) * v.xy;
+    return uv + parallax_scale * babylonHeight(uv) * V.xy;
 }
 
 // parallaxOcclusion: the whole march maxOff = -normalize(V.xy) scale |V.xy| / V.z, away from the
@@ -24,7 +26,7 @@ vec2 BabylonOffset(vec2 uv, vec3 V) {
 // of exactly 15 passes, each sampling; the first height above the ray stops the search with the
 // linear crossing; no hit: 15 steps' offset, no interpolation.
 vec2 BabylonOcclusion(vec2 uv, vec3 V) {
-    vec3 v = normalize(V);
+    vec3 v = V;
     vec2 maxOff = -normalize(v.xy) * (parallax_scale * length(v.xy) / v.z);
     float samples = 15.0 + dot(-v, vec3(0.0, 0.0, 1.0)) * (4.0 - 15.0);
     float stepSize = 1.0 / samples;

@@ -5,6 +5,7 @@
 // "Engine presets"). The height is read as is (1 = top) and remapped around mid-grey,
 // h' = h s - s / 2. PlayCanvas's tangent frame has its y axis along decreasing v, so its view
 // vector's y is minus pgt's V.y.
+#include "cotangent_frame.glsl"
 uniform sampler2D heightMap;
 uniform float height_map_factor;  // heightMapFactor, default 1
 

@@ -459,7 +459,12 @@ std::map<std::string, PresetTwin> makeTwins() {
 
 const PresetTwin* presetTwin(const std::string& preset) {
     static const std::map<std::string, PresetTwin> twins = makeTwins();
-    auto it = twins.find(preset);
+    // NAME_tangents runs NAME's function on the base frame's per-pixel V: NAME's twin, which
+    // is a twin of NAME itself only where NAME is fed V too (tests/gl_engines_test.cpp).
+    const std::string suffix = "_tangents";
+    const bool tangents = preset.size() > suffix.size() &&
+                          preset.compare(preset.size() - suffix.size(), suffix.size(), suffix) == 0;
+    auto it = twins.find(tangents ? preset.substr(0, preset.size() - suffix.size()) : preset);
     return it == twins.end() ? nullptr : &it->second;
 }
 

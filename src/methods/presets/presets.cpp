@@ -170,10 +170,62 @@ std::vector<MethodPreset> enginePresetsB() {
     };
 }
 
+// How an engine hands its parallax function V where that is not pgt's per-pixel V of the base's
+// frame (docs/methods.md "Engine presets"): built per pixel from screen derivatives (three.js
+// always; Babylon.js and PlayCanvas on a mesh without tangents), or per vertex and
+// interpolated (jMonkeyEngine's Lighting.vert). The preset runs that path; NAME_tangents is the
+// same function fed the base frame's per-pixel V (the engine's path with mesh tangents, or
+// PBRLighting's per-fragment V; three.js has none: there it is pgt's variant).
+struct EngineFrame {
+    const char* prefix;
+    const char* view;  // the GLSL giving V from the engine's inputs; null: V per vertex
+    const char* engineNote;
+    const char* tangentsNote;
+};
+constexpr EngineFrame kEngineFrames[] = {
+    {"threejs_", "threeEngineV(uv)", "; V from screen derivatives (perturbUv), as three.js has it",
+     "; fed the base frame's per-pixel V (pgt's variant: three.js has no tangent path)"},
+    {"babylon_", "cotangentFrameV(uv)",
+     "; V in the cotangent frame of screen derivatives (a mesh without tangents)",
+     "; V per pixel in the mesh tangents' frame"},
+    {"playcanvas", "cotangentFrameV(uv)",
+     "; V in the frame of screen derivatives (TBN_DERIVATIVES: a mesh without tangents)",
+     "; V per pixel in the mesh tangents' frame (TBN_TANGENTS)"},
+    {"jme", nullptr, "; V per vertex, interpolated (Lighting.vert)",
+     "; V per fragment from the vertex tangents (PBRLighting)"},
+};
+
+// Each engine preset, and beside those of kEngineFrames their _tangents variants.
+std::vector<MethodPreset> withEngineFrames(std::vector<MethodPreset> list) {
+    std::vector<MethodPreset> out;
+    for (MethodPreset& p : list) {
+        const EngineFrame* frame = nullptr;
+        for (const EngineFrame& f : kEngineFrames)
+            if (p.name.rfind(f.prefix, 0) == 0) frame = &f;
+        if (!frame) {
+            out.push_back(std::move(p));
+            continue;
+        }
+        MethodPreset tangents = p;
+        tangents.name += "_tangents";
+        tangents.source += frame->tangentsNote;
+        p.source += frame->engineNote;
+        if (frame->view) {
+            p.glsl.engineInputs = true;
+            p.glsl.call = p.glsl.function + "(uv, " + frame->view + ")";
+        } else {
+            p.config.viewPerVertex = true;
+        }
+        out.push_back(std::move(p));
+        out.push_back(std::move(tangents));
+    }
+    return out;
+}
+
 // The document and built-in presets, then the engine presets.
 std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
     for (auto list : {enginePresetsA(), enginePresetsB()})
-        for (auto& p : list) presets.push_back(std::move(p));
+        for (auto& p : withEngineFrames(std::move(list))) presets.push_back(std::move(p));
     return presets;
 }
 

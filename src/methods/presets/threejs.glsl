@@ -17,6 +17,27 @@ float threeDepth(vec2 uv) { return texture(heightMap, uv).r; }
 
 vec3 threeView(vec3 V) { return vec3(V.xy / world_per_uv, V.z); }
 
+#ifdef PGT_ENGINE_INPUTS
+// What three.js itself hands parallaxMap (the preset's engine path, "inputs": "engine"):
+// perturbUv's projection of the unit eye direction e. The two screen derivatives of the
+// position span the tangent plane; e's part in it, solved in that basis, moves uv by the two
+// uv derivatives: xy = (grad u . e, grad v . e) in UV units, z = N . e. Returned in the form
+// threeView takes (xy times l), so that the march sees three.js's vector.
+vec3 threeEngineV(vec2 uv) {
+    vec3 p = pgt_world_position;
+    vec3 n = normalize(pgt_world_normal);
+    vec3 e = normalize(pgt_camera_position - p);
+    vec3 sigmaX = dFdx(p);
+    vec3 sigmaY = dFdy(p);
+    vec3 r1 = cross(sigmaY, n);
+    vec3 r2 = cross(n, sigmaX);
+    float det = dot(sigmaX, r1);
+    vec2 screen = vec2(dot(r1, e), dot(r2, e)) / det;
+    vec2 tex = dFdx(uv) * screen.x + dFdy(uv) * screen.y;
+    return vec3(tex * world_per_uv, dot(n, e));
+}
+#endif
+
 // parallaxMap, basic mode: no division by V.z.
 vec2 ThreeBasic(vec2 uv, vec3 V) {
     vec3 v = threeView(V);

@@ -66,8 +66,10 @@ constexpr const char* kCoreExtensions[] = {
     "GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod", "GL_ARB_shader_texture_lod"};
 
 // "inputs": "engine" (GlslSpec::engineInputs): an engine's varyings as globals any function
-// reads, set by main() before the call (an HLSL method's pgt_set_engine is its own, hlsl.cpp).
-constexpr const char* kEngineGlobals = R"(vec3 pgt_world_position = vec3(0.0);
+// reads, set by main() before the call (an HLSL method's pgt_set_engine is its own, hlsl.cpp),
+// and PGT_ENGINE_INPUTS defined for the user's file to test.
+constexpr const char* kEngineGlobals = R"(#define PGT_ENGINE_INPUTS 1
+vec3 pgt_world_position = vec3(0.0);
 vec3 pgt_world_normal = vec3(0.0);
 vec4 pgt_world_tangent = vec4(0.0);
 vec3 pgt_camera_position = vec3(0.0);
@@ -80,7 +82,7 @@ void pgt_set_engine(vec3 p, vec3 n, vec4 t, vec3 c) {
 )";
 
 constexpr const char* kMain = R"(
-#ifdef PGT_ENGINE
+#ifdef PGT_ENGINE_INPUTS
 uniform sampler2D pgt_engine_position, pgt_engine_normal, pgt_engine_tangent, pgt_engine_camera;
 #endif
 uniform sampler2D pgt_uv0;   // RG32F: uv0 per texel (packed, or the frame's pixels)
@@ -97,7 +99,7 @@ void main() {
     vec4 g = texelFetch(pgt_grad, p, 0);
     pgt_uv_dx = g.xy;
     pgt_uv_dy = g.zw;
-#ifdef PGT_ENGINE
+#ifdef PGT_ENGINE_INPUTS
     pgt_set_engine(texelFetch(pgt_engine_position, p, 0).xyz, texelFetch(pgt_engine_normal, p, 0).xyz,
                    texelFetch(pgt_engine_tangent, p, 0), texelFetch(pgt_engine_camera, p, 0).xyz);
 #endif
@@ -318,6 +320,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     p.prelude = std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "") +
                 (spec.api == GlslSpec::Api::Gl ? kGlY : "");
     if (spec.hlsl) {  // defines and samplers are the HLSL compiler's
+        if (spec.engineInputs) p.prelude += "#define PGT_ENGINE_INPUTS 1\n";
         p.user = hlslToGlsl(spec);
         p.function = kHlslCall;
         return p;
@@ -383,7 +386,7 @@ GLuint programFor(const GlslSpec& spec) {
             entry = {0, glueAt + pieces.entry.bodyFirst, pieces.entry.bodyCount};
     }
     std::string fs = prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function +
-                     "\n" + (spec.engineInputs ? "#define PGT_ENGINE 1\n" : "") + kMain;
+                     "\n" + kMain;
     checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     const std::vector<GlslSpec::LineOrigin> none;
