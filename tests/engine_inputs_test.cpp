@@ -198,9 +198,11 @@ TEST(EngineInputs, PerVertexVIsPerPixelVOnAPlaneOnly) {
         s.truth.uncertainty = false;
         const RenderResult r = renderFrame(s, {.timingRepeats = 0});
         double apart = 0;
-        for (const Fragment& f : r.fragments.data)
-            if (f.covered)
-                apart = std::max(apart, glm::length(f.viewTangentVertex - f.viewTangent));
+        ASSERT_EQ(r.fragmentInputs.data.size(), r.fragments.data.size());
+        for (size_t k = 0; k < r.fragments.data.size(); ++k)
+            if (r.fragments.data[k].covered)
+                apart = std::max(apart, glm::length(r.fragmentInputs.data[k].viewVertex -
+                                                    r.fragments.data[k].viewTangent));
         EXPECT_LT(apart, 1e-12) << pinhole;
         EXPECT_NEAR(r.methods[1].stats.error.mean, r.methods[0].stats.error.mean, 1e-9);
     }
@@ -208,10 +210,16 @@ TEST(EngineInputs, PerVertexVIsPerPixelVOnAPlaneOnly) {
     torus.camera.width = torus.camera.height = 48;
     torus.truth.rate = 1;
     torus.truth.uncertainty = false;
+    torus.methods = {
+        parseMethod(nlohmann::json{{"name", "parallax"}, {"V", "per_vertex"}}, "t", "m")};
+    torus.methods[0].label = "parallax_pv";
     const RenderResult r = renderFrame(torus, {.timingRepeats = 0});
     double apart = 0;
-    for (const Fragment& f : r.fragments.data)
-        if (f.covered) apart = std::max(apart, glm::length(f.viewTangentVertex - f.viewTangent));
+    ASSERT_EQ(r.fragmentInputs.data.size(), r.fragments.data.size());
+    for (size_t k = 0; k < r.fragments.data.size(); ++k)
+        if (r.fragments.data[k].covered)
+            apart = std::max(apart, glm::length(r.fragmentInputs.data[k].viewVertex -
+                                                r.fragments.data[k].viewTangent));
     std::printf("torus: per-vertex V against per-pixel V, max %.3e\n", apart);
     EXPECT_GT(apart, 1e-3);
 }

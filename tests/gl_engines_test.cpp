@@ -225,7 +225,8 @@ TEST(Gl, EngineFramePresetsEqualTheirTangentsOnAPlane) {
     nlohmann::json methods = nlohmann::json::array();
     for (const MethodPreset& p : methodPresets())
         if (p.glsl.engineInputs || p.config.viewPerVertex)
-            methods.push_back({{"preset", p.name}}), methods.push_back({{"preset", p.name + "_tangents"}});
+            methods.push_back({{"preset", p.name}}),
+                methods.push_back({{"preset", p.name + "_tangents"}});
     ASSERT_EQ(methods.size(), 2u * 13);
     for (const char* camera :
          {R"({"type": "orthographic", "theta": 55, "phi": 35, "resolution": [64, 64]})",

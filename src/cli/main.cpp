@@ -69,7 +69,9 @@ void printSummary(const pgt::RenderResult& r) {
 
 // `pgt render`: checks the memory estimate and --out before any work.
 void renderCommand(const std::string& scenePath, const std::string& outDir,
-                   const pgt::RenderOptions& options, const std::string& exrCompression) {
+                   const pgt::RenderOptions& options, const std::string& exrCompression,
+                   const std::string& channelList) {
+    const pgt::FrameChannelSet channels = pgt::parseFrameChannels(channelList, "--channels");
     pgt::Scene scene = pgt::loadScene(scenePath);
     pgt::checkViewMemory(scene, scene.camera.width, scene.camera.height,
                          {.configs = &scene.methods, .writesImages = true, .truthInBlocks = true},
@@ -77,7 +79,7 @@ void renderCommand(const std::string& scenePath, const std::string& outDir,
     pgt::OutputDirectory out(outDir);  // before the work, so a bad --out fails at once
     // The files are written as the frame's bands are made: memory follows the band.
     pgt::RenderWriter writer(scene, outDir, scene.camera.width, scene.camera.height, scene.methods,
-                             exrCompression);
+                             exrCompression, channels);
     pgt::RenderOptions opt = options;
     opt.frame = {.keepImages = false, .sinks = {&writer}, .keepCodedErrors = true};
     pgt::RenderResult result = pgt::renderFrame(scene, opt);
@@ -171,7 +173,7 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
 
 // Everything the command line sets, and which command it chose.
 struct CommandLine {
-    std::string scenePath, outDir, glDevice, exrCompression = "piz";
+    std::string scenePath, outDir, glDevice, exrCompression = "piz", channels = "all";
     pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
@@ -210,6 +212,9 @@ void defineRender(CLI::App& app, CommandLine& c) {
         ->add_option("--exr-compression", c.exrCompression,
                      "frame.exr's compression: piz (lossless, default), zip, none (fastest)")
         ->check(CLI::IsMember({"piz", "zip", "none"}));
+    c.render->add_option("--channels", c.channels,
+                         "frame.exr's channel groups: all (default), none (no frame.exr), or a "
+                         "list of uv, depth, shadow, inputs");
 }
 
 void defineCommands(CLI::App& app, CommandLine& c) {
@@ -266,7 +271,7 @@ int runCommand(const CommandLine& c) {
         if (*c.render) {
             pgt::RenderOptions opt = c.renderOpt;
             if (c.noTiming) opt.timingRepeats = 0;
-            renderCommand(c.scenePath, c.outDir, opt, c.exrCompression);
+            renderCommand(c.scenePath, c.outDir, opt, c.exrCompression, c.channels);
         } else if (*c.sweep) {
             pgt::SweepOptions opt = c.sweepOpt;
             if (c.sweep->count("--shard")) pgt::parseShard(c.shard, opt.outDir, opt);

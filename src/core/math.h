@@ -16,6 +16,7 @@ using Vec2f = Vec2<float>;
 using Vec3f = Vec3<float>;
 using Vec2d = Vec2<double>;
 using Vec3d = Vec3<double>;
+using Vec2i = glm::vec<2, int, glm::defaultp>;
 
 inline constexpr double kPi = 3.14159265358979323846;
 

@@ -93,7 +93,7 @@ struct MethodConfig {
     // NaN = use the scene's displacement (docs/model.md §3).
     double scale = NAN, bias = NAN;
     StorageFormat format = StorageFormat::Float;  // the height map as the method reads it
-    // "V": "per_vertex": V computed per vertex and interpolated (Fragment::viewTangentVertex),
+    // "V": "per_vertex": V computed per vertex and interpolated (FragmentInputs::viewVertex),
     // as jMonkeyEngine and Ogre do; else per pixel.
     bool viewPerVertex = false;
     std::variant<BuiltinMethod, ShaderMethod> method;

@@ -11,7 +11,9 @@
 
 namespace pgt {
 
-FragmentList compactFragments(const Image2D<Fragment>& frags) {
+FragmentList compactFragments(const Image2D<Fragment>& frags,
+                              const Image2D<FragmentInputs>* inputs) {
+    if (inputs && inputs->data.size() != frags.data.size()) inputs = nullptr;  // not made
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
     std::vector<size_t> start(size_t(H) + 1, 0);
@@ -31,8 +33,10 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
     list.uvDy.resize(total);
     list.light.resize(total);
     list.lightExact.resize(total);
-    list.viewVertex.resize(total);
-    list.engine.resize(total);
+    if (inputs) {
+        list.viewVertex.resize(total);
+        list.engine.resize(total);
+    }
     tbb::parallel_for(0, H, [&](int y) {
         size_t k = start[size_t(y)];
         for (int x = 0; x < W; ++x) {
@@ -46,8 +50,10 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
             list.uvDy[k] = f.uvDy;
             list.light[k] = f.lightTangent;
             list.lightExact[k] = f.lightTangentExact;
-            list.viewVertex[k] = f.viewTangentVertex;
-            list.engine[k] = f.engine;
+            if (inputs) {
+                list.viewVertex[k] = inputs->at(x, y).viewVertex;
+                list.engine[k] = inputs->at(x, y).engine;
+            }
             ++k;
         }
     });
@@ -55,6 +61,13 @@ FragmentList compactFragments(const Image2D<Fragment>& frags) {
 }
 
 void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
+    // The optional lists stay empty unless either side has them; then this side's are filled
+    // first as viewVertexAt and engineAt read them.
+    const size_t before = size();
+    const bool vertex = !viewVertex.empty() || !from.viewVertex.empty();
+    const bool inputs = !engine.empty() || !from.engine.empty();
+    for (size_t k = viewVertex.size(); vertex && k < before; ++k) viewVertex.push_back(view[k]);
+    if (inputs) engine.resize(before);
     for (int32_t p : from.pixel) pixel.push_back(p + pixelOffset);
     uv0.insert(uv0.end(), from.uv0.begin(), from.uv0.end());
     view.insert(view.end(), from.view.begin(), from.view.end());
@@ -64,8 +77,8 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     for (size_t k = 0; k < from.size(); ++k) {
         light.push_back(from.lightAt(k));
         lightExact.push_back(from.lightAt(k, true));
-        viewVertex.push_back(from.viewVertexAt(k));
-        engine.push_back(from.engineAt(k));
+        if (vertex) viewVertex.push_back(from.viewVertexAt(k));
+        if (inputs) engine.push_back(from.engineAt(k));
     }
 }
 
@@ -79,8 +92,8 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.uvDy.push_back(from.uvDy[k]);
     to.light.push_back(from.lightAt(k));
     to.lightExact.push_back(from.lightAt(k, true));
-    to.viewVertex.push_back(from.viewVertexAt(k));
-    to.engine.push_back(from.engineAt(k));
+    if (!from.viewVertex.empty()) to.viewVertex.push_back(from.viewVertexAt(k));
+    if (!from.engine.empty()) to.engine.push_back(from.engineAt(k));
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
@@ -91,8 +104,8 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.uvDy[slot] = from.uvDy[k];
     to.light[slot] = from.lightAt(k);
     to.lightExact[slot] = from.lightAt(k, true);
-    to.viewVertex[slot] = from.viewVertexAt(k);
-    to.engine[slot] = from.engineAt(k);
+    if (!from.viewVertex.empty()) to.viewVertex[slot] = from.viewVertexAt(k);
+    if (!from.engine.empty()) to.engine[slot] = from.engineAt(k);
 }
 }  // namespace
 

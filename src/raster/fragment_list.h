@@ -14,7 +14,7 @@ namespace pgt {
 
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
-// reads them as they are. 236 bytes per fragment.
+// reads them as they are. 148 bytes per fragment, 236 with the FragmentInputs.
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
@@ -38,8 +38,10 @@ struct FragmentList {
     // Appends `from`'s fragments, their pixel indices moved by `pixelOffset`.
     void append(const FragmentList& from, int32_t pixelOffset = 0);
 };
-// The covered pixels of `frags`, row by row (pixel = y * width + x of that image).
-FragmentList compactFragments(const Image2D<Fragment>& frags);
+// The covered pixels of `frags`, row by row (pixel = y * width + x of that image); their
+// per-vertex V and engine inputs from `inputs` where given (else those lists stay empty).
+FragmentList compactFragments(const Image2D<Fragment>& frags,
+                              const Image2D<FragmentInputs>* inputs = nullptr);
 
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however

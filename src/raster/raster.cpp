@@ -25,7 +25,7 @@ struct ClipVertex {
     Vec2d uv;
     Vec3d t, b, n;
     double w;
-    Vec3d eyeTangent;  // the vertex's eye vector in its own frame (Fragment::viewTangentVertex)
+    Vec3d eyeTangent;  // the vertex's eye vector in its own frame (FragmentInputs::viewVertex)
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
@@ -210,47 +210,57 @@ struct ScreenTriangle {
 
 // uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the pixel centres of
 // the quad's pair along x and along y.
-void quadDerivatives(Fragment& f, const ScreenTriangle& tri, int px, int py) {
+void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri, int px, int py) {
     auto at = [&](int x, int y) { return tri.uvAt({x + 0.5, y + 0.5}); };
     const int x0 = px & ~1, y0 = py & ~1;
     f.uvDx = at(x0 + 1, py) - at(x0, py);
     f.uvDy = at(px, y0 + 1) - at(px, y0);
+    if (!in) return;  // an engine's position derivatives, where asked
     auto pos = [&](int x, int y) { return Vec3f(tri.positionAt({x + 0.5, y + 0.5})); };
-    f.engine.positionDx = pos(x0 + 1, py) - pos(x0, py);
-    f.engine.positionDy = pos(px, y0 + 1) - pos(px, y0);
+    in->engine.positionDx = pos(x0 + 1, py) - pos(x0, py);
+    in->engine.positionDy = pos(px, y0 + 1) - pos(px, y0);
 }
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
-// (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it, in the exact frame.
-void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& b,
-           const SurfaceDerivatives& d, const Camera& camera, const Ray& ray, Vec3d light,
-           double l) {
+// (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it and the options ask,
+// in the exact frame, per vertex and an engine's inputs.
+void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
+           const std::array<double, 3>& b, const SurfaceDerivatives& d, const Camera& camera,
+           const Ray& ray, Vec3d light, const RasterOptions& o) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
     const Vec3d position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
     // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
     // n)); b = cross(normal, tangent) * sigma.
-    Vec3d n = glm::normalize(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
+    const Vec3d nRaw = c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2];
+    Vec3d n = glm::normalize(nRaw);
     Vec3d t = c[0]->t * b[0] + c[1]->t * b[1] + c[2]->t * b[2];
-    f.engine.tangent = Vec3f(t);  // as interpolated (EngineInputs)
     double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];
+    if (in && o.engineInputs) {  // as interpolated (EngineInputs)
+        in->engine.position = Vec3f(position);
+        in->engine.normal = Vec3f(nRaw);
+        in->engine.tangent = Vec3f(t);
+        in->engine.tangentW = w < 0 ? -1.0f : 1.0f;
+    }
     t = glm::normalize(t - n * glm::dot(n, t));
     Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
     Vec3d view = camera.viewVector(position);
     f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
     f.viewTangentExact = f.viewTangent;
-    f.viewTangentVertex =
-        glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] + c[2]->eyeTangent * b[2]);
-    f.engine.position = Vec3f(position);
-    f.engine.normal = Vec3f(c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2]);
-    f.engine.tangentW = w < 0 ? -1.0f : 1.0f;
+    if (in) {
+        in->viewVertex = f.viewTangent;
+        if (o.perVertexView)
+            in->viewVertex = glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] +
+                                            c[2]->eyeTangent * b[2]);
+    }
     f.rayT = glm::dot(position - ray.origin, ray.dir);
     // The eye; orthographic rays start on a plane through the target, so their origin moves
     // back to one world unit beyond the drawn point (EngineInputs::camera).
-    f.engine.camera = Vec3f(camera.isOrthographic()
-                                ? ray.origin - ray.dir * (std::fabs(f.rayT) + 1.0)
-                                : ray.origin);
+    if (in && o.engineInputs)
+        in->engine.camera =
+            Vec3f(camera.isOrthographic() ? ray.origin - ray.dir * (std::fabs(f.rayT) + 1.0)
+                                          : ray.origin);
     auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
         return light == Vec3d(0) ? Vec3d(0)
                                  : glm::normalize(Vec3d(glm::dot(x, light), glm::dot(y, light),
@@ -258,13 +268,13 @@ void shade(Fragment& f, const ScreenTriangle& tri, const std::array<double, 3>& 
     };
     f.lightTangent = f.lightTangentExact = toFrame(t, bt, n);
     f.exactFrame = d.exact;
-    if (d.exact) {
-        const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, l, view);
+    if (d.exact && o.exactFrame) {
+        const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, view);
         f.exactFrame = ve != Vec3d(0);
         if (f.exactFrame) {
             f.viewTangentExact = ve;
             if (light != Vec3d(0))
-                f.lightTangentExact = uvSpaceDirection(d.dSdu, d.dSdv, n, l, light);
+                f.lightTangentExact = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, light);
         }
     }
 }
@@ -289,7 +299,8 @@ namespace {
 // Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
 // forward); `frags` and `depth` are the rectangle's.
 void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera, Vec3d light,
-          double l, PixelRect rect, Image2D<Fragment>& frags, Image2D<double>& depth) {
+          const RasterOptions& o, PixelRect rect, Image2D<Fragment>& frags,
+          Image2D<FragmentInputs>* inputs, Vec2i at, Image2D<double>& depth) {
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
@@ -301,9 +312,11 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             double& nearest = depth.at(px - rect.x0, py - rect.y0);
             if (!(z < nearest)) continue;
             nearest = z;
-            Fragment& f = frags.at(px - rect.x0, py - rect.y0);
-            shade(f, tri, b, d, camera, camera.pixelRay(px, py), light, l);
-            quadDerivatives(f, tri, px, py);
+            const int ox = px - rect.x0 + at.x, oy = py - rect.y0 + at.y;
+            Fragment& f = frags.at(ox, oy);
+            FragmentInputs* in = inputs ? &inputs->at(ox, oy) : nullptr;
+            shade(f, in, tri, b, d, camera, camera.pixelRay(px, py), light, o);
+            quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py);
         }
 }
 
@@ -345,7 +358,7 @@ BinRange binRange(const std::array<const BaseVertex*, 3>& v, const Camera& camer
 }  // namespace
 
 Rasterizer::Rasterizer(const BaseMesh& mesh, const Camera& camera, const RasterOptions& options)
-    : mesh_(mesh), camera_(camera), worldPerUv_(options.worldPerUv) {
+    : mesh_(mesh), camera_(camera), options_(options) {
     nearZ_ = camera.isOrthographic() ? 0 : nearPlane(mesh, camera);
     binsX_ = (camera.width() + kBin - 1) / kBin;
     binsY_ = (camera.height() + kBin - 1) / kBin;
@@ -384,6 +397,11 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
         out = Image2D<Fragment>(rect.width(), rect.height());
     else
         std::fill(out.data.begin(), out.data.end(), Fragment{});
+    rasterizeAt(rect, out, nullptr, {0, 0}, stats);
+}
+
+void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
+                             Image2D<FragmentInputs>* inputs, Vec2i at, RasterStats& stats) const {
     thread_local Image2D<double> depth;
     thread_local std::vector<uint32_t> triangles;
     if (depth.width != rect.width() || depth.height != rect.height())
@@ -403,6 +421,8 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
         std::sort(triangles.begin(), triangles.end());
         triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
     }
+    // A fragment's light is a unit vector, zero where the view has none.
+    const Vec3d light = camera_.light().value_or(Vec3d(0));
     for (uint32_t t : triangles) {
         const auto v = triangleVertices(mesh_, 3 * size_t(t));
         const SurfaceDerivatives d = surfaceDerivatives(v);
@@ -410,27 +430,40 @@ void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& 
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-                // A fragment's light is a unit vector, zero where the view has none.
-                scan(screen, d, camera_, camera_.light().value_or(Vec3d(0)), worldPerUv_, rect, out,
-                     depth);
+                scan(screen, d, camera_, light, options_, rect, out, inputs, at, depth);
         }
     }
-    for (const Fragment& f : out.data) {
-        stats.covered += f.covered;
-        stats.noExactFrame += f.covered && !f.exactFrame;
-    }
+    for (int y = 0; y < rect.height(); ++y)
+        for (int x = 0; x < rect.width(); ++x) {
+            const Fragment& f = out.at(x + at.x, y + at.y);
+            stats.covered += f.covered;
+            stats.noExactFrame += f.covered && !f.exactFrame;
+        }
 }
 
-void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats) const {
+void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats,
+                               Image2D<FragmentInputs>* inputs) const {
     const int W = camera_.width();
-    if (out.width != W || out.height != y1 - y0) out = Image2D<Fragment>(W, y1 - y0);
+    // Cleared once (in parallel), then each bin of columns writes its own pixels in place.
+    auto clear = [](auto& image, int w, int h) {
+        using T = typename std::decay_t<decltype(image.data)>::value_type;
+        if (image.width != w || image.height != h) {
+            image = std::decay_t<decltype(image)>(w, h);
+            return;
+        }
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, image.data.size(), 1 << 14),
+                          [&](const auto& r) {
+                              std::fill(image.data.begin() + int64_t(r.begin()),
+                                        image.data.begin() + int64_t(r.end()), T{});
+                          });
+    };
+    clear(out, W, y1 - y0);
+    const bool wantInputs = inputs && (options_.perVertexView || options_.engineInputs);
+    if (wantInputs) clear(*inputs, W, y1 - y0);
     tbb::combinable<RasterStats> counts;
     tbb::parallel_for(0, (W + kBin - 1) / kBin, [&](int b) {
         const PixelRect rect{b * kBin, y0, std::min(W, (b + 1) * kBin), y1};
-        thread_local Image2D<Fragment> local;
-        rasterize(rect, local, counts.local());
-        for (int y = rect.y0; y < rect.y1; ++y)
-            std::copy_n(&local.at(0, y - rect.y0), rect.width(), &out.at(rect.x0, y - y0));
+        rasterizeAt(rect, out, wantInputs ? inputs : nullptr, {rect.x0, 0}, counts.local());
     });
     counts.combine_each([&](const RasterStats& c) {
         stats.covered += c.covered;
@@ -439,11 +472,12 @@ void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterSta
 }
 
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
-                            const RasterOptions& options, RasterStats* stats) {
+                            const RasterOptions& options, RasterStats* stats,
+                            Image2D<FragmentInputs>* inputs) {
     const Rasterizer raster(mesh, camera, options);
     Image2D<Fragment> frags;
     RasterStats st = raster.setupStats();
-    raster.rasterizeRows(0, camera.height(), frags, st);
+    raster.rasterizeRows(0, camera.height(), frags, st, inputs);
     if (stats) *stats = st;
     return frags;
 }

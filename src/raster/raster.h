@@ -28,13 +28,6 @@ struct Fragment {
     // (uvSpaceDirection). A method marching along it follows the ray exactly over an affine
     // patch, shear and unequal scales included. Equal to viewTangent on a plane.
     Vec3d viewTangentExact{0};
-    // V computed per vertex and interpolated, as jMonkeyEngine's and Ogre's vertex shaders
-    // do: at each vertex the eye vector (eye - position; orthographic: minus the view
-    // direction) in that vertex's Listing 7.8 frame, unnormalised, interpolated perspective-
-    // correctly, then normalised (methods' "V": "per_vertex"). Equal to viewTangent on a
-    // flat triangle with one frame.
-    Vec3d viewTangentVertex{0};
-    EngineInputs engine;
     // uv0's screen derivatives as a GPU's fine dFdx/dFdy give them: differences of this
     // triangle's perspective-correct uv (extended beyond its edges, as for a helper
     // invocation) between the two pixel centres of the 2x2 quad's row (x) and column (y).
@@ -48,9 +41,26 @@ struct Fragment {
     double rayT = NAN;
 };
 
+// What some methods read besides a Fragment, made only when one of the frame's methods does
+// (RasterOptions::perVertexView, engineInputs) into an image of its own beside the fragments.
+struct FragmentInputs {
+    // V computed per vertex and interpolated, as jMonkeyEngine's and Ogre's vertex shaders
+    // do: at each vertex the eye vector (eye - position; orthographic: minus the view
+    // direction) in that vertex's Listing 7.8 frame, unnormalised, interpolated perspective-
+    // correctly, then normalised (methods' "V": "per_vertex"). Equal to viewTangent on a
+    // flat triangle with one frame.
+    Vec3d viewVertex{0};
+    EngineInputs engine;
+};
+
 struct RasterOptions {
     bool cullBackFaces = true;
     double worldPerUv = 1;  // l (docs/model.md §2): the height axis of the exact frame
+    // What the frame's methods read beyond uv0, V and uv0's derivatives, each computed per pixel
+    // only when asked (study/render.h rasterOptions): V in the exact frame (off:
+    // viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
+    // FragmentInputs image a caller passes; off: not made).
+    bool exactFrame = true, perVertexView = true, engineInputs = true;
 };
 
 // The UV-space direction of world direction `dir` at a point whose surface derivatives are
@@ -85,14 +95,19 @@ class Rasterizer {
     void rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& stats) const;
     // Rows [y0, y1) of the frame into `out` (resized to W x (y1 - y0)), bin by bin over all
     // cores; adds their covered pixels to `stats`.
-    void rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats) const;
+    // With `inputs`, also their FragmentInputs (resized like `out`) where the options ask.
+    void rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats,
+                       Image2D<FragmentInputs>* inputs = nullptr) const;
     // Triangles drawn and culled.
     const RasterStats& setupStats() const { return setup_; }
 
   private:
+    // rasterize() into `out` at `at` (rect's top-left pixel there), which the caller cleared.
+    void rasterizeAt(PixelRect rect, Image2D<Fragment>& out, Image2D<FragmentInputs>* inputs,
+                     Vec2i at, RasterStats& stats) const;
     const BaseMesh& mesh_;
     const Camera& camera_;
-    double worldPerUv_ = 1;
+    RasterOptions options_;
     double nearZ_ = 0;
     int binsX_ = 0, binsY_ = 0;
     // Bin b's triangles (first index of each) in mesh order: binTriangles_[binStart_[b] ..
@@ -104,6 +119,7 @@ class Rasterizer {
 
 // The whole frame at once (all cores).
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
-                            const RasterOptions& options, RasterStats* stats = nullptr);
+                            const RasterOptions& options, RasterStats* stats = nullptr,
+                            Image2D<FragmentInputs>* inputs = nullptr);
 
 }  // namespace pgt

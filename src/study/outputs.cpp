@@ -12,6 +12,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <future>
 #include <sstream>
@@ -254,6 +255,7 @@ void writeErrorPng(StagedStream& out, const std::string& name, const MethodFrame
     const int legendH = 70, canvasW = std::max(W, 560);
     OIIO::ImageSpec spec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8);
     spec.attribute("png:filter", 8);  // libpng's PNG_FILTER_NONE
+    spec.attribute("png:compressionLevel", 1);
     auto png = openImage(out, name, spec);
     std::vector<uint8_t> rgb(size_t(canvasW) * size_t(H + legendH) * 3, 0);
     tbb::parallel_for(0, H, [&](int y) {
@@ -295,6 +297,41 @@ std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& conf
 namespace {
 float shadowChannel(int8_t state) { return state == kShadowNone ? NAN : float(state); }
 }  // namespace
+
+bool FrameChannelSet::holds(const std::string& name) const {
+    auto endsWith = [&](const char* tail) {
+        const size_t n = std::strlen(tail);
+        return name.size() > n && name.compare(name.size() - n, n, tail) == 0;
+    };
+    if (name.rfind("base.V", 0) == 0) return inputs;
+    if (endsWith(".depth")) return depth;
+    if (endsWith(".shadow")) return shadow;
+    return uv;
+}
+
+FrameChannelSet parseFrameChannels(const std::string& list, const std::string& field) {
+    if (list == "all") return {};
+    FrameChannelSet set{false, false, false, false};
+    if (list == "none") return set;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t end = std::min(list.find(',', start), list.size());
+        const std::string group = list.substr(start, end - start);
+        bool* flag = group == "uv"       ? &set.uv
+                     : group == "depth"  ? &set.depth
+                     : group == "shadow" ? &set.shadow
+                     : group == "inputs" ? &set.inputs
+                                         : nullptr;
+        if (!flag)
+            throw InputError("command line", field, list,
+                             "expected all, none or a comma-separated list of uv, depth, "
+                             "shadow, inputs (\"" +
+                                 group + "\" is none of them)");
+        *flag = true;
+        start = end + 1;
+    }
+    return set;
+}
 
 void interleaveFrameBand(const FrameBand& b, float* rows) {
     const size_t methods = b.pixels.size(), nc = kFrameChannels + 5 * methods,
@@ -338,15 +375,19 @@ FrameBand wholeFrameBand(const RenderResult& r) {
 
 RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
                            const std::vector<MethodConfig>& configs,
-                           const std::string& exrCompression)
+                           const std::string& exrCompression, const FrameChannelSet& channels)
     : scene_(scene), width_(width), height_(height) {
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
     const std::vector<std::string> names = frameChannelNames(configs);
     channels_ = names.size();
     methods_ = configs.size();
-    OIIO::ImageSpec spec(width, height, int(channels_), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
+    std::vector<std::string> kept;
+    for (size_t c = 0; c < names.size(); ++c)
+        if (channels.holds(names[c])) keep_.push_back(c), kept.push_back(names[c]);
+    if (keep_.empty()) return;  // no frame.exr
+    OIIO::ImageSpec spec(width, height, int(keep_.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = kept;
     // PIZ (lossless wavelet + Huffman) by default: measured on the default scene at 2048^2,
     // 1.2 s against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB); "none"
     // writes 252 MB and saves the encoder's CPU (docs/outputs.md).
@@ -363,8 +404,14 @@ void RenderWriter::band(const RenderResult&, const FrameBand& b) {
     // Two row buffers: this band is interleaved while the previous one is still encoded.
     std::vector<float>& rows = rows_[nextRows_];
     nextRows_ ^= 1;
+    if (keep_.empty()) return;
     rows.resize(n * channels_);
     interleaveFrameBand(b, rows.data());
+    if (keep_.size() < channels_) {  // the kept channels packed in place, pixel by pixel
+        const size_t nk = keep_.size();
+        for (size_t k = 0; k < n; ++k)
+            for (size_t j = 0; j < nk; ++j) rows[k * nk + j] = rows[k * channels_ + keep_[j]];
+    }
     // The encoder compresses on one thread: it runs beside the next band's work.
     waitForRows();
     encoding_ = std::async(std::launch::async, [this, &rows, y0 = b.y0, y1 = b.y1] {
@@ -379,7 +426,7 @@ void RenderWriter::waitForRows() {
 void RenderWriter::finish(const RenderResult& r) {
     waitForRows();
     rows_[0] = {}, rows_[1] = {};
-    closeImage(exr_, *exrFile_, "frame.exr", true);
+    if (exr_) closeImage(exr_, *exrFile_, "frame.exr", true);
     Json summary = summaryJson(scene_, r);
     std::vector<double> scales(r.methods.size());
     std::vector<StagedStream*> pngs;

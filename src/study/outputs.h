@@ -19,6 +19,20 @@ namespace pgt {
 class StagedFiles;
 class StagedStream;
 
+// The channel groups frame.exr holds (docs/outputs.md; `pgt render --channels`): "uv" (the
+// truth's, the base's and each method's u, v and hit or err), "depth", "shadow" and "inputs"
+// (base.V, base.Vexact); none of them: no frame.exr. Each group left out is neither
+// interleaved into the rows nor encoded.
+struct FrameChannelSet {
+    bool uv = true, depth = true, shadow = true, inputs = true;
+    bool any() const { return uv || depth || shadow || inputs; }
+    // Whether the channel named `name` (frameChannelNames) is in the set.
+    bool holds(const std::string& name) const;
+};
+// "all", "none" or a comma-separated list of the groups; anything else throws InputError
+// naming `field`.
+FrameChannelSet parseFrameChannels(const std::string& list, const std::string& field);
+
 // The files of one rendered view, written as its bands arrive (a FrameSink): frame.exr row
 // by row. finish() draws the error maps from the result's coded errors (their colour scale
 // needs the whole frame's p99; render with FrameOptions::keepCodedErrors), one per core,
@@ -30,7 +44,7 @@ class RenderWriter : public FrameSink {
     // OpenEXR's `exrCompression` ("piz", "zip" or "none"; docs/outputs.md).
     RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
                  const std::vector<MethodConfig>& configs,
-                 const std::string& exrCompression = "piz");
+                 const std::string& exrCompression = "piz", const FrameChannelSet& channels = {});
     ~RenderWriter() override;
     void band(const RenderResult& frame, const FrameBand& band) override;
     void finish(const RenderResult& result);
@@ -39,7 +53,8 @@ class RenderWriter : public FrameSink {
     void waitForRows();  // the band being encoded is done (throws OutputError if it failed)
     const Scene& scene_;
     int width_, height_;
-    size_t channels_ = 0;
+    size_t channels_ = 0;       // every channel interleaveFrameBand writes
+    std::vector<size_t> keep_;  // those the file holds (FrameChannelSet), in order
     std::unique_ptr<StagedFiles> files_;
     StagedStream* exrFile_ = nullptr;
     std::unique_ptr<OIIO::ImageOutput> exr_;

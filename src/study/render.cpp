@@ -92,6 +92,7 @@ class BandPipeline {
                  const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                  const TimingSpec& timing, const FrameOptions& options, RenderResult& r)
         : scene_(scene),
+          configs_(configs),
           truth_(truth),
           timing_(timing),
           options_(options),
@@ -116,8 +117,7 @@ class BandPipeline {
         const BaseMesh mesh = truth_.prepared ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         std::optional<Rasterizer> raster;
         if (!truth_.prepared) {
-            raster.emplace(mesh, r_.camera,
-                           RasterOptions{scene_.cullBackFaces, scene_.worldPerUv()});
+            raster.emplace(mesh, r_.camera, rasterOptions(scene_, configs_));
             r_.raster = raster->setupStats();
         }
         r_.timingsMs["raster"] += msSince(t0);
@@ -151,11 +151,14 @@ class BandPipeline {
             const PreparedView::Band& b =
                 truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))];
             fragments_ = &b.fragments;
+            inputs_ = &b.inputs;
             frags_ = &b.frags;
         } else {
-            raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster);
-            ownFrags_ = compactFragments(ownFragments_);  // pixel indices within the band
+            raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_);
+            // Pixel indices within the band.
+            ownFrags_ = compactFragments(ownFragments_, &ownInputs_);
             fragments_ = &ownFragments_;
+            inputs_ = &ownInputs_;
             frags_ = &ownFrags_;
         }
         if (timing_.repeats > 0) sampler_.add(*frags_);
@@ -259,6 +262,11 @@ class BandPipeline {
         }
         if (options_.keepImages) copyRows(*truthBand_, band.y0, r_.truth);
         if (options_.keepImages) copyRows(*fragments_, band.y0, r_.fragments);
+        if (options_.keepImages && inputs_ && inputs_->width == r_.camera.width()) {
+            if (r_.fragmentInputs.width != inputs_->width)
+                r_.fragmentInputs = Image2D<FragmentInputs>(r_.camera.width(), r_.camera.height());
+            copyRows(*inputs_, band.y0, r_.fragmentInputs);
+        }
         for (FrameSink* sink : options_.sinks) sink->band(r_, fb);
         r_.timingsMs["write"] += msSince(t0);
     }
@@ -273,7 +281,7 @@ class BandPipeline {
         }
         FragmentList timed = sampler_.take();
         r_.methods.resize(runs_.size());
-        auto t0 = Clock::now();
+        auto tStats = Clock::now();
         // The statistics (each method's percentiles over the frame) one method per core.
         tbb::parallel_for(size_t(0), runs_.size(), [&](size_t i) {
             MethodRun& m = runs_[i];
@@ -286,6 +294,8 @@ class BandPipeline {
                 mf.haveExactFrame = true;
             }
         });
+        r_.timingsMs["statistics"] = msSince(tStats);
+        auto t0 = Clock::now();
         for (size_t i = 0; i < runs_.size(); ++i) {
             MethodRun& m = runs_[i];
             MethodFrame& mf = r_.methods[i];
@@ -302,6 +312,7 @@ class BandPipeline {
     }
 
     const Scene& scene_;
+    const std::vector<MethodConfig>& configs_;
     const TruthInput truth_;
     const TimingSpec& timing_;
     const FrameOptions& options_;
@@ -315,9 +326,11 @@ class BandPipeline {
     // rasterised here (own*), or a prepared view's.
     const Image2D<TruthSample>* truthBand_ = nullptr;
     const Image2D<Fragment>* fragments_ = nullptr;
+    const Image2D<FragmentInputs>* inputs_ = nullptr;  // empty where no method reads them
     const FragmentList* frags_ = nullptr;
     Image2D<TruthSample> ownTruth_, fineBand_;
     Image2D<Fragment> ownFragments_;
+    Image2D<FragmentInputs> ownInputs_;
     FragmentList ownFrags_;
 };
 
@@ -347,15 +360,29 @@ RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& 
 
 }  // namespace
 
+RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>& configs) {
+    RasterOptions o{.cullBackFaces = scene.cullBackFaces,
+                    .worldPerUv = scene.worldPerUv(),
+                    .exactFrame = framesCanDiffer(scene.base),
+                    .perVertexView = false,
+                    .engineInputs = false};
+    for (const MethodConfig& c : configs) {
+        o.perVertexView = o.perVertexView || c.viewPerVertex;
+        o.engineInputs = o.engineInputs || (c.shader() && c.shader()->engineInputs);
+    }
+    return o;
+}
+
 PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths) {
     PreparedView v;
     v.view = view;
     v.camera = makeCamera(scene, view);
     v.build = truths.truth->stats();
     const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
+    Image2D<FragmentInputs> inputs;
     const Image2D<Fragment> fragments =
         rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
-                  {scene.cullBackFaces, scene.worldPerUv()}, &v.raster);
+                  rasterOptions(scene, scene.methods), &v.raster, &inputs);
     const int W = v.camera.width(), H = v.camera.height();
     for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
         const int rows = std::min(H, y0 + bandRows(W)) - y0;
@@ -365,7 +392,12 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
         std::copy_n(truth.data.begin() + int64_t(y0) * W, b.truth.size(), b.truth.data.begin());
         std::copy_n(fragments.data.begin() + int64_t(y0) * W, b.fragments.size(),
                     b.fragments.data.begin());
-        b.frags = compactFragments(b.fragments);
+        if (inputs.width == W) {
+            b.inputs = Image2D<FragmentInputs>(W, rows);
+            std::copy_n(inputs.data.begin() + int64_t(y0) * W, b.inputs.size(),
+                        b.inputs.data.begin());
+        }
+        b.frags = compactFragments(b.fragments, &b.inputs);
         setTruthDepths(b.truth, b.fragments, scene.worldPerUv());
         v.bands.push_back(std::move(b));
     }
@@ -408,9 +440,11 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
 FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing) {
     const Camera camera = makeCamera(scene, view);
-    const Image2D<Fragment> frame = rasterize(drawnBaseMesh(scene.base, camera), camera,
-                                              {scene.cullBackFaces, scene.worldPerUv()});
-    return sampleFragments(compactFragments(frame), timing.maxFragments, timing.seed);
+    Image2D<FragmentInputs> inputs;
+    const Image2D<Fragment> frame =
+        rasterize(drawnBaseMesh(scene.base, camera), camera, rasterOptions(scene, scene.methods),
+                  nullptr, &inputs);
+    return sampleFragments(compactFragments(frame, &inputs), timing.maxFragments, timing.seed);
 }
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {

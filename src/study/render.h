@@ -57,8 +57,9 @@ struct MethodFrame {
 struct RenderResult {
     ViewSpec view;  // the camera and (s, b) the frame was rendered with
     Camera camera;
-    Image2D<TruthSample> truth;   // kept images only
-    Image2D<Fragment> fragments;  // kept images only
+    Image2D<TruthSample> truth;              // kept images only
+    Image2D<Fragment> fragments;             // kept images only
+    Image2D<FragmentInputs> fragmentInputs;  // kept images, where a method read them
     TruthBuildStats truthBuild, truthBuildFine;
     TruthUncertainty uncertainty;
     bool haveUncertainty = false;
@@ -141,11 +142,17 @@ struct PreparedView {
     struct Band {  // the pipeline's bands of kBandRows rows
         Image2D<TruthSample> truth;
         Image2D<Fragment> fragments;
-        FragmentList frags;  // compactFragments(fragments)
+        Image2D<FragmentInputs> inputs;  // empty where no method reads them
+        FragmentList frags;              // compactFragments(fragments, inputs)
     };
     std::vector<Band> bands;
 };
 PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths);
+
+// What the rasteriser computes for these configurations (RasterOptions): V in the exact frame
+// where the base's frames can differ from it, V per vertex and an engine's inputs where a
+// configuration reads them; nothing else per pixel.
+RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>& configs);
 RenderResult renderPrepared(const Scene& scene, const PreparedView& view,
                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                             const FrameOptions& frame = {});
