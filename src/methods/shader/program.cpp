@@ -385,8 +385,8 @@ GLuint programFor(const GlslSpec& spec) {
         if (pieces.entry.bodyCount)
             entry = {0, glueAt + pieces.entry.bodyFirst, pieces.entry.bodyCount};
     }
-    std::string fs = prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function +
-                     "\n" + kMain;
+    std::string fs =
+        prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
     checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     const std::vector<GlslSpec::LineOrigin> none;
