@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 
 #include "core/error.h"
 #include "study/outputs.h"
@@ -311,6 +312,68 @@ TEST(Render, BandsEqualTheWholeFrame) {
     }
     for (size_t i = 0; i < kept.methods.size(); ++i)
         EXPECT_EQ(kept.methods[i].stats.error.p99, streamed.methods[i].stats.error.p99);
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// `pgt render --channels`: frame.exr holds exactly the groups asked for, with the same values
+// as the full file; "none" writes no frame.exr (summary.json and the maps still); a wrong
+// group is refused naming it.
+TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedFor) {
+    Scene s = test::planeScene(test::smoothTexture(16, 16), 0.05, -0.025, 45, 10, 32,
+                               parseMethods(nlohmann::json::parse(R"(["parallax"])"), "t", "m"));
+    RenderResult r = renderFrame(s, {.timingRepeats = 0});
+    auto write = [&](const std::string& list) {
+        auto dir = test::tempDir("channels_" + list.substr(0, 2));
+        std::vector<MethodConfig> configs = {r.methods[0].config};
+        RenderWriter writer(s, dir.string(), 32, 32, configs, "piz",
+                            parseFrameChannels(list, "--channels"));
+        writer.band(r, wholeFrameBand(r));
+        writer.finish(r);
+        return dir;
+    };
+    auto read = [](const std::filesystem::path& file) {
+        std::map<std::string, std::vector<float>> channels;
+        auto in = OIIO::ImageInput::open(file.string());
+        EXPECT_TRUE(in);
+        if (!in) return channels;
+        const OIIO::ImageSpec& spec = in->spec();
+        std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
+        EXPECT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
+        for (int c = 0; c < spec.nchannels; ++c)
+            for (size_t k = 0; k < size_t(spec.width) * spec.height; ++k)
+                channels[spec.channelnames[size_t(c)]].push_back(px[k * spec.nchannels + c]);
+        return channels;
+    };
+    const auto all = write("all"), some = write("uv,inputs"), none = write("none");
+    const auto full = read(all / "frame.exr"), part = read(some / "frame.exr");
+    EXPECT_EQ(full.size(), 6u + 5 + 2 + 6);
+    std::vector<std::string> want = {"truth.u",       "truth.v",       "truth.hit",    "base.u",
+                                     "base.v",        "base.hit",      "parallax.u",   "parallax.v",
+                                     "parallax.err",  "base.V.x",      "base.V.y",     "base.V.z",
+                                     "base.Vexact.x", "base.Vexact.y", "base.Vexact.z"};
+    ASSERT_EQ(part.size(), want.size());
+    for (const std::string& name : want) {
+        ASSERT_TRUE(part.count(name)) << name;
+        const auto &a = part.at(name), &b = full.at(name);
+        ASSERT_EQ(a.size(), b.size());
+        for (size_t k = 0; k < a.size(); ++k)
+            EXPECT_TRUE(a[k] == b[k] || (std::isnan(a[k]) && std::isnan(b[k]))) << name << k;
+    }
+    EXPECT_FALSE(std::filesystem::exists(none / "frame.exr"));
+    EXPECT_TRUE(std::filesystem::exists(none / "summary.json"));
+    EXPECT_TRUE(std::filesystem::exists(none / "parallax_error.png"));
+    try {
+        parseFrameChannels("uv,normals", "--channels");
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("normals"), std::string::npos) << e.what();
+    }
+    for (const auto& d : {all, some, none}) std::filesystem::remove_all(d);
 }
 
 }  // namespace
