@@ -178,20 +178,22 @@ std::vector<MethodPreset> enginePresetsB() {
 // PBRLighting's per-fragment V; three.js has none: there it is pgt's variant).
 struct EngineFrame {
     const char* prefix;
-    const char* view;  // the GLSL giving V from the engine's inputs; null: V per vertex
+    const char* view;    // the GLSL giving V from the engine's inputs; null: V per vertex
+    const char* unread;  // a uniform of the _tangents variant the engine's path does not read
     const char* engineNote;
     const char* tangentsNote;
 };
 constexpr EngineFrame kEngineFrames[] = {
-    {"threejs_", "threeEngineV(uv)", "; V from screen derivatives (perturbUv), as three.js has it",
+    {"threejs_", "threeEngineV(uv)", "world_per_uv",
+     "; V from screen derivatives (perturbUv), as three.js has it",
      "; fed the base frame's per-pixel V (pgt's variant: three.js has no tangent path)"},
-    {"babylon_", "cotangentFrameV(uv)",
+    {"babylon_", "cotangentFrameV(uv)", "",
      "; V in the cotangent frame of screen derivatives (a mesh without tangents)",
      "; V per pixel in the mesh tangents' frame"},
-    {"playcanvas", "cotangentFrameV(uv)",
+    {"playcanvas", "cotangentFrameV(uv)", "",
      "; V in the frame of screen derivatives (TBN_DERIVATIVES: a mesh without tangents)",
      "; V per pixel in the mesh tangents' frame (TBN_TANGENTS)"},
-    {"jme", nullptr, "; V per vertex, interpolated (Lighting.vert)",
+    {"jme", nullptr, "", "; V per vertex, interpolated (Lighting.vert)",
      "; V per fragment from the vertex tangents (PBRLighting)"},
 };
 
@@ -213,6 +215,8 @@ std::vector<MethodPreset> withEngineFrames(std::vector<MethodPreset> list) {
         if (frame->view) {
             p.glsl.engineInputs = true;
             p.glsl.call = p.glsl.function + "(uv, " + frame->view + ")";
+            std::erase_if(p.glsl.uniforms,
+                          [&](const GlslSpec::Uniform& u) { return u.name == frame->unread; });
         } else {
             p.config.viewPerVertex = true;
         }

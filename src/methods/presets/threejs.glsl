@@ -15,14 +15,18 @@ uniform float world_per_uv;     // l of the base (1 on the default plane)
 
 float threeDepth(vec2 uv) { return texture(heightMap, uv).r; }
 
+#ifdef PGT_ENGINE_INPUTS
+vec3 threeView(vec3 V) { return V; }  // the engine path hands three.js's own vector
+#else
 vec3 threeView(vec3 V) { return vec3(V.xy / world_per_uv, V.z); }
+#endif
 
 #ifdef PGT_ENGINE_INPUTS
 // What three.js itself hands parallaxMap (the preset's engine path, "inputs": "engine"):
 // perturbUv's projection of the unit eye direction e. The two screen derivatives of the
 // position span the tangent plane; e's part in it, solved in that basis, moves uv by the two
-// uv derivatives: xy = (grad u . e, grad v . e) in UV units, z = N . e. Returned in the form
-// threeView takes (xy times l), so that the march sees three.js's vector.
+// uv derivatives: xy = (grad u . e, grad v . e) in UV units, z = N . e; threeView passes it on
+// as it is (world_per_uv is not read).
 vec3 threeEngineV(vec2 uv) {
     vec3 p = pgt_world_position;
     vec3 n = normalize(pgt_world_normal);
@@ -34,7 +38,7 @@ vec3 threeEngineV(vec2 uv) {
     float det = dot(sigmaX, r1);
     vec2 screen = vec2(dot(r1, e), dot(r2, e)) / det;
     vec2 tex = dFdx(uv) * screen.x + dFdy(uv) * screen.y;
-    return vec3(tex * world_per_uv, dot(n, e));
+    return vec3(tex, dot(n, e));
 }
 #endif
 
