@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The change's benchmarks against its parent's, on this machine, in one run (docs/performance.md
-# "Stages against their parent in CI"): the parent commit's pgt_bench is built in a worktree
+# "A frame's stages against their floors"): the parent commit's pgt_bench is built in a worktree
 # beside build/, then the frame's stages (BM_FrameStages/512) and each method's kernel
 # (BM_Method) run alternately, parent and change, twice each; every stage or benchmark whose
 # best time got slower by more than 10 % is printed. Printed, never failing: machines are
