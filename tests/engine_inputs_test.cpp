@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "methods/shader/glsl_spec.h"
 #include "scene/scene.h"
+#include "study/outputs.h"
 #include "study/render.h"
 #include "test_util.h"
 
@@ -210,6 +211,17 @@ TEST(EngineInputs, PerVertexVIsPerPixelVOnAPlaneOnly) {
         s.truth.uncertainty = false;
         const RenderResult r = renderFrame(s, {.timingRepeats = 0});
         EXPECT_LT(perVertexApart(r), 1e-12) << pinhole;
+        // frame.exr's base.Vvertex channels hold it (outputs.md).
+        const std::vector<std::string> names = frameChannelNames(s.methods);
+        ASSERT_EQ(names.size(), frameChannelCount(2, true));
+        EXPECT_EQ(names.back(), "base.Vvertex.z");
+        std::vector<float> px(r.fragments.data.size() * names.size());
+        interleaveFrameBand(wholeFrameBand(r), px.data());
+        for (size_t k = 0; k < r.fragments.data.size(); ++k) {
+            if (!r.fragments.data[k].covered) continue;
+            ASSERT_EQ(px[k * names.size() + names.size() - 1],
+                      float(r.fragmentInputs.data[k].viewVertex.z));
+        }
         EXPECT_NEAR(r.methods[1].stats.error.mean, r.methods[0].stats.error.mean, 1e-9);
     }
     Scene torus = loadScene(test::sceneDir() + "/torus.json");

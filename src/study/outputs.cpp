@@ -291,6 +291,10 @@ std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& conf
     for (const char* c :
          {"base.V.x", "base.V.y", "base.V.z", "base.Vexact.x", "base.Vexact.y", "base.Vexact.z"})
         names.push_back(c);
+    // V per vertex, where a method reads FragmentInputs.
+    if (readsFragmentInputs(configs))
+        for (const char* c : {"base.Vvertex.x", "base.Vvertex.y", "base.Vvertex.z"})
+            names.push_back(c);
     return names;
 }
 
@@ -334,7 +338,7 @@ FrameChannelSet parseFrameChannels(const std::string& list, const std::string& f
 }
 
 void interleaveFrameBand(const FrameBand& b, float* rows) {
-    const size_t methods = b.pixels.size(), nc = kFrameChannels + 5 * methods,
+    const size_t methods = b.pixels.size(), nc = frameChannelCount(methods, b.inputs != nullptr),
                  tail = 6 + 3 * methods, view = 8 + 5 * methods;
     const size_t n = b.truth->data.size();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
@@ -359,6 +363,9 @@ void interleaveFrameBand(const FrameBand& b, float* rows) {
             for (int c = 0; c < 3; ++c) {
                 p[view + size_t(c)] = f.covered ? float(f.viewTangent[c]) : NAN;
                 p[view + 3 + size_t(c)] = f.covered ? float(f.viewTangentExact[c]) : NAN;
+                if (b.inputs)
+                    p[view + 6 + size_t(c)] =
+                        f.covered ? float(b.inputs->data[k].viewVertex[c]) : NAN;
             }
         }
     });
@@ -366,6 +373,8 @@ void interleaveFrameBand(const FrameBand& b, float* rows) {
 
 FrameBand wholeFrameBand(const RenderResult& r) {
     FrameBand whole{0, r.camera.height(), &r.truth, &r.fragments, {}, {}};
+    if (r.fragmentInputs.data.size() == r.fragments.data.size() && !r.fragments.data.empty())
+        whole.inputs = &r.fragmentInputs;
     for (const MethodFrame& m : r.methods) {
         whole.pixels.push_back(&m.pixels);
         whole.errTexels.push_back(&m.errTexels);
@@ -400,6 +409,7 @@ RenderWriter::~RenderWriter() = default;
 
 void RenderWriter::band(const RenderResult&, const FrameBand& b) {
     PGT_CHECK_EQ(b.pixels.size(), methods_);
+    PGT_CHECK_EQ(frameChannelCount(methods_, b.inputs != nullptr), channels_);
     const size_t n = size_t(width_) * size_t(b.y1 - b.y0);
     // Two row buffers: this band is interleaved while the previous one is still encoded.
     std::vector<float>& rows = rows_[nextRows_];

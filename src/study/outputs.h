@@ -73,8 +73,12 @@ double share(int64_t part, int64_t whole);
 // frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
 // LABEL.u, LABEL.v, LABEL.err per method, then truth.depth, truth.shadow and LABEL.depth,
 // LABEL.shadow per method, then base.V.x/y/z and base.Vexact.x/y/z (docs/outputs.md):
-// kFrameChannels + 5 per method.
+// kFrameChannels + 5 per method, then base.Vvertex.x/y/z where a method reads FragmentInputs.
 constexpr size_t kFrameChannels = 14;
+// With `inputs` (FrameBand::inputs: a method reads FragmentInputs), base.Vvertex.x/y/z last.
+constexpr size_t frameChannelCount(size_t methods, bool inputs) {
+    return kFrameChannels + 5 * methods + (inputs ? 3 : 0);
+}
 std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
 // A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
 // channel has no value), into `rows` (width x rows x channels floats).

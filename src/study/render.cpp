@@ -252,6 +252,7 @@ class BandPipeline {
     void emit(PixelRect band) {
         auto t0 = Clock::now();
         FrameBand fb{band.y0, band.y1, truthBand_, fragments_, {}, {}};
+        if (inputs_ && inputs_->width == fragments_->width) fb.inputs = inputs_;
         for (size_t i = 0; i < runs_.size(); ++i) {
             fb.pixels.push_back(&runs_[i].pixels);
             fb.errTexels.push_back(&runs_[i].errTexels);
@@ -371,6 +372,12 @@ RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>&
         o.engineInputs = o.engineInputs || (c.shader() && c.shader()->engineInputs);
     }
     return o;
+}
+
+bool readsFragmentInputs(const std::vector<MethodConfig>& configs) {
+    return std::any_of(configs.begin(), configs.end(), [](const MethodConfig& c) {
+        return c.viewPerVertex || (c.shader() && c.shader()->engineInputs);
+    });
 }
 
 PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths) {

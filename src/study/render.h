@@ -90,6 +90,9 @@ struct FrameBand {
     const Image2D<Fragment>* fragments = nullptr;
     std::vector<const Image2D<MethodPixel>*> pixels;  // per configuration
     std::vector<const Image2D<float>*> errTexels;     // per configuration; NaN: no error
+    // V per vertex and an engine's inputs, where the frame's methods read them
+    // (readsFragmentInputs); null otherwise.
+    const Image2D<FragmentInputs>* inputs = nullptr;
 };
 
 // What consumes bands as they are made (in row order): the EXR stream, the error maps.
@@ -153,6 +156,9 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
 // where the base's frames can differ from it, V per vertex and an engine's inputs where a
 // configuration reads them; nothing else per pixel.
 RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>& configs);
+// Whether any of them reads V per vertex or an engine's inputs (the rasteriser then makes
+// FragmentInputs, and frame.exr gets base.Vvertex).
+bool readsFragmentInputs(const std::vector<MethodConfig>& configs);
 RenderResult renderPrepared(const Scene& scene, const PreparedView& view,
                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                             const FrameOptions& frame = {});

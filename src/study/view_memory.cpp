@@ -18,12 +18,14 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
     // A band: truth at two rates, the raster's fragments and their list (236 bytes), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
-    // interleaved rows (kFrameChannels + 5 per method floats).
+    // interleaved rows (frameChannelCount floats).
     const double band = double(width) * std::min(height, bandRows(width));
     double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 236 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     if (m.writesImages)
-        perBandPixel += (double(kFrameChannels) + 5.0 * methods) * sizeof(float) * 2;
+        perBandPixel +=
+            double(frameChannelCount(m.configs->size(), readsFragmentInputs(*m.configs))) *
+            sizeof(float) * 2;
     // The frame: each method's kept errors (float) for its percentiles, the truth's own, the
     // error maps' float images; or everything when the images are kept.
     double perPixel = (methods + 1) * sizeof(float);
