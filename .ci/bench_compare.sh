@@ -51,7 +51,7 @@ def best(side):
 old, new = best("parent"), best("change")
 common = sorted(set(old) & set(new))
 slower = [(n, k, old[(n, k)], new[(n, k)]) for n, k in common if new[(n, k)] > 1.10 * old[(n, k)]
-          and new[(n, k)] - old[(n, k)] > 0.5]
+          and new[(n, k)] - old[(n, k)] > 2.0]
 print(f"bench_compare: {len(common)} figures in both; {len(slower)} slower by more than 10 %:")
 for n, k, a, b in slower:
     print(f"  {n} {k}: {a:.2f} -> {b:.2f} ({100 * (b / a - 1):+.0f} %)")
