@@ -266,6 +266,10 @@ bool readsDisplacement(const MethodConfig& cfg) {
 
 bool runsInGl(const MethodConfig& cfg) { return cfg.shader() != nullptr; }
 
+bool readsEngineInputs(const MethodConfig& cfg) {
+    return cfg.shader() && cfg.shader()->engineInputs;
+}
+
 bool variedAsShader(const MethodConfig& cfg) { return runsInGl(cfg) || !cfg.preset.empty(); }
 
 std::string setShaderParameter(MethodConfig& cfg, const std::string& param, const Json& value,

@@ -69,6 +69,8 @@ bool readsDisplacement(const MethodConfig& cfg);
 bool variedAsShader(const MethodConfig& cfg);
 // Whether it runs in OpenGL (a GLSL/HLSL method or GLSL preset) rather than in C++.
 bool runsInGl(const MethodConfig& cfg);
+// Whether its shader reads an engine's inputs ("inputs": "engine", GlslSpec::engineInputs).
+bool readsEngineInputs(const MethodConfig& cfg);
 // A built-in configuration's GLSL twin (its row of the method table, methods/registry.h:
 // "LABEL_gl", the shipped shader, its samplers, s and b and the configuration's parameters as
 // uniforms), made directly; the built-in's kind must have one. twinEntry writes the same as a

@@ -99,9 +99,10 @@ struct ClippedPolygon {
 };
 
 // The triangle in camera space, clipped (Sutherland-Hodgman) against forward >= nearZ for
-// a pinhole camera: 0, 3 or 4 vertices.
+// a pinhole camera: 0, 3 or 4 vertices; with each vertex's eye vector when `eyeVectors`
+// (a per-vertex V is asked for).
 ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camera& camera,
-                          double nearZ) {
+                          bool eyeVectors, double nearZ) {
     std::array<ClipVertex, 3> poly;
     for (int i = 0; i < 3; ++i) {
         const BaseVertex* p = v[size_t(i)];
@@ -112,7 +113,7 @@ ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camer
                            p->bitangent,
                            p->normal,
                            p->handedness,
-                           vertexEyeVector(*p, camera)};
+                           eyeVectors ? vertexEyeVector(*p, camera) : Vec3d(0)};
     }
     ClippedPolygon out;
     if (camera.isOrthographic()) {
@@ -183,19 +184,17 @@ struct ScreenTriangle {
         return true;
     }
 
-    // The interpolated uv at any screen point, inside the triangle or not (a helper
-    // invocation's value).
-    Vec2d uvAt(Vec2d p) const {
+    // The perspective-correct barycentrics of any screen point, inside the triangle or not (a
+    // helper invocation's), from which its uv and position are interpolated.
+    std::array<double, 3> baryAt(Vec2d p) const {
         std::array<double, 3> e;
         for (int i = 0; i < 3; ++i) e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
-        const auto b = weights(e);
+        return weights(e);
+    }
+    Vec2d uv(const std::array<double, 3>& b) const {
         return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
     }
-    // The same for the world position.
-    Vec3d positionAt(Vec2d p) const {
-        std::array<double, 3> e;
-        for (int i = 0; i < 3; ++i) e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
-        const auto b = weights(e);
+    Vec3d position(const std::array<double, 3>& b) const {
         return c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
     }
 
@@ -211,14 +210,18 @@ struct ScreenTriangle {
 // uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the pixel centres of
 // the quad's pair along x and along y.
 void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri, int px, int py) {
-    auto at = [&](int x, int y) { return tri.uvAt({x + 0.5, y + 0.5}); };
     const int x0 = px & ~1, y0 = py & ~1;
-    f.uvDx = at(x0 + 1, py) - at(x0, py);
-    f.uvDy = at(px, y0 + 1) - at(px, y0);
+    // The quad's pair along x and along y, each point's barycentrics once.
+    const Vec2d at[4] = {
+        {x0 + 0.5, py + 0.5}, {x0 + 1.5, py + 0.5}, {px + 0.5, y0 + 0.5}, {px + 0.5, y0 + 1.5}};
+    std::array<double, 3> b[4];
+    for (int i = 0; i < 4; ++i) b[i] = tri.baryAt(at[i]);
+    f.uvDx = tri.uv(b[1]) - tri.uv(b[0]);
+    f.uvDy = tri.uv(b[3]) - tri.uv(b[2]);
     if (!in) return;  // an engine's position derivatives, where asked
-    auto pos = [&](int x, int y) { return Vec3f(tri.positionAt({x + 0.5, y + 0.5})); };
-    in->engine.positionDx = pos(x0 + 1, py) - pos(x0, py);
-    in->engine.positionDy = pos(px, y0 + 1) - pos(px, y0);
+    auto pos = [&](int i) { return Vec3f(tri.position(b[i])); };
+    in->engine.positionDx = pos(1) - pos(0);
+    in->engine.positionDy = pos(3) - pos(2);
 }
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
@@ -229,8 +232,8 @@ void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
            const Ray& ray, Vec3d light, const RasterOptions& o) {
     const auto& c = tri.c;
     f.covered = true;
-    f.uv0 = c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
-    const Vec3d position = c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
+    f.uv0 = tri.uv(b);
+    const Vec3d position = tri.position(b);
     // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
     // n)); b = cross(normal, tangent) * sigma.
     const Vec3d nRaw = c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2];
@@ -338,7 +341,7 @@ struct BinRange {
 };
 
 BinRange binRange(const std::array<const BaseVertex*, 3>& v, const Camera& camera, double nearZ) {
-    const ClippedPolygon poly = clipToNear(v, camera, nearZ);
+    const ClippedPolygon poly = clipToNear(v, camera, false, nearZ);
     BinRange r;
     bool any = false;
     for (int k = 1; k + 1 < poly.size; ++k) {
@@ -426,7 +429,7 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
     for (uint32_t t : triangles) {
         const auto v = triangleVertices(mesh_, 3 * size_t(t));
         const SurfaceDerivatives d = surfaceDerivatives(v);
-        const ClippedPolygon poly = clipToNear(v, camera_, nearZ_);
+        const ClippedPolygon poly = clipToNear(v, camera_, options_.perVertexView, nearZ_);
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))

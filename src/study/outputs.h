@@ -21,8 +21,8 @@ class StagedStream;
 
 // The channel groups frame.exr holds (docs/outputs.md; `pgt render --channels`): "uv" (the
 // truth's, the base's and each method's u, v and hit or err), "depth", "shadow" and "inputs"
-// (base.V, base.Vexact); none of them: no frame.exr. Each group left out is neither
-// interleaved into the rows nor encoded.
+// (base.V, base.Vexact, base.Vvertex); none of them: no frame.exr (and no rows interleaved).
+// A group left out is dropped from the interleaved rows before the encoder sees them.
 struct FrameChannelSet {
     bool uv = true, depth = true, shadow = true, inputs = true;
     bool any() const { return uv || depth || shadow || inputs; }

@@ -78,6 +78,14 @@ void setTruthDepths(Image2D<TruthSample>& truth, const Image2D<Fragment>& frags,
 }
 
 // Rows [band.y0, band.y1) of `full` from a band image.
+// Rows [band.y0, band.y1) of a whole-frame image.
+template <class T>
+Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
+    Image2D<T> out(band.width(), band.height());
+    std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(), out.data.begin());
+    return out;
+}
+
 template <class T>
 void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
     std::copy(band.data.begin(), band.data.end(), full.data.begin() + int64_t(y0) * full.width);
@@ -189,14 +197,6 @@ class BandPipeline {
         r_.timingsMs["trace_fine"] += msSince(t1);
     }
 
-    template <class T>
-    static Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
-        Image2D<T> out(band.width(), band.height());
-        std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(),
-                    out.data.begin());
-        return out;
-    }
-
     // One configuration over the band's fragments (V in the exact frame or not).
     Image2D<MethodPixel> evaluate(const MethodRun& m, bool exactFrame) const {
         const int W = fragments_->width, H = fragments_->height;
@@ -252,7 +252,7 @@ class BandPipeline {
     void emit(PixelRect band) {
         auto t0 = Clock::now();
         FrameBand fb{band.y0, band.y1, truthBand_, fragments_, {}, {}};
-        if (inputs_ && inputs_->width == fragments_->width) fb.inputs = inputs_;
+        fb.inputs = madeInputs();
         for (size_t i = 0; i < runs_.size(); ++i) {
             fb.pixels.push_back(&runs_[i].pixels);
             fb.errTexels.push_back(&runs_[i].errTexels);
@@ -263,7 +263,7 @@ class BandPipeline {
         }
         if (options_.keepImages) copyRows(*truthBand_, band.y0, r_.truth);
         if (options_.keepImages) copyRows(*fragments_, band.y0, r_.fragments);
-        if (options_.keepImages && inputs_ && inputs_->width == r_.camera.width()) {
+        if (options_.keepImages && madeInputs()) {
             if (r_.fragmentInputs.width != inputs_->width)
                 r_.fragmentInputs = Image2D<FragmentInputs>(r_.camera.width(), r_.camera.height());
             copyRows(*inputs_, band.y0, r_.fragmentInputs);
@@ -310,6 +310,11 @@ class BandPipeline {
         }
         if (options_.deferTiming) r_.timed = std::move(timed);
         r_.timingsMs["method_timing"] = msSince(t0);
+    }
+
+    // The band's FragmentInputs where the rasteriser made them (a method reads them), else null.
+    const Image2D<FragmentInputs>* madeInputs() const {
+        return inputs_ && inputs_->width == fragments_->width ? inputs_ : nullptr;
     }
 
     const Scene& scene_;
@@ -369,14 +374,14 @@ RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>&
                     .engineInputs = false};
     for (const MethodConfig& c : configs) {
         o.perVertexView = o.perVertexView || c.viewPerVertex;
-        o.engineInputs = o.engineInputs || (c.shader() && c.shader()->engineInputs);
+        o.engineInputs = o.engineInputs || readsEngineInputs(c);
     }
     return o;
 }
 
 bool readsFragmentInputs(const std::vector<MethodConfig>& configs) {
     return std::any_of(configs.begin(), configs.end(), [](const MethodConfig& c) {
-        return c.viewPerVertex || (c.shader() && c.shader()->engineInputs);
+        return c.viewPerVertex || readsEngineInputs(c);
     });
 }
 
@@ -394,16 +399,10 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
     for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
         const int rows = std::min(H, y0 + bandRows(W)) - y0;
         PreparedView::Band b;
-        b.truth = Image2D<TruthSample>(W, rows);
-        b.fragments = Image2D<Fragment>(W, rows);
-        std::copy_n(truth.data.begin() + int64_t(y0) * W, b.truth.size(), b.truth.data.begin());
-        std::copy_n(fragments.data.begin() + int64_t(y0) * W, b.fragments.size(),
-                    b.fragments.data.begin());
-        if (inputs.width == W) {
-            b.inputs = Image2D<FragmentInputs>(W, rows);
-            std::copy_n(inputs.data.begin() + int64_t(y0) * W, b.inputs.size(),
-                        b.inputs.data.begin());
-        }
+        const PixelRect band{0, y0, W, y0 + rows};
+        b.truth = rowsOf(truth, band);
+        b.fragments = rowsOf(fragments, band);
+        if (inputs.width == W) b.inputs = rowsOf(inputs, band);
         b.frags = compactFragments(b.fragments, &b.inputs);
         setTruthDepths(b.truth, b.fragments, scene.worldPerUv());
         v.bands.push_back(std::move(b));

@@ -253,7 +253,7 @@ GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool e
     GlslInputs in;
     in.uv0 = toFloat<Vec2f>(frags.uv0);
     in.view = toFloat<Vec3f>(methodViews(cfg, frags, exactFrame));
-    if (cfg.shader() && cfg.shader()->engineInputs) {
+    if (readsEngineInputs(cfg)) {
         in.engine.resize(frags.size());
         for (size_t k = 0; k < frags.size(); ++k) in.engine[k] = frags.engineAt(k);
     }
