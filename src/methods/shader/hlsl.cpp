@@ -12,7 +12,6 @@
 #include <filesystem>
 #include <map>
 #include <memory>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -401,19 +400,16 @@ std::string asWrapperPiece(const std::string& glsl) {
     }
     // An input the shader never reads (a call that ignores V) was optimised away with its
     // variable: only the inputs that are left are set.
-    auto declared = [&](const char* name) {
-        return std::regex_search(glsl, std::regex(std::string("\\b") + name + "\\b"));
-    };
     out << "vec2 " << kHlslCall << "(vec2 uv, vec3 v) {\n";
-    if (declared("pgt_hlsl_uv")) out << "    pgt_hlsl_uv = uv;\n";
-    if (declared("pgt_hlsl_v")) out << "    pgt_hlsl_v = v;\n";
+    if (mentionsIdentifier(glsl, "pgt_hlsl_uv")) out << "    pgt_hlsl_uv = uv;\n";
+    if (mentionsIdentifier(glsl, "pgt_hlsl_v")) out << "    pgt_hlsl_v = v;\n";
     out << "    pgt_hlsl_main();\n    return pgt_hlsl_out.xy;\n}\n";
     // An engine's inputs (GlslSpec::engineInputs), set by the wrapper's main() before the call.
     out << "void pgt_set_engine(vec3 p, vec3 n, vec4 t, vec3 c) {\n";
     const char* engine[4][2] = {
         {"pgt_hlsl_wp", "p"}, {"pgt_hlsl_wn", "n"}, {"pgt_hlsl_wt", "t"}, {"pgt_hlsl_wc", "c"}};
     for (const auto& [name, value] : engine)
-        if (declared(name)) out << "    " << name << " = " << value << ";\n";
+        if (mentionsIdentifier(glsl, name)) out << "    " << name << " = " << value << ";\n";
     out << "}\n";
     return out.str();
 }
