@@ -293,10 +293,11 @@ def frame_and_stiff_lines(df, frames="pgt"):
     if "mean_exact_frame" in df.columns and df["mean_exact_frame"].notna().any():
         fr = df.groupby("label")[["mean", "mean_exact_frame"]].mean()
         lines += ["## Method error and tangent-frame error", "",
-                  "Each method also ran with the exact frame of the drawn surface (T along dS/du, "
-                  "B along dS/dv, N the normal the truth displaces along). Its error is the "
-                  f"method's own; the rest is what the per-vertex frame ({FRAME_NAMES.get(frames, frames)}) "
-                  "adds.", "",
+                  "Each method also ran with V in the exact frame of the drawn surface: the true "
+                  "UV-space direction of the ray, from dS/du, dS/dv and l N (docs/model.md §2), "
+                  "so UV shear and unequal scales count. Its error is the method's own (plus, on "
+                  "a curved mesh, the bending within its march); the rest is what the per-vertex "
+                  f"frame ({FRAME_NAMES.get(frames, frames)}) adds.", "",
                   "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
         for label, r in fr.iterrows():
             share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
