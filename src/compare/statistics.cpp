@@ -22,9 +22,8 @@ Summary summarizeOf(std::vector<T>& values) {
     s.mean = sum / double(values.size());
     s.rms = std::sqrt(sum2 / double(values.size()));
     s.max = mx;
-    s.p50 = percentile(values, 0.50);
-    s.p90 = percentile(values, 0.90);
-    s.p99 = percentile(values, 0.99);
+    const std::vector<double> p = percentiles(values, {0.50, 0.90, 0.99});
+    s.p50 = p[0], s.p90 = p[1], s.p99 = p[2];
     return s;
 }
 

@@ -48,16 +48,23 @@ class MethodChecks {
     std::vector<MethodWarning> finish() const;
 
   private:
+    // What the fragments of a band (or of a block of it) add up to.
+    struct Tally {
+        int64_t oblique = 0;    // covered, finite, |V.xy| > 1e-3
+        int64_t unchanged = 0;  // of those, uv' = uv0 (to float rounding)
+        double alongV = 0;      // sum of (uv' - uv0) . V.xy / |V.xy| over them
+        int64_t headOn = 0, headOnNonfinite = 0;
+        int64_t compared = 0;            // finite uv', truth hit
+        double errSum = 0, noneSum = 0;  // their errors in texels, the method's and uv0's
+        bool oneView = true;             // every V within 1e-9 of the frame's first
+        bool haveOffset = false;
+        Vec2d offMin{0}, offMax{0};
+        Tally& operator+=(const Tally& o);
+    };
     CheckContext c_;
-    int64_t oblique_ = 0;    // covered, finite, |V.xy| > 1e-3
-    int64_t unchanged_ = 0;  // of those, uv' = uv0 (to float rounding)
-    double alongV_ = 0;      // sum of (uv' - uv0) . V.xy / |V.xy| over them
-    int64_t headOn_ = 0, headOnNonfinite_ = 0;
-    int64_t compared_ = 0;             // finite uv', truth hit
-    double errSum_ = 0, noneSum_ = 0;  // their errors in texels, the method's and uv0's
-    bool oneView_ = true, haveView_ = false, haveOffset_ = false;
+    Tally all_;
+    bool haveView_ = false;
     Vec3d view0_{0};
-    Vec2d offMin_{0}, offMax_{0};
 };
 
 // "no_offset;toward_eye": the kinds as results.csv's `warnings` column holds them.

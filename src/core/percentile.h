@@ -11,5 +11,9 @@ namespace pgt {
 // linear time).
 double percentile(std::vector<double>& values, double q);
 double percentile(std::vector<float>& values, double q);
+// Several quantiles, `qs` ascending, each searched for only beyond the one before (a fraction
+// of the work of one percentile() each); the same values as percentile() gives.
+std::vector<double> percentiles(std::vector<double>& values, const std::vector<double>& qs);
+std::vector<double> percentiles(std::vector<float>& values, const std::vector<double>& qs);
 
 }  // namespace pgt

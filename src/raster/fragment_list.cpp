@@ -13,6 +13,13 @@ namespace pgt {
 
 FragmentList compactFragments(const Image2D<Fragment>& frags,
                               const Image2D<FragmentInputs>* inputs) {
+    FragmentList list;
+    compactFragments(frags, inputs, true, list);
+    return list;
+}
+
+void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
+                      bool lights, FragmentList& list) {
     if (inputs && inputs->data.size() != frags.data.size()) inputs = nullptr;  // not made
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
@@ -23,7 +30,6 @@ FragmentList compactFragments(const Image2D<Fragment>& frags,
         start[size_t(y) + 1] = n;
     });
     std::partial_sum(start.begin(), start.end(), start.begin());
-    FragmentList list;
     const size_t total = start.back();
     list.pixel.resize(total);
     list.uv0.resize(total);
@@ -31,12 +37,10 @@ FragmentList compactFragments(const Image2D<Fragment>& frags,
     list.viewExact.resize(total);
     list.uvDx.resize(total);
     list.uvDy.resize(total);
-    list.light.resize(total);
-    list.lightExact.resize(total);
-    if (inputs) {
-        list.viewVertex.resize(total);
-        list.engine.resize(total);
-    }
+    list.light.resize(lights ? total : 0);
+    list.lightExact.resize(lights ? total : 0);
+    list.viewVertex.resize(inputs ? total : 0);
+    list.engine.resize(inputs ? total : 0);
     tbb::parallel_for(0, H, [&](int y) {
         size_t k = start[size_t(y)];
         for (int x = 0; x < W; ++x) {
@@ -48,8 +52,10 @@ FragmentList compactFragments(const Image2D<Fragment>& frags,
             list.viewExact[k] = f.viewTangentExact;
             list.uvDx[k] = f.uvDx;
             list.uvDy[k] = f.uvDy;
-            list.light[k] = f.lightTangent;
-            list.lightExact[k] = f.lightTangentExact;
+            if (lights) {
+                list.light[k] = f.lightTangent;
+                list.lightExact[k] = f.lightTangentExact;
+            }
             if (inputs) {
                 list.viewVertex[k] = inputs->at(x, y).viewVertex;
                 list.engine[k] = inputs->at(x, y).engine;
@@ -57,7 +63,6 @@ FragmentList compactFragments(const Image2D<Fragment>& frags,
             ++k;
         }
     });
-    return list;
 }
 
 void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {

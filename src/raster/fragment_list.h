@@ -42,6 +42,10 @@ struct FragmentList {
 // per-vertex V and engine inputs from `inputs` where given (else those lists stay empty).
 FragmentList compactFragments(const Image2D<Fragment>& frags,
                               const Image2D<FragmentInputs>* inputs = nullptr);
+// The same into `list`, reusing its storage (a frame's bands); its lights left out (lightAt:
+// zero) unless `lights` (the view has a light).
+void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
+                      bool lights, FragmentList& list);
 
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however

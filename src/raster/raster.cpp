@@ -42,16 +42,6 @@ bool isTopLeft(Vec2d a, Vec2d b) {
     return (e.y == 0 && e.x > 0) || e.y < 0;
 }
 
-// Edge function (b - a) x (p - a), evaluated from the lexicographically smaller endpoint so
-// that edge(a, b, p) == -edge(b, a, p) bit for bit: a pixel centre on an edge shared by two
-// triangles then gets opposite signs (or zero) from both, and the top-left rule decides.
-double edgeFunction(Vec2d a, Vec2d b, Vec2d p) {
-    bool swap = b.x < a.x || (b.x == a.x && b.y < a.y);
-    if (swap) std::swap(a, b);
-    double e = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
-    return swap ? -e : e;
-}
-
 // Pinhole near plane: a thousandth of the eye's distance to the nearest vertex keeps
 // clipped triangles well conditioned while losing nothing visible in practice.
 double nearPlane(const BaseMesh& mesh, const Camera& camera) {
@@ -132,13 +122,34 @@ ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camer
     return out;
 }
 
+// An edge function (b - a) x (p - a) set up once per edge, evaluated from the
+// lexicographically smaller endpoint so that edge(a, b, p) == -edge(b, a, p) bit for bit: a
+// pixel centre on an edge shared by two triangles then gets opposite signs (or zero) from
+// both, and the top-left rule decides.
+struct Edge {
+    Vec2d a{0};
+    double dx = 0, dy = 0;
+    bool negate = false;
+    Edge() = default;
+    Edge(Vec2d from, Vec2d to)
+        : a(from), negate(to.x < from.x || (to.x == from.x && to.y < from.y)) {
+        if (negate) std::swap(a, to);
+        dx = to.x - a.x, dy = to.y - a.y;
+    }
+    double at(Vec2d p) const {
+        const double e = dx * (p.y - a.y) - dy * (p.x - a.x);
+        return negate ? -e : e;
+    }
+};
+
 // One screen-space triangle of a clipped polygon, oriented so that its edge functions are
 // positive inside, with the pixel range its samples can fall in.
 struct ScreenTriangle {
     std::array<const ClipVertex*, 3> c;
     std::array<Vec2d, 3> s;
     std::array<double, 3> invW;
-    std::array<bool, 3> topLeft;  // edge i is opposite vertex i: s[(i+1)%3] -> s[(i+2)%3]
+    std::array<Edge, 3> edge;     // edge i is opposite vertex i: s[(i+1)%3] -> s[(i+2)%3]
+    std::array<bool, 3> topLeft;  // of edge i
     double area = 0;
     int px0 = 0, px1 = -1, py0 = 0, py1 = -1;
 
@@ -168,28 +179,32 @@ struct ScreenTriangle {
         const int W = camera.width(), H = camera.height();
         px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
         py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);
-        for (int i = 0; i < 3; ++i) topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
+        for (int i = 0; i < 3; ++i) {
+            edge[i] = Edge(s[(i + 1) % 3], s[(i + 2) % 3]);
+            topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
+        }
         return true;
     }
 
-    // Perspective-correct barycentrics of sample p, or false when p is outside (top-left
-    // rule on the edges).
+    // Whether sample p is inside (top-left rule on the edges), with its perspective-correct
+    // barycentrics.
     bool covers(Vec2d p, std::array<double, 3>& bary) const {
         std::array<double, 3> e;
-        for (int i = 0; i < 3; ++i) {
-            e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
+        for (int i = 0; i < 3; ++i) e[i] = edge[i].at(p);
+        for (int i = 0; i < 3; ++i)
             if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) return false;
-        }
         bary = weights(e);
         return true;
     }
 
-    // The perspective-correct barycentrics of any screen point, inside the triangle or not (a
-    // helper invocation's), from which its uv and position are interpolated.
-    std::array<double, 3> baryAt(Vec2d p) const {
-        std::array<double, 3> e;
-        for (int i = 0; i < 3; ++i) e[i] = edgeFunction(s[(i + 1) % 3], s[(i + 2) % 3], p);
-        return weights(e);
+    // An attribute (uv, position) at any screen point, inside the triangle or not (a helper
+    // invocation's): the perspective-correct interpolation with one division (the area
+    // cancels); equal to the barycentrics' to rounding.
+    template <class Attribute>
+    Attribute at(Vec2d p, Attribute ClipVertex::*attribute) const {
+        double k[3], sum = 0;
+        for (int i = 0; i < 3; ++i) k[i] = edge[i].at(p) * invW[i], sum += k[i];
+        return (c[0]->*attribute * k[0] + c[1]->*attribute * k[1] + c[2]->*attribute * k[2]) / sum;
     }
     Vec2d uv(const std::array<double, 3>& b) const {
         return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
@@ -207,21 +222,23 @@ struct ScreenTriangle {
     }
 };
 
-// uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the pixel centres of
-// the quad's pair along x and along y.
-void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri, int px, int py) {
-    const int x0 = px & ~1, y0 = py & ~1;
-    // The quad's pair along x and along y, each point's barycentrics once.
-    const Vec2d at[4] = {
-        {x0 + 0.5, py + 0.5}, {x0 + 1.5, py + 0.5}, {px + 0.5, y0 + 0.5}, {px + 0.5, y0 + 1.5}};
-    std::array<double, 3> b[4];
-    for (int i = 0; i < 4; ++i) b[i] = tri.baryAt(at[i]);
-    f.uvDx = tri.uv(b[1]) - tri.uv(b[0]);
-    f.uvDy = tri.uv(b[3]) - tri.uv(b[2]);
+// uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the differences
+// across the pixel centres of the quad's pair along x and along y, one of which is the
+// pixel's own centre. `centred`: the pixel is sampled at its centre, so uv0 is its uv there.
+void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri, int px, int py,
+                     bool centred) {
+    const bool left = (px & 1) == 0, top = (py & 1) == 0;  // the pixel's place in its quad
+    const Vec2d own(px + 0.5, py + 0.5);
+    const Vec2d xOther(own.x + (left ? 1 : -1), own.y), yOther(own.x, own.y + (top ? 1 : -1));
+    const Vec2d uvOwn = centred ? f.uv0 : tri.at(own, &ClipVertex::uv);
+    const Vec2d uvX = tri.at(xOther, &ClipVertex::uv), uvY = tri.at(yOther, &ClipVertex::uv);
+    f.uvDx = left ? uvX - uvOwn : uvOwn - uvX;
+    f.uvDy = top ? uvY - uvOwn : uvOwn - uvY;
     if (!in) return;  // an engine's position derivatives, where asked
-    auto pos = [&](int i) { return Vec3f(tri.position(b[i])); };
-    in->engine.positionDx = pos(1) - pos(0);
-    in->engine.positionDy = pos(3) - pos(2);
+    const Vec3f pOwn(tri.at(own, &ClipVertex::world));
+    const Vec3f pX(tri.at(xOther, &ClipVertex::world)), pY(tri.at(yOther, &ClipVertex::world));
+    in->engine.positionDx = left ? pX - pOwn : pOwn - pX;
+    in->engine.positionDy = top ? pY - pOwn : pOwn - pY;
 }
 
 // The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
@@ -309,7 +326,8 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
     for (int py = y0; py <= y1; ++py)
         for (int px = x0; px <= x1; ++px) {
-            if (!tri.covers(camera.samplePosition(px, py), b)) continue;
+            const Vec2d sample = camera.samplePosition(px, py);
+            if (!tri.covers(sample, b)) continue;
             const auto& c = tri.c;
             double z = b[0] * c[0]->cam.z + b[1] * c[1]->cam.z + b[2] * c[2]->cam.z;
             double& nearest = depth.at(px - rect.x0, py - rect.y0);
@@ -318,8 +336,9 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             const int ox = px - rect.x0 + at.x, oy = py - rect.y0 + at.y;
             Fragment& f = frags.at(ox, oy);
             FragmentInputs* in = inputs ? &inputs->at(ox, oy) : nullptr;
-            shade(f, in, tri, b, d, camera, camera.pixelRay(px, py), light, o);
-            quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py);
+            shade(f, in, tri, b, d, camera, camera.ray(sample.x, sample.y), light, o);
+            quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py,
+                            !camera.jittered());
         }
 }
 

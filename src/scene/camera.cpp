@@ -48,8 +48,7 @@ Ray Camera::ray(double sx, double sy) const {
     return {eye_, glm::normalize(forward_ + right_ * x + up_ * y), false};
 }
 
-Vec2d Camera::samplePosition(int px, int py) const {
-    if (!jitter_) return {px + 0.5, py + 0.5};
+Vec2d Camera::jitteredSample(int px, int py) const {
     // A 64-bit mix (splitmix64 finaliser) of pixel and seed -> two uniforms in (0, 1).
     uint64_t z = (uint64_t(uint32_t(px)) << 32 | uint32_t(py)) ^
                  (uint64_t(jitterSeed_) * 0x9E3779B97F4A7C15ull);

@@ -42,7 +42,9 @@ class Camera {
     // Where pixel (px, py) is sampled, in continuous pixel coordinates: (px + 0.5, py + 0.5),
     // or with jitter a seeded position inside the pixel that the truth and the rasteriser
     // share (studies: breaks the aliasing between the pixel grid and periodic relief).
-    Vec2d samplePosition(int px, int py) const;
+    Vec2d samplePosition(int px, int py) const {
+        return jitter_ ? jitteredSample(px, py) : Vec2d(px + 0.5, py + 0.5);
+    }
     void setJitter(bool on, uint32_t seed) { jitter_ = on, jitterSeed_ = seed; }
     bool jittered() const { return jitter_; }
     // The view's directional light (docs/model.md §5b): the unit world direction toward it,
@@ -69,6 +71,7 @@ class Camera {
     Vec3d target() const { return target_; }
 
   private:
+    Vec2d jitteredSample(int px, int py) const;
     static Camera make(bool ortho, Vec3d forward, Vec3d target, Vec3d up, double halfHeight,
                        int width, int height);
     bool ortho_ = false;

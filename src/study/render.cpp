@@ -3,6 +3,7 @@
 #include "study/render.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -70,11 +71,29 @@ struct MethodRun {
 // The truth's depth offsets (docs/model.md §5b): where the rasteriser covers a pixel the truth
 // hit, the hit's distance along the ray beyond the drawn point, in UV units (l world units).
 void setTruthDepths(Image2D<TruthSample>& truth, const Image2D<Fragment>& frags, double l) {
-    for (size_t k = 0; k < truth.data.size(); ++k) {
-        TruthSample& t = truth.data[k];
-        const Fragment& f = frags.data[k];
-        t.depth = t.hit && f.covered ? (t.t - f.rayT) / l : NAN;
-    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, truth.data.size(), 8192), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            TruthSample& t = truth.data[k];
+            const Fragment& f = frags.data[k];
+            t.depth = t.hit && f.covered ? (t.t - f.rayT) / l : NAN;
+        }
+    });
+}
+
+// Adds the band's truth hits and holes to the frame's counts.
+void countHits(const Image2D<TruthSample>& truth, int64_t& hits, int64_t& holes) {
+    using Counts = std::pair<int64_t, int64_t>;
+    const Counts c = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, truth.data.size(), 8192), Counts{0, 0},
+        [&](const auto& r, Counts acc) {
+            for (size_t k = r.begin(); k < r.end(); ++k)
+                acc.first += truth.data[k].hit, acc.second += truth.data[k].hole;
+            return acc;
+        },
+        [](Counts a, const Counts& b) {
+            return Counts{a.first + b.first, a.second + b.second};
+        });
+    hits += c.first, holes += c.second;
 }
 
 // Rows [band.y0, band.y1) of `full` from a band image.
@@ -164,7 +183,7 @@ class BandPipeline {
         } else {
             raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_);
             // Pixel indices within the band.
-            ownFrags_ = compactFragments(ownFragments_, &ownInputs_);
+            compactFragments(ownFragments_, &ownInputs_, r_.camera.light().has_value(), ownFrags_);
             fragments_ = &ownFragments_;
             inputs_ = &ownInputs_;
             frags_ = &ownFrags_;
@@ -183,8 +202,7 @@ class BandPipeline {
         else
             ownTruth_ = rowsOf(truth_.frames->truth, band);
         if (!truth_.prepared) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
-        for (const TruthSample& t : truthBand_->data)
-            r_.truthHits += t.hit, r_.truthHoles += t.hole;
+        countHits(*truthBand_, r_.truthHits, r_.truthHoles);
         r_.timingsMs["trace"] += msSince(t0);
         if (!truth_.haveFine()) return;
         auto t1 = Clock::now();
@@ -197,11 +215,14 @@ class BandPipeline {
         r_.timingsMs["trace_fine"] += msSince(t1);
     }
 
-    // One configuration over the band's fragments (V in the exact frame or not).
-    Image2D<MethodPixel> evaluate(const MethodRun& m, bool exactFrame) const {
+    // One configuration over the band's fragments (V in the exact frame or not) into `out`
+    // (its storage reused from band to band).
+    void evaluate(const MethodRun& m, bool exactFrame, Image2D<MethodPixel>& out) const {
         const int W = fragments_->width, H = fragments_->height;
-        if (frags_->pixel.empty()) return Image2D<MethodPixel>(W, H);  // nothing in this band
-        return evaluateMethod(*m.config, *frags_, *m.textures, W, H, exactFrame);
+        if (frags_->pixel.empty())  // nothing in this band
+            out = Image2D<MethodPixel>(W, H);
+        else
+            evaluateMethod(*m.config, *frags_, *m.textures, W, H, exactFrame, out);
     }
 
     // The band's GLSL methods drawn together, in one call of FrameOptions::glDraw when given
@@ -210,8 +231,8 @@ class BandPipeline {
         auto draws = [&] {
             for (size_t i = 0; i < runs_.size(); ++i) {
                 if (!runsInGl(*runs_[i].config)) continue;
-                runs_[i].pixels = evaluate(runs_[i], false);
-                if (framesCanDiffer(scene_.base)) exact[i] = evaluate(runs_[i], true);
+                evaluate(runs_[i], false, runs_[i].pixels);
+                if (framesCanDiffer(scene_.base)) evaluate(runs_[i], true, exact[i]);
             }
         };
         const bool any = std::any_of(runs_.begin(), runs_.end(),
@@ -236,15 +257,17 @@ class BandPipeline {
             MethodRun& m = runs_[i];
             const bool gl = runsInGl(*m.config);
             auto t0 = Clock::now();
-            if (!gl) m.pixels = evaluate(m, false);
+            if (!gl) evaluate(m, false, m.pixels);
             r_.timingsMs["methods_eval"] += msSince(t0);
             m.checks.add(*frags_, frags_->view, m.pixels, truthBand_,
                          {map.width, map.height, map.address});
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
-            if (framesCanDiffer(scene_.base) && !frags_->pixel.empty())
-                m.tallyExact.add(*truthBand_, gl ? glExact[i] : evaluate(m, true), map.width,
-                                 map.height, map.address);
+            if (framesCanDiffer(scene_.base) && !frags_->pixel.empty()) {
+                if (!gl) evaluate(m, true, exactPixels_);
+                m.tallyExact.add(*truthBand_, gl ? glExact[i] : exactPixels_, map.width, map.height,
+                                 map.address);
+            }
             r_.timingsMs["methods"] += msSince(t0);
         }
     }
@@ -274,17 +297,20 @@ class BandPipeline {
 
     // The statistics of the whole frame and each method's cost on the timing subset.
     void finish() {
-        if (truth_.haveFine()) {
-            r_.uncertainty = uncertainty_.finish();
-            r_.uncertainty.rate = scene_.truth.rate;
-            r_.uncertainty.rateFine = 2 * scene_.truth.rate;
-            r_.haveUncertainty = true;
-        }
         FragmentList timed = sampler_.take();
         r_.methods.resize(runs_.size());
         auto tStats = Clock::now();
-        // The statistics (each method's percentiles over the frame) one method per core.
-        tbb::parallel_for(size_t(0), runs_.size(), [&](size_t i) {
+        // The statistics (each method's percentiles over the frame, and the truth's
+        // uncertainty) one per core.
+        tbb::parallel_for(size_t(0), runs_.size() + 1, [&](size_t i) {
+            if (i == runs_.size()) {
+                if (!truth_.haveFine()) return;
+                r_.uncertainty = uncertainty_.finish();
+                r_.uncertainty.rate = scene_.truth.rate;
+                r_.uncertainty.rateFine = 2 * scene_.truth.rate;
+                r_.haveUncertainty = true;
+                return;
+            }
             MethodRun& m = runs_[i];
             MethodFrame& mf = r_.methods[i];
             mf.stats = m.tally.finish();
@@ -338,6 +364,7 @@ class BandPipeline {
     Image2D<Fragment> ownFragments_;
     Image2D<FragmentInputs> ownInputs_;
     FragmentList ownFrags_;
+    Image2D<MethodPixel> exactPixels_;  // a built-in's pixels in the exact frame
 };
 
 RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,

@@ -289,10 +289,18 @@ Image2D<MethodPixel> evaluateShader(const MethodConfig& cfg, const GlslSpec& spe
     return out;
 }
 
-Image2D<MethodPixel> evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b,
-                                     const FragmentList& frags, const MethodTextures& tex,
-                                     int width, int height, bool exactFrame) {
-    Image2D<MethodPixel> out(width, height);
+void evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const FragmentList& frags,
+                     const MethodTextures& tex, int width, int height, bool exactFrame,
+                     Image2D<MethodPixel>& out) {
+    if (out.width != width || out.height != height) {
+        out = Image2D<MethodPixel>(width, height);
+    } else {  // cleared over all cores
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, out.data.size(), 16384),
+                          [&](const auto& r) {
+                              std::fill(out.data.begin() + int64_t(r.begin()),
+                                        out.data.begin() + int64_t(r.end()), MethodPixel{});
+                          });
+    }
     const size_t n = frags.pixel.size();
     const auto& view = methodViews(cfg, frags, exactFrame);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
@@ -306,22 +314,28 @@ Image2D<MethodPixel> evaluateBuiltin(const MethodConfig& cfg, const BuiltinMetho
                                                   Vec3f(frags.lightAt(k, exactFrame)));
         }
     });
-    return out;
 }
 
 }  // namespace
 
+void evaluateMethod(const MethodConfig& cfg, const FragmentList& frags, const MethodTextures& tex,
+                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out) {
+    std::visit(Overloaded{[&](const BuiltinMethod& b) {
+                              evaluateBuiltin(cfg, b, frags, tex, width, height, exactFrame, out);
+                          },
+                          [&](const ShaderMethod& m) {
+                              out = evaluateShader(cfg, *m.spec, frags, tex, width, height,
+                                                   exactFrame);
+                          }},
+               cfg.method);
+}
+
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame) {
-    return std::visit(
-        Overloaded{[&](const BuiltinMethod& b) {
-                       return evaluateBuiltin(cfg, b, frags, tex, width, height, exactFrame);
-                   },
-                   [&](const ShaderMethod& m) {
-                       return evaluateShader(cfg, *m.spec, frags, tex, width, height, exactFrame);
-                   }},
-        cfg.method);
+    Image2D<MethodPixel> out;
+    evaluateMethod(cfg, frags, tex, width, height, exactFrame, out);
+    return out;
 }
 
 namespace {

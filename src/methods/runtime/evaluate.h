@@ -115,6 +115,9 @@ double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& 
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame = false);
+// The same into `out`, reusing its storage when it has the size (a frame's bands).
+void evaluateMethod(const MethodConfig& cfg, const FragmentList& frags, const MethodTextures& tex,
+                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out);
 
 // What differs between a built-in and a shader for running them (the rest is
 // methods/config.h's, runsInGl among it): a shader runs in OpenGL, over the fragments in
