@@ -320,10 +320,10 @@ TEST(Render, BandsEqualTheWholeFrame) {
 namespace pgt {
 namespace {
 
-// `pgt render --channels`: frame.exr holds exactly the groups asked for, with the same values
-// as the full file; "none" writes no frame.exr (summary.json and the maps still); a wrong
-// group is refused naming it.
-TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedFor) {
+// `pgt render --channels`: frame.exr (OpenEXR) holds exactly the groups asked for, with the
+// same values as the full file; "none" writes no frame.exr (summary.json and the maps still,
+// the map read back through OpenImageIO); a wrong group is refused naming it.
+TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedForAndTheMapsTheirLegend) {
     Scene s = test::planeScene(test::smoothTexture(16, 16), 0.05, -0.025, 45, 10, 32,
                                parseMethods(nlohmann::json::parse(R"(["parallax"])"), "t", "m"));
     RenderResult r = renderFrame(s, {.timingRepeats = 0});
@@ -372,6 +372,34 @@ TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedFor) {
         ADD_FAILURE() << "accepted";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("normals"), std::string::npos) << e.what();
+    }
+    // The error map (libpng, FreeType): the frame's codes coloured, then a 70-row legend on a
+    // canvas at least 560 wide: black beside the frame, the colour bar's first colour
+    // (0.05, 0.03, 0.35) at (10, 32 + 30), and the title in white where DejaVu Sans is installed.
+    auto png = OIIO::ImageInput::open((none / "parallax_error.png").string());
+    ASSERT_TRUE(png);
+    const OIIO::ImageSpec& ps = png->spec();
+    ASSERT_EQ(ps.width, 560);
+    ASSERT_EQ(ps.height, 32 + 70);
+    ASSERT_EQ(ps.nchannels, 3);
+    std::vector<uint8_t> rgb(size_t(ps.width) * size_t(ps.height) * 3);
+    ASSERT_TRUE(png->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, rgb.data()));
+    auto at = [&](int x, int y, int k) {
+        return int(rgb[(size_t(y) * 560 + size_t(x)) * 3 + size_t(k)]);
+    };
+    EXPECT_EQ(at(100, 10, 0) + at(100, 10, 1) + at(100, 10, 2), 0);
+    EXPECT_EQ(at(10, 62, 0), 13);
+    EXPECT_EQ(at(10, 62, 1), 8);
+    EXPECT_EQ(at(10, 62, 2), 89);
+    int colouredFrame = 0, white = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) colouredFrame += at(x, y, 0) + at(x, y, 1) + at(x, y, 2) > 0;
+    for (int y = 32; y < 32 + 22; ++y)
+        for (int x = 0; x < 300; ++x)
+            white += at(x, y, 0) > 200 && at(x, y, 1) > 200 && at(x, y, 2) > 200;
+    EXPECT_EQ(colouredFrame, 32 * 32);
+    if (std::filesystem::exists("/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf")) {
+        EXPECT_GT(white, 20) << "no title text";
     }
     for (const auto& d : {all, some, none}) std::filesystem::remove_all(d);
 }

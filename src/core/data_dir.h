@@ -18,6 +18,13 @@ namespace pgt {
 // when none does.
 std::string dataDir();
 
+// A file pgt installs beside its binaries, `relative` to a folder searched as dataDir()
+// searches (the folder of the binary holding this code and up to four parents), e.g.
+// "lib/pgt/pgt_image.so": PREFIX/bin/pgt -> PREFIX/lib/pgt/..., build/src/pgt ->
+// build/lib/pgt/...; $envOverride when set. Throws InputError naming what was searched when
+// none holds it.
+std::string installedFile(const std::string& relative, const char* envOverride);
+
 // One entry of the data folder, with its own override: `subdir` of dataDir() unless the
 // environment variable `envOverride` is set (PGT_SHADER_DIR, PGT_ANALYSIS_DIR).
 std::string dataSubdir(const std::string& subdir, const char* envOverride);

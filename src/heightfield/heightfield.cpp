@@ -1,7 +1,7 @@
-// Height-field loading (OpenImageIO), procedural generators, and Lengyel FGED 2's derived maps.
+// Height-field loading (OpenImageIO, through heightfield/image_reader.h), procedural
+// generators, and Lengyel FGED 2's derived maps.
 #include "heightfield/heightfield.h"
 
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +16,7 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
+#include "heightfield/image_reader.h"
 #include "heightfield/mipmaps.h"
 
 namespace pgt {
@@ -87,32 +88,30 @@ std::string whyUnreadable(std::string why, const std::string& printed) {
     return why;
 }
 
-std::unique_ptr<OIIO::ImageInput> openHeightImage(const std::string& path, int channel,
-                                                  const std::string& sceneFile,
-                                                  const std::string& field) {
+std::unique_ptr<ImageFile> openHeightImage(const std::string& path, int channel,
+                                           const std::string& sceneFile, const std::string& field) {
     requireRegularFile(path, sceneFile, field + ".file", "height map image");
-    std::unique_ptr<OIIO::ImageInput> in;
-    std::string printed;
+    std::unique_ptr<ImageFile> in;
+    std::string printed, why;
     {
         StderrCapture capture;
-        in = OIIO::ImageInput::open(path);
+        in = openImageFile(path, why);
         printed = capture.restore();
     }
     if (!in) {
-        std::string why = whyUnreadable(OIIO::geterror(), printed);
+        why = whyUnreadable(why, printed);
         throw InputError(sceneFile, field + ".file", path,
                          "cannot read image" + (why.empty() ? std::string() : ": " + why));
     }
-    const OIIO::ImageSpec& spec = in->spec();
-    checkSize(sceneFile, field + ".file", spec.width, spec.height);
-    if (channel < 0 || channel >= spec.nchannels)
-        throw InputError(
-            sceneFile, field + ".channel", std::to_string(channel),
-            "image " + path + " has " + std::to_string(spec.nchannels) + " channel(s)");
+    const ImageHeader h = in->header();
+    checkSize(sceneFile, field + ".file", h.width, h.height);
+    if (channel < 0 || channel >= h.channels)
+        throw InputError(sceneFile, field + ".channel", std::to_string(channel),
+                         "image " + path + " has " + std::to_string(h.channels) + " channel(s)");
     // Decoding holds every channel as read and as doubles, then the float texture.
-    double texels = double(spec.width) * spec.height;
-    checkMemory(texels * spec.nchannels * (8.0 + double(spec.format.size())) + texels * 4,
-                sceneFile, field + ".file", path, "decoding this image");
+    double texels = double(h.width) * h.height;
+    checkMemory(texels * h.channels * (8.0 + double(h.sampleBytes)) + texels * 4, sceneFile,
+                field + ".file", path, "decoding this image");
     return in;
 }
 
@@ -120,8 +119,8 @@ std::unique_ptr<OIIO::ImageInput> openHeightImage(const std::string& path, int c
 
 HeightImageHeader probeHeightImage(const std::string& path, int channel,
                                    const std::string& sceneFile, const std::string& field) {
-    auto in = openHeightImage(path, channel, sceneFile, field);
-    return {in->spec().width, in->spec().height, in->spec().nchannels};
+    const ImageHeader h = openHeightImage(path, channel, sceneFile, field)->header();
+    return {h.width, h.height, h.channels};
 }
 
 namespace {
@@ -129,31 +128,28 @@ namespace {
 // Every channel of every pixel, normalised as docs/model.md §1 says: 8-bit / 255, 16-bit / 65535,
 // float as is. Reading the native integer type and dividing here keeps the exact quotient
 // (no table lookup).
-std::vector<double> decodeNormalised(OIIO::ImageInput& in, const std::string& path,
+std::vector<double> decodeNormalised(ImageFile& in, const std::string& path,
                                      const std::string& sceneFile, const std::string& field) {
-    using OIIO::TypeDesc;
-    const OIIO::ImageSpec& spec = in.spec();
-    const int nc = spec.nchannels;
-    std::vector<double> values(size_t(spec.width) * spec.height * nc);
+    const ImageHeader h = in.header();
+    std::vector<double> values(size_t(h.width) * h.height * h.channels);
     bool ok = false;
+    std::string why;
     StderrCapture capture;
-    if (spec.format == TypeDesc::UINT8) {
-        std::vector<uint8_t> raw(values.size());
-        ok = in.read_image(0, 0, 0, nc, TypeDesc::UINT8, raw.data());
-        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 255.0;
-    } else if (spec.format == TypeDesc::UINT16) {
-        std::vector<uint16_t> raw(values.size());
-        ok = in.read_image(0, 0, 0, nc, TypeDesc::UINT16, raw.data());
-        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / 65535.0;
-    } else {
-        std::vector<float> raw(values.size());
-        ok = in.read_image(0, 0, 0, nc, TypeDesc::FLOAT, raw.data());
-        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k];
-    }
+    auto decode = [&](auto sample, double range) {
+        std::vector<decltype(sample)> raw(values.size());
+        ok = in.read(raw.data(), why);
+        for (size_t k = 0; k < raw.size(); ++k) values[k] = raw[k] / range;
+    };
+    if (h.type == SampleType::UInt8)
+        decode(uint8_t(0), 255.0);
+    else if (h.type == SampleType::UInt16)
+        decode(uint16_t(0), 65535.0);
+    else
+        decode(0.0f, 1.0);
     std::string printed = capture.restore();
     if (!ok)
         throw InputError(sceneFile, field + ".file", path,
-                         "cannot decode image: " + whyUnreadable(in.geterror(), printed));
+                         "cannot decode image: " + whyUnreadable(why, printed));
     return values;
 }
 
@@ -175,7 +171,7 @@ void checkChannelsAgree(const std::vector<double>& values, int nc, const std::st
 Texture loadHeightImage(const std::string& path, int channel, const std::string& sceneFile,
                         const std::string& field, bool channelGiven) {
     auto in = openHeightImage(path, channel, sceneFile, field);
-    const int w = in->spec().width, h = in->spec().height, nc = in->spec().nchannels;
+    const int w = in->header().width, h = in->header().height, nc = in->header().channels;
     std::vector<double> values = decodeNormalised(*in, path, sceneFile, field);
     if (!channelGiven && nc > 1) checkChannelsAgree(values, nc, path, sceneFile, field);
     Texture t;

@@ -1,12 +1,8 @@
-// Output writers: EXR through OpenImageIO, JSON through nlohmann, PNG error maps with a
-// legend drawn by OpenImageIO (text needs a TrueType font; without one the legend has no
-// words but keeps its colour bar).
+// Output writers: frame.exr, summary.json (nlohmann), the PNG error maps with their legends
+// (the images through study/image_files.h; the legend's text needs DejaVu Sans, without which
+// it has no words but keeps its colour bar).
 #include "study/outputs.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <OpenImageIO/imageio.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -21,35 +17,13 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
+#include "study/image_files.h"
 #include "study/result_columns.h"
 #include "study/staged_files.h"
 
 namespace pgt {
 
-namespace {
-
-// An image encoder writing `name`'s format straight into a staged file.
-std::unique_ptr<OIIO::ImageOutput> openImage(StagedStream& out, const std::string& name,
-                                             const OIIO::ImageSpec& spec) {
-    auto image = OIIO::ImageOutput::create(name, &out);
-    if (!image || !image->supports("ioproxy") || !image->open(name, spec)) {
-        std::string why = image ? image->geterror() : OIIO::geterror();
-        throw OutputError("cannot encode " + name + ": " + (why.empty() ? "no writer" : why));
-    }
-    return image;
-}
-
-// Closes an encoder and its file; throws OutputError when either failed.
-void closeImage(std::unique_ptr<OIIO::ImageOutput>& image, StagedStream& out,
-                const std::string& name, bool ok) {
-    ok = ok && image->close();
-    std::string why = ok ? "" : image->geterror();
-    image.reset();
-    out.finish();  // a failed write is reported by its errno first
-    if (!ok) throw OutputError("cannot encode " + name + ": " + why);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 namespace {
 // JSON has no NaN: a statistic that was not measured is null.
@@ -215,11 +189,16 @@ Rgb errorMapColour(float code, double scale) {
                                      : kNeither;
 }
 
-// The legend under an error map: colour bar 0..scale texels, coverage swatches, title line.
-OIIO::ImageBuf errorLegend(const MethodFrame& m, int canvasW, int legendH, double scale) {
-    OIIO::ImageBuf buf(OIIO::ImageSpec(canvasW, legendH, 3, OIIO::TypeDesc::UINT8));
-    OIIO::ImageBufAlgo::fill(buf, {0.0f, 0.0f, 0.0f});
-    auto put = [&](int x, int y, const Rgb& c) { buf.setpixel(x, y, c.data(), 3); };
+// A colour channel in [0, 1] as a byte, rounded.
+uint8_t toByte(float c) { return uint8_t(std::clamp(c, 0.f, 1.f) * 255 + 0.5f); }
+
+// The legend under an error map, drawn into `rgb` (canvasW x legendH, black): colour bar
+// 0..scale texels, coverage swatches, title line.
+void drawErrorLegend(uint8_t* rgb, const MethodFrame& m, int canvasW, int legendH, double scale) {
+    auto put = [&](int x, int y, const Rgb& c) {
+        for (int k = 0; k < 3; ++k)
+            rgb[(size_t(y) * size_t(canvasW) + size_t(x)) * 3 + size_t(k)] = toByte(c[size_t(k)]);
+    };
     const int barX = 10, barY = 30, barW = 256, barH = 14;
     for (int x = 0; x < barW; ++x)
         for (int y = 0; y < barH; ++y) put(barX + x, barY + y, errorColour(x / double(barW - 1)));
@@ -229,9 +208,8 @@ OIIO::ImageBuf errorLegend(const MethodFrame& m, int canvasW, int legendH, doubl
     for (int s = 0; s < 3; ++s)
         for (int x = 0; x < 10; ++x)
             for (int y = 0; y < 10; ++y) put(swX + x, 8 + s * 20 + y, swatches[s].second);
-    const float white[3] = {1, 1, 1};
     auto text = [&](int x, int y, const std::string& s) {
-        OIIO::ImageBufAlgo::render_text(buf, x, y, s, 13, "DejaVuSans", white);
+        drawText(rgb, canvasW, legendH, x, y, s, 13);
     };
     std::ostringstream title;
     title << m.config.label << ": mean " << fmt(std::round(m.stats.error.mean * 1000) / 1000)
@@ -242,36 +220,23 @@ OIIO::ImageBuf errorLegend(const MethodFrame& m, int canvasW, int legendH, doubl
     text(barX + barW - 10, barY + barH + 14, fmt(scale));
     text(barX + barW + 12, barY + barH - 2, ">= top: texels");
     for (int s = 0; s < 3; ++s) text(swX + 16, 18 + s * 20, swatches[s].first);
-    return buf;
 }
 
 // One method's error map into `out`: the frame (coloured over all cores), then the legend.
-// No PNG row filter (libpng's default tries five per row): measured on the default scene's
-// 2048^2 maps of none, parallax and pom, 0.59 s of encoding against 1.40 s, for 7 % more
-// bytes (6.9 against 6.4 MB).
 void writeErrorPng(StagedStream& out, const std::string& name, const MethodFrame& m,
                    const Image2D<float>& codes, double scale) {
     const int W = codes.width, H = codes.height;
     const int legendH = 70, canvasW = std::max(W, 560);
-    OIIO::ImageSpec spec(canvasW, H + legendH, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("png:filter", 8);  // libpng's PNG_FILTER_NONE
-    spec.attribute("png:compressionLevel", 1);
-    auto png = openImage(out, name, spec);
     std::vector<uint8_t> rgb(size_t(canvasW) * size_t(H + legendH) * 3, 0);
     tbb::parallel_for(0, H, [&](int y) {
         uint8_t* row = &rgb[size_t(y) * size_t(canvasW) * 3];
         for (int x = 0; x < W; ++x) {
             const Rgb c = errorMapColour(codes.at(x, y), scale);
-            for (int k = 0; k < 3; ++k)
-                row[size_t(x) * 3 + size_t(k)] =
-                    uint8_t(std::lround(std::clamp(c[k], 0.f, 1.f) * 255));
+            for (int k = 0; k < 3; ++k) row[size_t(x) * 3 + size_t(k)] = toByte(c[size_t(k)]);
         }
     });
-    OIIO::ImageBuf legend = errorLegend(m, canvasW, legendH, scale);
-    legend.get_pixels(OIIO::ROI(0, canvasW, 0, legendH), OIIO::TypeDesc::UINT8,
-                      &rgb[size_t(H) * size_t(canvasW) * 3]);
-    const bool ok = png->write_image(OIIO::TypeDesc::UINT8, rgb.data());
-    closeImage(png, out, name, ok);
+    drawErrorLegend(&rgb[size_t(H) * size_t(canvasW) * 3], m, canvasW, legendH, scale);
+    writePng(out, name, canvasW, H + legendH, rgb.data());
 }
 
 }  // namespace
@@ -395,14 +360,11 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     for (size_t c = 0; c < names.size(); ++c)
         if (channels.holds(names[c])) keep_.push_back(c), kept.push_back(names[c]);
     if (keep_.empty()) return;  // no frame.exr
-    OIIO::ImageSpec spec(width, height, int(keep_.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = kept;
     // PIZ (lossless wavelet + Huffman) by default: measured on the default scene at 2048^2,
     // 1.2 s against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB); "none"
     // writes 252 MB and saves the encoder's CPU (docs/outputs.md).
-    spec.attribute("compression", exrCompression);
     exrFile_ = &files_->stream("frame.exr");
-    exr_ = openImage(*exrFile_, "frame.exr", spec);
+    exr_ = std::make_unique<ExrWriter>(*exrFile_, "frame.exr", width, height, kept, exrCompression);
 }
 
 RenderWriter::~RenderWriter() = default;
@@ -425,18 +387,22 @@ void RenderWriter::band(const RenderResult&, const FrameBand& b) {
     // The encoder compresses on one thread: it runs beside the next band's work.
     waitForRows();
     encoding_ = std::async(std::launch::async, [this, &rows, y0 = b.y0, y1 = b.y1] {
-        return exr_->write_scanlines(y0, y1, 0, OIIO::TypeDesc::FLOAT, rows.data());
+        exr_->writeRows(y0, y1, rows.data());
     });
 }
 
 void RenderWriter::waitForRows() {
-    if (encoding_.valid() && !encoding_.get()) closeImage(exr_, *exrFile_, "frame.exr", false);
+    if (encoding_.valid()) encoding_.get();
 }
 
 void RenderWriter::finish(const RenderResult& r) {
-    waitForRows();
-    rows_[0] = {}, rows_[1] = {};
-    if (exr_) closeImage(exr_, *exrFile_, "frame.exr", true);
+    // frame.exr's last rows and its close (the file's offsets, the staged copy's flush) beside
+    // the error maps' encoding.
+    std::future<void> exrClosed = std::async(std::launch::async, [this] {
+        waitForRows();
+        rows_[0] = {}, rows_[1] = {};
+        if (exr_) exr_->close();
+    });
     Json summary = summaryJson(scene_, r);
     std::vector<double> scales(r.methods.size());
     std::vector<StagedStream*> pngs;
@@ -453,6 +419,7 @@ void RenderWriter::finish(const RenderResult& r) {
         writeErrorPng(*pngs[i], r.methods[i].config.label + "_error.png", r.methods[i],
                       r.methods[i].coded, scales[i]);
     });
+    exrClosed.get();
     // summary.json last: its presence means the whole output is there.
     files_->add("summary.json", summary.dump(2) + "\n");
     files_->commit();

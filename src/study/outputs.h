@@ -3,8 +3,6 @@
 // written whole to temporaries, renamed into place together.
 #pragma once
 
-#include <OpenImageIO/imageio.h>
-
 #include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -16,6 +14,7 @@
 
 namespace pgt {
 
+class ExrWriter;
 class StagedFiles;
 class StagedStream;
 
@@ -57,8 +56,8 @@ class RenderWriter : public FrameSink {
     std::vector<size_t> keep_;  // those the file holds (FrameChannelSet), in order
     std::unique_ptr<StagedFiles> files_;
     StagedStream* exrFile_ = nullptr;
-    std::unique_ptr<OIIO::ImageOutput> exr_;
-    std::future<bool> encoding_;  // the last band's rows being encoded (after exr_: it goes first)
+    std::unique_ptr<ExrWriter> exr_;
+    std::future<void> encoding_;  // the last band's rows being encoded (after exr_: it goes first)
     std::vector<float> rows_[2];  // bands, channels interleaved: one filled, one encoded
     int nextRows_ = 0;
     size_t methods_ = 0;

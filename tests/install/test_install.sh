@@ -31,6 +31,10 @@ check_tree() {
   (cd "$work" && "${run[@]}" "$pgt" render "$share/scenes/glsl_twins.json" --out twins \
       --timing-repeats 1 > render.log) || fail "installed render: $(cat "$work/render.log")"
   [ -f "$work/twins/frame.exr" ] || fail "no frame.exr"
+  # An image height map: OpenImageIO from this tree's lib/pgt/pgt_image.so.
+  (cd "$work" && "${run[@]}" "$pgt" render "$share/scenes/stones_pinhole.json" --out stones \
+      --no-timing > stones.log 2>&1) || fail "installed image render: $(cat "$work/stones.log")"
+  [ -f "$root/lib/pgt/pgt_image.so" ] || fail "$root/lib/pgt/pgt_image.so missing"
   /usr/bin/python3 - "$share/scenes/default.json" "$work/study.json" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# OpenImageIO on demand (ctest install.openimageio_on_demand; docs/install.md): the command
+# and the Python module do not link libOpenImageIO; a render of a procedural map never loads
+# it; a render of an image map loads it from lib/pgt/pgt_image.so beside the binary; a missing
+# module named by $PGT_IMAGE_MODULE is an error that names it, and the render writes nothing.
+# Usage: test_loader.sh PGT SCENE_DIR [PYTHON_MODULE]
+set -euo pipefail
+pgt=$1
+scenes=$2
+module=${3:-}
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+for bin in "$pgt" $module; do
+  if ldd "$bin" | grep -q 'libOpenImageIO\.so'; then fail "$bin links libOpenImageIO"; fi
+done
+
+# Two small views of the default scene: its procedural map, and the bundled stones.png.
+/usr/bin/python3 - "$scenes" "$tmp" <<'PY'
+import json, sys
+scenes, tmp = sys.argv[1], sys.argv[2]
+scene = json.load(open(scenes + "/default.json"))
+scene["camera"]["resolution"] = [32, 32]
+scene["methods"] = ["parallax"]
+json.dump(scene, open(tmp + "/procedural.json", "w"))
+scene["heightmap"] = {"file": scenes + "/maps/stones.png"}
+json.dump(scene, open(tmp + "/image.json", "w"))
+PY
+
+# LD_DEBUG=files names every object the dynamic loader opens, into LD_DEBUG_OUTPUT.PID (not
+# stderr, which pgt captures while a decoder runs).
+LD_DEBUG=files LD_DEBUG_OUTPUT=$tmp/p.ld "$pgt" render "$tmp/procedural.json" --out "$tmp/p" \
+  --no-timing > /dev/null 2> "$tmp/p.log" || fail "procedural render: $(tail -n 5 "$tmp/p.log")"
+cat "$tmp"/p.ld.* > "$tmp/p.loaded"
+grep -q 'libtbb' "$tmp/p.loaded" || fail "LD_DEBUG listed nothing"
+if grep -q 'file=[^ ]*libOpenImageIO\.so' "$tmp/p.loaded"; then
+  fail "a render of a procedural map loaded OpenImageIO"
+fi
+[ -f "$tmp/p/frame.exr" ] && [ -f "$tmp/p/parallax_error.png" ] || fail "no frame.exr or map"
+
+LD_DEBUG=files LD_DEBUG_OUTPUT=$tmp/i.ld "$pgt" render "$tmp/image.json" --out "$tmp/i" \
+  --no-timing > /dev/null 2> "$tmp/i.log" || fail "image render: $(tail -n 5 "$tmp/i.log")"
+cat "$tmp"/i.ld.* > "$tmp/i.loaded"
+grep -q 'file=[^ ]*lib/pgt/pgt_image\.so' "$tmp/i.loaded" || fail "the image module was not loaded"
+grep -q 'file=[^ ]*libOpenImageIO\.so' "$tmp/i.loaded" || fail "OpenImageIO was not loaded"
+[ -f "$tmp/i/summary.json" ] || fail "no summary.json"
+
+set +e
+PGT_IMAGE_MODULE=$tmp/missing.so "$pgt" render "$tmp/image.json" --out "$tmp/m" --no-timing \
+  > "$tmp/m.log" 2>&1
+rc=$?
+set -e
+[ "$rc" -ne 0 ] || fail "a missing image module was not an error"
+grep -q 'PGT_IMAGE_MODULE' "$tmp/m.log" || fail "the error does not name PGT_IMAGE_MODULE: $(cat "$tmp/m.log")"
+grep -q 'missing.so' "$tmp/m.log" || fail "the error does not name the path: $(cat "$tmp/m.log")"
+[ ! -e "$tmp/m/summary.json" ] || fail "a failed render left summary.json"
+echo "ok: OpenImageIO on demand"
