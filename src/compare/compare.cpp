@@ -120,10 +120,13 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
         PGT_CHECK(truth.width == coded_.width && y0 >= 0 && y0 + truth.height <= coded_.height);
         coded = &coded_.at(0, y0);
     }
-    // Pixels in blocks over all cores, each block's errors in pixel order; the blocks' lists
-    // are joined in order, so the kept errors do not depend on the threads.
+    // Pixels in blocks over all cores, each block's errors in pixel order at the block's own
+    // offset of a scratch buffer (kept from band to band); the blocks' runs are joined in
+    // order, so the kept errors do not depend on the threads.
     const size_t n = truth.size(), block = 4096, blocks = (n + block - 1) / block;
-    std::vector<std::vector<float>> found(inPlace_ ? 0 : blocks), depths(blocks);
+    foundScratch_.resize(inPlace_ ? 0 : n);
+    depthScratch_.resize(n);
+    std::vector<uint32_t> found(blocks, 0), depths(blocks, 0);
     all_ += tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, blocks), CompareTally{},
         [&](const tbb::blocked_range<size_t>& r, CompareTally acc) {
@@ -137,19 +140,23 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
                             depthErrorTexels(truth.data[k], method.data[k], texWidth, texHeight);
                         if (std::isfinite(d)) {
                             acc.depthSignedSum += d;
-                            depths[b].push_back(float(std::fabs(d)));
+                            depthScratch_[b * block + depths[b]++] = float(std::fabs(d));
                         }
                     }
                     if (coded)
                         coded[k] = codedError(truth.data[k], method.data[k], e);
                     else if (!std::isnan(e))
-                        found[b].push_back(float(e));
+                        foundScratch_[b * block + found[b]++] = float(e);
                 }
             return acc;
         },
         [](CompareTally x, const CompareTally& y) { return x += y; });
-    for (const auto& f : found) errors_.insert(errors_.end(), f.begin(), f.end());
-    for (const auto& d : depths) depthErrors_.insert(depthErrors_.end(), d.begin(), d.end());
+    for (size_t b = 0; b < blocks; ++b) {
+        const auto at = [&](std::vector<float>& v) { return v.begin() + int64_t(b * block); };
+        if (!inPlace_)
+            errors_.insert(errors_.end(), at(foundScratch_), at(foundScratch_) + found[b]);
+        depthErrors_.insert(depthErrors_.end(), at(depthScratch_), at(depthScratch_) + depths[b]);
+    }
 }
 
 namespace {

@@ -86,6 +86,7 @@ class ErrorTally {
     std::vector<float> depthErrors_;  // |depth' - depth_true| in texels, pixel order
     Image2D<float> coded_;
     bool inPlace_ = false;
+    std::vector<float> foundScratch_, depthScratch_;  // a band's, block by block (add)
 };
 
 // Compares a method image with the truth (one band: the whole frame); writes the per-pixel

@@ -1,6 +1,7 @@
 // The checks of compare/warnings.h.
 #include "compare/warnings.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -24,9 +25,22 @@ MethodChecks::Tally& MethodChecks::Tally::operator+=(const Tally& o) {
     return *this;
 }
 
+void noneErrors(const FragmentList& frags, const Image2D<TruthSample>& truth, ErrorMetric metric,
+                std::vector<float>& out) {
+    out.resize(frags.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, frags.size(), 4096), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            const TruthSample& t = truth.data[size_t(frags.pixel[k])];
+            out[k] = t.hit ? float(uvErrorTexels(frags.uv0[k], t.uv, metric.width, metric.height,
+                                                 metric.address))
+                           : NAN;
+        }
+    });
+}
+
 void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view,
-                       const Image2D<MethodPixel>& pixels, const Image2D<TruthSample>* truth,
-                       ErrorMetric metric) {
+                       const Image2D<MethodPixel>& pixels, const Image2D<float>* errors,
+                       const std::vector<float>* noneErrors) {
     auto covered = [&](size_t k) { return pixels.data[size_t(frags.pixel[k])].covered; };
     // The frame's first V, which every other is held against.
     for (size_t k = 0; !haveView_ && k < frags.size(); ++k)
@@ -43,18 +57,19 @@ void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view
             const Vec3d v = view[k];
             const double lateral = std::sqrt(v.x * v.x + v.y * v.y);  // V is a unit vector
             const bool finite = std::isfinite(p.uv.x) && std::isfinite(p.uv.y);
-            if (truth && finite && truth->data[size_t(frags.pixel[k])].hit) {
-                const Vec2d tuv = truth->data[size_t(frags.pixel[k])].uv;
+            // Compared where the method's error is defined (covered, finite, the truth hit).
+            const float e = errors ? errors->data[size_t(frags.pixel[k])] : NAN;
+            if (noneErrors && !std::isnan(e)) {
                 ++t.compared;
-                t.errSum += uvErrorTexels(p.uv, tuv, metric.width, metric.height, metric.address);
-                t.noneSum +=
-                    uvErrorTexels(frags.uv0[k], tuv, metric.width, metric.height, metric.address);
+                t.errSum += e;
+                t.noneSum += (*noneErrors)[k];
             }
             if (lateral == 0) {
                 ++t.headOn;
                 t.headOnNonfinite += !finite;
             }
-            t.oneView = t.oneView && glm::length(v - view0_) < 1e-9;
+            const Vec3d d = v - view0_;
+            t.oneView = t.oneView && glm::dot(d, d) < 1e-18;  // |v - view0| < 1e-9
             if (!finite || lateral <= 1e-3) continue;
             const Vec2d uv0 = frags.uv0[k], off = p.uv - uv0;
             ++t.oblique;

@@ -41,10 +41,12 @@ struct ErrorMetric {
 class MethodChecks {
   public:
     explicit MethodChecks(CheckContext c = {}) : c_(c) {}
-    // `truth` (optional): the band's truth, for the comparison with no parallax.
+    // For the comparison with no parallax (optional): `errors`, the method's error in texels
+    // at each pixel of the band (ErrorTally::add's; NaN where none is defined), and
+    // `noneErrors`, uv0's against the truth at each fragment (noneErrors()).
     void add(const FragmentList& frags, const std::vector<Vec3d>& view,
-             const Image2D<MethodPixel>& pixels, const Image2D<TruthSample>* truth = nullptr,
-             ErrorMetric metric = {});
+             const Image2D<MethodPixel>& pixels, const Image2D<float>* errors = nullptr,
+             const std::vector<float>* noneErrors = nullptr);
     std::vector<MethodWarning> finish() const;
 
   private:
@@ -66,6 +68,11 @@ class MethodChecks {
     bool haveView_ = false;
     Vec3d view0_{0};
 };
+
+// uv0's error in texels against the truth at each fragment of a band (NaN where the truth
+// missed): what every method's checks compare theirs with, made once a band.
+void noneErrors(const FragmentList& frags, const Image2D<TruthSample>& truth, ErrorMetric metric,
+                std::vector<float>& out);
 
 // "no_offset;toward_eye": the kinds as results.csv's `warnings` column holds them.
 std::string warningKinds(const std::vector<MethodWarning>& w);

@@ -249,6 +249,9 @@ class BandPipeline {
     void methodsBand(int y0) {
         const Texture& map = scene_.height;
         auto tg = Clock::now();
+        noneErrors(*frags_, *truthBand_, {map.width, map.height, map.address}, noneErrors_);
+        r_.timingsMs["methods"] += msSince(tg);
+        tg = Clock::now();
         std::vector<Image2D<MethodPixel>> glExact(runs_.size());
         drawGlsl(glExact);
         r_.timingsMs["methods_eval"] += msSince(tg);
@@ -259,10 +262,9 @@ class BandPipeline {
             auto t0 = Clock::now();
             if (!gl) evaluate(m, false, m.pixels);
             r_.timingsMs["methods_eval"] += msSince(t0);
-            m.checks.add(*frags_, frags_->view, m.pixels, truthBand_,
-                         {map.width, map.height, map.address});
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
+            m.checks.add(*frags_, frags_->view, m.pixels, &m.errTexels, &noneErrors_);
             if (framesCanDiffer(scene_.base) && !frags_->pixel.empty()) {
                 if (!gl) evaluate(m, true, exactPixels_);
                 m.tallyExact.add(*truthBand_, gl ? glExact[i] : exactPixels_, map.width, map.height,
@@ -365,6 +367,7 @@ class BandPipeline {
     Image2D<FragmentInputs> ownInputs_;
     FragmentList ownFrags_;
     Image2D<MethodPixel> exactPixels_;  // a built-in's pixels in the exact frame
+    std::vector<float> noneErrors_;     // uv0's error at each of the band's fragments
 };
 
 RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,
