@@ -23,8 +23,6 @@
 
 namespace pgt {
 
-namespace {}  // namespace
-
 namespace {
 // JSON has no NaN: a statistic that was not measured is null.
 Json finiteOrNull(double x) { return std::isfinite(x) ? Json(x) : Json(nullptr); }
@@ -384,7 +382,7 @@ void RenderWriter::band(const RenderResult&, const FrameBand& b) {
         for (size_t k = 0; k < n; ++k)
             for (size_t j = 0; j < nk; ++j) rows[k * nk + j] = rows[k * channels_ + keep_[j]];
     }
-    // The encoder compresses on one thread: it runs beside the next band's work.
+    // The encoder (on OpenEXR's threads) runs beside the next band's work.
     waitForRows();
     encoding_ = std::async(std::launch::async, [this, &rows, y0 = b.y0, y1 = b.y1] {
         exr_->writeRows(y0, y1, rows.data());
