@@ -23,7 +23,7 @@ check_tree() {
            scenes/maps/stones.png docs/model.md README.md; do
     [ -e "$share/$f" ] || fail "$share/$f missing"
   done
-  for bin in "$pgt" "$py"/pgt/_pgt*.so; do
+  for bin in "$pgt" "$py"/pgt/_pgt*.so "$root/lib/pgt/pgt_image.so"; do
     if grep -qF "$src" "$bin"; then fail "$bin holds the source path $src"; fi
   done
   local run=(env -i PATH=/usr/bin:/bin HOME="$work")
