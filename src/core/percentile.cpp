@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
+
 namespace pgt {
 
 namespace {
@@ -26,6 +28,7 @@ template <class T>
 std::vector<double> percentilesOf(std::vector<T>& values, const std::vector<double>& qs) {
     std::vector<double> out;
     size_t from = 0;
+    PGT_CHECK(std::is_sorted(qs.begin(), qs.end()));
     for (double q : qs) {
         out.push_back(percentileFrom(values, q, from));
         // nth_element left values[lo] in place with nothing greater before it: the next,

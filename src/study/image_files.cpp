@@ -133,6 +133,8 @@ void pngError(png_structp png, png_const_charp message) {
 
 void pngWarning(png_structp, png_const_charp) {}
 
+void pngFlush(png_structp) {}  // the staged stream flushes when it is finished
+
 bool encodePng(PngSink& sink, int width, int height, const uint8_t* rgb) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &sink, pngError, pngWarning);
     png_infop info = png ? png_create_info_struct(png) : nullptr;
@@ -145,7 +147,7 @@ bool encodePng(PngSink& sink, int width, int height, const uint8_t* rgb) {
         png_destroy_write_struct(&png, &info);
         return false;
     }
-    png_set_write_fn(png, &sink, pngWrite, nullptr);
+    png_set_write_fn(png, &sink, pngWrite, pngFlush);
     png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     // No row filter, zlib level 1: measured on the default scene's 2048^2 maps of none,
@@ -199,6 +201,7 @@ void drawText(uint8_t* rgb, int width, int height, int x, int y, const std::stri
             if (FT_Load_Char(face, ch, FT_LOAD_RENDER)) continue;
             const FT_GlyphSlot g = face->glyph;
             const FT_Bitmap& b = g->bitmap;
+            if (b.pixel_mode != FT_PIXEL_MODE_GRAY || b.pitch < 0) continue;  // 8-bit, top-down
             for (int r = 0; r < int(b.rows); ++r)
                 for (int c = 0; c < int(b.width); ++c) {
                     const int px = pen + g->bitmap_left + c, py = y - g->bitmap_top + r;

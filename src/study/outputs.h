@@ -57,8 +57,10 @@ class RenderWriter : public FrameSink {
     std::unique_ptr<StagedFiles> files_;
     StagedStream* exrFile_ = nullptr;
     std::unique_ptr<ExrWriter> exr_;
-    std::future<void> encoding_;  // the last band's rows being encoded (after exr_: it goes first)
     std::vector<float> rows_[2];  // bands, channels interleaved: one filled, one encoded
+    // The last band's rows being encoded; declared after what it reads, so that a writer
+    // dropped mid-frame (an error, a cancel) waits for it before they go.
+    std::future<void> encoding_;
     int nextRows_ = 0;
     size_t methods_ = 0;
 };

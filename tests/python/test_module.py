@@ -127,6 +127,31 @@ def test_bad_input_raises_with_the_clis_message(pgt_cli, scenes, tmp_path):
         pgt.render(42)
 
 
+def test_a_missing_image_module_raises_and_is_tried_again(scenes, tmp_path):
+    """An image map needs lib/pgt/pgt_image.so (docs/install.md): a missing one named by
+    PGT_IMAGE_MODULE is an InputError naming it, and setting the variable right afterwards in
+    the same process is enough (a fresh interpreter: the module loads once per process)."""
+    scene = small_scene(scenes)
+    scene["methods"] = ["parallax"]
+    scene["heightmap"] = {"file": os.path.join(scenes, "maps", "stones.png")}
+    code = f"""
+import os, pgt
+scene = {scene!r}
+os.environ["PGT_IMAGE_MODULE"] = {str(tmp_path / "missing.so")!r}
+try:
+    pgt.render(scene, timing_repeats=1, timing_fragments=64)
+    raise SystemExit("no error")
+except pgt.InputError as e:
+    assert "PGT_IMAGE_MODULE" in str(e) and "missing.so" in str(e), str(e)
+del os.environ["PGT_IMAGE_MODULE"]
+frame = pgt.render(scene, timing_repeats=1, timing_fragments=64)
+assert frame.summary["methods"][0]["label"] == "parallax"
+print("ok")
+"""
+    run = subprocess.run(["/usr/bin/python3", "-c", code], capture_output=True, text=True)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", run.stdout + run.stderr
+
+
 def test_unwritable_out_raises_output_error(scenes, tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
