@@ -39,8 +39,8 @@ void noneErrors(const FragmentList& frags, const Image2D<TruthSample>& truth, Er
 }
 
 void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view,
-                       const Image2D<MethodPixel>& pixels, const Image2D<float>* errors,
-                       const std::vector<float>* noneErrors) {
+                       const Image2D<MethodPixel>& pixels, const Image2D<float>& errors,
+                       const std::vector<float>& noneErrors) {
     auto covered = [&](size_t k) { return pixels.data[size_t(frags.pixel[k])].covered; };
     // The frame's first V, which every other is held against.
     for (size_t k = 0; !haveView_ && k < frags.size(); ++k)
@@ -58,11 +58,11 @@ void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view
             const double lateral = std::sqrt(v.x * v.x + v.y * v.y);  // V is a unit vector
             const bool finite = std::isfinite(p.uv.x) && std::isfinite(p.uv.y);
             // Compared where the method's error is defined (covered, finite, the truth hit).
-            const float e = errors ? errors->data[size_t(frags.pixel[k])] : NAN;
-            if (noneErrors && !std::isnan(e)) {
+            const float e = errors.data[size_t(frags.pixel[k])];
+            if (!std::isnan(e)) {
                 ++t.compared;
                 t.errSum += e;
-                t.noneSum += (*noneErrors)[k];
+                t.noneSum += noneErrors[k];
             }
             if (lateral == 0) {
                 ++t.headOn;

@@ -41,12 +41,12 @@ struct ErrorMetric {
 class MethodChecks {
   public:
     explicit MethodChecks(CheckContext c = {}) : c_(c) {}
-    // For the comparison with no parallax (optional): `errors`, the method's error in texels
-    // at each pixel of the band (ErrorTally::add's; NaN where none is defined), and
-    // `noneErrors`, uv0's against the truth at each fragment (noneErrors()).
+    // For the comparison with no parallax: `errors`, the method's error in texels at each
+    // pixel of the band (ErrorTally::add's; NaN where none is defined), and `noneErrors`,
+    // uv0's against the truth at each fragment (noneErrors()).
     void add(const FragmentList& frags, const std::vector<Vec3d>& view,
-             const Image2D<MethodPixel>& pixels, const Image2D<float>* errors = nullptr,
-             const std::vector<float>* noneErrors = nullptr);
+             const Image2D<MethodPixel>& pixels, const Image2D<float>& errors,
+             const std::vector<float>& noneErrors);
     std::vector<MethodWarning> finish() const;
 
   private:

@@ -1,7 +1,12 @@
 // A plain 2D buffer with (x, y) access, row-major, y as the caller defines it.
 #pragma once
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace pgt {
@@ -27,5 +32,20 @@ struct Image2D {
     const T& at(int x, int y) const { return data[size_t(y) * width + x]; }
     size_t size() const { return data.size(); }
 };
+
+// `image` as w x h pixels of T{}: made anew when its size differs, else cleared over all cores
+// (a buffer kept from band to band).
+template <class T>
+void resetImage(Image2D<T>& image, int w, int h) {
+    if (image.width != w || image.height != h) {
+        image = Image2D<T>(w, h);
+        return;
+    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, image.data.size(), size_t(1) << 14),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                          std::fill(image.data.begin() + int64_t(r.begin()),
+                                    image.data.begin() + int64_t(r.end()), T{});
+                      });
+}
 
 }  // namespace pgt

@@ -467,21 +467,9 @@ void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterSta
                                Image2D<FragmentInputs>* inputs) const {
     const int W = camera_.width();
     // Cleared once (in parallel), then each bin of columns writes its own pixels in place.
-    auto clear = [](auto& image, int w, int h) {
-        using T = typename std::decay_t<decltype(image.data)>::value_type;
-        if (image.width != w || image.height != h) {
-            image = std::decay_t<decltype(image)>(w, h);
-            return;
-        }
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, image.data.size(), 1 << 14),
-                          [&](const auto& r) {
-                              std::fill(image.data.begin() + int64_t(r.begin()),
-                                        image.data.begin() + int64_t(r.end()), T{});
-                          });
-    };
-    clear(out, W, y1 - y0);
+    resetImage(out, W, y1 - y0);
     const bool wantInputs = inputs && (options_.perVertexView || options_.engineInputs);
-    if (wantInputs) clear(*inputs, W, y1 - y0);
+    if (wantInputs) resetImage(*inputs, W, y1 - y0);
     tbb::combinable<RasterStats> counts;
     tbb::parallel_for(0, (W + kBin - 1) / kBin, [&](int b) {
         const PixelRect rect{b * kBin, y0, std::min(W, (b + 1) * kBin), y1};

@@ -96,7 +96,6 @@ void countHits(const Image2D<TruthSample>& truth, int64_t& hits, int64_t& holes)
     hits += c.first, holes += c.second;
 }
 
-// Rows [band.y0, band.y1) of `full` from a band image.
 // Rows [band.y0, band.y1) of a whole-frame image.
 template <class T>
 Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
@@ -105,6 +104,7 @@ Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
     return out;
 }
 
+// A band image into rows [y0, y0 + its height) of `full`.
 template <class T>
 void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
     std::copy(band.data.begin(), band.data.end(), full.data.begin() + int64_t(y0) * full.width);
@@ -264,7 +264,7 @@ class BandPipeline {
             r_.timingsMs["methods_eval"] += msSince(t0);
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
-            m.checks.add(*frags_, frags_->view, m.pixels, &m.errTexels, &noneErrors_);
+            m.checks.add(*frags_, frags_->view, m.pixels, m.errTexels, noneErrors_);
             if (framesCanDiffer(scene_.base) && !frags_->pixel.empty()) {
                 if (!gl) evaluate(m, true, exactPixels_);
                 m.tallyExact.add(*truthBand_, gl ? glExact[i] : exactPixels_, map.width, map.height,

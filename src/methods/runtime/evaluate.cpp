@@ -292,15 +292,7 @@ Image2D<MethodPixel> evaluateShader(const MethodConfig& cfg, const GlslSpec& spe
 void evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const FragmentList& frags,
                      const MethodTextures& tex, int width, int height, bool exactFrame,
                      Image2D<MethodPixel>& out) {
-    if (out.width != width || out.height != height) {
-        out = Image2D<MethodPixel>(width, height);
-    } else {  // cleared over all cores
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, out.data.size(), 16384),
-                          [&](const auto& r) {
-                              std::fill(out.data.begin() + int64_t(r.begin()),
-                                        out.data.begin() + int64_t(r.end()), MethodPixel{});
-                          });
-    }
+    resetImage(out, width, height);
     const size_t n = frags.pixel.size();
     const auto& view = methodViews(cfg, frags, exactFrame);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
