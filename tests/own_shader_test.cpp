@@ -5,9 +5,11 @@
 // file, field and line. Runs in Mesa llvmpipe like tests/gl_test.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 
 #include "core/error.h"
 #include "gl_agree.h"
@@ -417,6 +419,120 @@ TEST(OwnShader, SilentMistakesAreWarned) {
     EXPECT_EQ(headOn.at("headon"), "nonfinite_head_on");
     for (const char* fine : {"none", "parallax", "pom", "same", "alpha", "flipped", "inverted"})
         EXPECT_EQ(headOn.at(fine), "") << fine;  // nothing to see without V.xy
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// A shader whose answer tells which of the entry's settings reached the compiled program: the
+// engine inputs, a define, a uniform left at its linked value unless set, the API's y.
+constexpr const char* kVariantShader = R"(uniform sampler2D heightMap;
+uniform float k;
+vec2 F(vec2 uv, vec3 V) {
+    float h = texture(heightMap, uv).r;
+    vec2 r = uv + V.xy / V.z * (0.05 * h - 0.025);
+#ifdef PGT_ENGINE_INPUTS
+    r += 0.01;
+#endif
+#ifdef EXTRA
+    r += EXTRA;
+#endif
+    r.x += k;
+    r.y += 4.0 * dFdy(uv).y;
+    return r;
+}
+)";
+
+// One frame of `methods` on a small plane (orthographic, 32 x 32).
+RenderResult renderVariants(const std::filesystem::path& dir, const nlohmann::json& methods) {
+    const Scene s = parseScene(nlohmann::json::parse(R"({
+        "heightmap": {"procedural": "sine", "size": [32, 32]},
+        "displacement": {"scale": 0.05, "bias": -0.025}, "base": {"type": "plane"},
+        "camera": {"type": "orthographic", "theta": 40, "phi": 25, "resolution": [32, 32]},
+        "truth": {"rate": 1, "uncertainty": false}, "methods": )" +
+                                                     methods.dump() + "}"),
+                               (dir / "s.json").string());
+    return renderFrame(s, {.timingRepeats = 0});
+}
+
+// The program's identity is its text: every entry setting that reaches the compiled program
+// (engine inputs, defines, a call, the API, uniforms it sets or leaves) gives the same answer
+// alone and listed before or after any other, pairwise in both orders. Before, the program
+// cache keyed a hand list of settings that left out the engine inputs, and programs shared by
+// two entries kept the first one's uniforms.
+TEST(OwnShader, EveryEntrySettingGivesTheSameAnswerInAnyOrder) {
+    auto dir = test::tempDir("variants");
+    std::ofstream(dir / "variant.glsl") << kVariantShader;
+    auto entry = [](const char* label) {
+        return nlohmann::json{
+            {"name", label}, {"glsl", "variant.glsl"}, {"function", "F"}, {"sampler", "heightMap"}};
+    };
+    std::vector<nlohmann::json> variants = {entry("plain"),   entry("engine"), entry("defined"),
+                                            entry("uniform"), entry("d3d"),    entry("call")};
+    variants[1]["inputs"] = "engine";
+    variants[2]["defines"] = {{"EXTRA", "0.02"}};
+    variants[3]["uniforms"] = {{"k", 0.03}};
+    variants[4]["api"] = "d3d";
+    variants[5]["call"] = "F(uv, V) + vec2(0.005)";
+    std::vector<std::vector<Vec2d>> alone;
+    for (const auto& v : variants) {
+        const RenderResult r = renderVariants(dir, nlohmann::json::array({v}));
+        alone.emplace_back();
+        for (const MethodPixel& p : r.methods[0].pixels.data) alone.back().push_back(p.uv);
+    }
+    // The variants differ from each other (each setting changes the answer).
+    for (size_t i = 1; i < variants.size(); ++i) EXPECT_NE(alone[i][100], alone[0][100]) << i;
+    for (size_t i = 0; i < variants.size(); ++i)
+        for (size_t j = 0; j < variants.size(); ++j) {
+            if (i == j) continue;
+            const RenderResult r =
+                renderVariants(dir, nlohmann::json::array({variants[i], variants[j]}));
+            for (size_t m = 0; m < 2; ++m) {
+                const size_t which = m == 0 ? i : j;
+                int differ = 0;
+                for (size_t k = 0; k < alone[which].size(); ++k) {
+                    const Vec2d a = alone[which][k], b = r.methods[m].pixels.data[k].uv;
+                    differ += !(a == b || (std::isnan(a.x) && std::isnan(b.x)));
+                }
+                EXPECT_EQ(differ, 0) << r.methods[m].config.label << " after/before "
+                                     << variants[m == 0 ? j : i]["name"];
+            }
+        }
+    std::filesystem::remove_all(dir);
+}
+
+// The default scene's method list in another order gives every label the same row.
+TEST(OwnShader, TheDefaultScenesMethodsInAnyOrderGiveTheSameRows) {
+    nlohmann::json json;
+    std::ifstream(test::sceneDir() + "/default.json") >> json;
+    json["camera"]["resolution"] = {40, 40};
+    json["truth"] = {{"rate", 1}, {"uncertainty", false}};
+    json["light"] = nullptr;
+    json.erase("light");
+    json.erase("sweep");
+    auto rows = [&](const nlohmann::json& methods) {
+        nlohmann::json j = json;
+        j["methods"] = methods;
+        const Scene s = parseScene(j, test::sceneDir() + "/default.json");
+        const RenderResult r = renderFrame(s, {.timingRepeats = 0});
+        std::map<std::string, std::pair<double, double>> out;
+        for (const MethodFrame& m : r.methods)
+            out[m.config.label] = {m.stats.error.mean, m.stats.error.p90};
+        return out;
+    };
+    const auto forward = rows(json["methods"]);
+    nlohmann::json shuffled = json["methods"];
+    std::mt19937 rng(49);
+    std::shuffle(shuffled.begin(), shuffled.end(), rng);
+    const auto other = rows(shuffled);
+    ASSERT_EQ(forward.size(), other.size());
+    for (const auto& [label, stats] : forward) {
+        ASSERT_TRUE(other.count(label)) << label;
+        EXPECT_EQ(other.at(label), stats) << label;
+    }
 }
 
 }  // namespace

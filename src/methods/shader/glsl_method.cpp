@@ -233,8 +233,9 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
                              spec.entryName() + ")");
     std::vector<float> f(un.values.begin(), un.values.end());
     drainGlErrors();  // only this uniform's own error may be blamed on it
-    if (un.bind == "scale") f = {float(maps.scale)};
-    if (un.bind == "bias") f = {float(maps.bias)};
+    if (un.bind == "scale") f = {float(un.factor * maps.scale)};
+    if (un.bind == "bias") f = {float(un.factor * maps.bias)};
+    if (un.bind == "offset_bias") f = {maps.scale != 0 ? float(1 + maps.bias / maps.scale) : 0.0f};
     // One number sets a float or an int uniform alike where it is a whole number (32 and
     // 32.0 both set `float steps` and `int steps`).
     const bool whole = f.size() == 1 && un.bind.empty() &&
@@ -449,6 +450,7 @@ void drawImages(const GlslSpec& spec, const DrawMaps& maps, DrawImages& img,
                 const GlslTimingPlan* plan, int64_t fragments, bool read, GlslRun& run) {
     GLuint prog = programFor(spec);
     glUseProgram(prog);
+    restoreLinkedValues(prog);
     if (!gVao) glGenVertexArrays(1, &gVao);
     glBindVertexArray(gVao);
     img.upload();

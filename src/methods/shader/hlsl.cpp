@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -219,16 +220,22 @@ std::string declarationsFor(const GlslSpec& spec) {
     return out;
 }
 
-std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& text,
-                                       const TextLines& lines) {
-    static const bool initialised = glslang::InitializeProcess();
-    (void)initialised;
+// glslang's preamble for the spec: what the file leaves to pgt, the engine's globals, select()
+// where the file has none, and the entry's #defines.
+std::string preambleFor(const GlslSpec& spec) {
     std::string preamble = declarationsFor(spec);
     if (spec.engineInputs) preamble += kEngineGlobals;  // before the user's functions
     if (functionTypes(spec.source + "\n" + spec.included, "select").empty())
         preamble += selectFunctions();
     for (const auto& [name, value] : spec.defines)
         preamble += "#define " + name + " " + value + "\n";
+    return preamble;
+}
+
+std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& preamble,
+                                       const std::string& text, const TextLines& lines) {
+    static const bool initialised = glslang::InitializeProcess();
+    (void)initialised;
     glslang::TShader shader(EShLangFragment);
     const char* strings[] = {text.c_str()};
     const int lengths[] = {int(text.size())};
@@ -271,15 +278,15 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
 // (`1.0 -- x`), and hostile input can make it run or grow without end; either must be an error
 // naming the file, not a crash or a hang of pgt. The child writes 'S' and the SPIR-V words, or
 // 'E' and the error message, to a pipe and exits; it is held to kCompileLimits.
-std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& text,
-                                     const TextLines& lines) {
+std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& preamble,
+                                     const std::string& text, const TextLines& lines) {
     std::string in;
     const ChildLimits limits = compileLimits();
     const ChildStatus st = runInChild(
         [&](int fd) {
             std::string out;
             try {
-                const std::vector<uint32_t> words = compileInProcess(spec, text, lines);
+                const std::vector<uint32_t> words = compileInProcess(spec, preamble, text, lines);
                 out.assign(1, 'S');
                 out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
             } catch (const std::exception& e) {
@@ -434,7 +441,21 @@ std::string hlslToGlsl(const GlslSpec& spec) {
             kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
     lines.call = countLines(text) + 1;
     text += call + kEntryTail;
-    return asWrapperPiece(spirvToGlsl(compileToSpirv(spec, text, lines), spec.path));
+    // Translations by everything glslang reads: the preamble, the text, and the includes (found
+    // from the file's folder; their text as read with the scene). One per process, as programs.
+    const std::string preamble = preambleFor(spec);
+    std::string key = preamble + '\0' + text + '\0' + spec.path + '\0' + spec.included;
+    for (const std::string& e : spec.enums) key += '\0' + e;
+    static std::mutex mutex;
+    static std::map<std::string, std::string> translations;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (auto it = translations.find(key); it != translations.end()) return it->second;
+    }
+    std::string glsl =
+        asWrapperPiece(spirvToGlsl(compileToSpirv(spec, preamble, text, lines), spec.path));
+    std::lock_guard<std::mutex> lock(mutex);
+    return translations.emplace(std::move(key), std::move(glsl)).first->second;
 }
 
 }  // namespace pgt::gl

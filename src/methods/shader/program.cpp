@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "core/error.h"
 #include "methods/shader/hlsl.h"
@@ -351,25 +352,135 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     return p;
 }
 
-struct Program {
-    GLuint id = 0;
+// An active uniform's value as the program was linked (its initialiser, else zero).
+struct UniformDefault {
+    GLint location = -1;
+    GLenum type = 0;
+    std::vector<GLfloat> f;  // float, vector and matrix types
+    std::vector<GLint> i;    // int, bool and sampler types
+    std::vector<GLuint> u;   // unsigned types
 };
 
-// Programs by (file, source, function): compiled once per process.
+// A type's components and how they are read and set: 'f' float, 'i' int, bool or opaque (a
+// sampler's unit), 'u' unsigned; matrices are floats set with glUniformMatrix*.
+struct UniformType {
+    char kind = 'i';
+    int components = 1;
+    int matrix = 0;  // 2, 3, 4: a square float matrix
+};
+UniformType uniformType(GLenum type) {
+    switch (type) {
+        case GL_FLOAT:
+            return {'f', 1};
+        case GL_FLOAT_VEC2:
+            return {'f', 2};
+        case GL_FLOAT_VEC3:
+            return {'f', 3};
+        case GL_FLOAT_VEC4:
+            return {'f', 4};
+        case GL_FLOAT_MAT2:
+            return {'f', 4, 2};
+        case GL_FLOAT_MAT3:
+            return {'f', 9, 3};
+        case GL_FLOAT_MAT4:
+            return {'f', 16, 4};
+        case GL_INT:
+        case GL_BOOL:
+            return {'i', 1};
+        case GL_INT_VEC2:
+        case GL_BOOL_VEC2:
+            return {'i', 2};
+        case GL_INT_VEC3:
+        case GL_BOOL_VEC3:
+            return {'i', 3};
+        case GL_INT_VEC4:
+        case GL_BOOL_VEC4:
+            return {'i', 4};
+        case GL_UNSIGNED_INT:
+            return {'u', 1};
+        case GL_UNSIGNED_INT_VEC2:
+            return {'u', 2};
+        case GL_UNSIGNED_INT_VEC3:
+            return {'u', 3};
+        case GL_UNSIGNED_INT_VEC4:
+            return {'u', 4};
+        default:
+            return {'i', 1};  // samplers and images: a unit
+    }
+}
+
+// Every active uniform's linked value, element by element (block members have no location
+// and are left out: pgt sets none of them).
+std::vector<UniformDefault> linkedValues(GLuint prog) {
+    std::vector<UniformDefault> out;
+    GLint count = 0, maxLen = 0;
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORMS, &count);
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLen);
+    std::string buf(size_t(std::max(maxLen, 1)), '\0');
+    for (GLint k = 0; k < count; ++k) {
+        GLsizei len = 0;
+        GLint size = 0;
+        GLenum type = 0;
+        glGetActiveUniform(prog, GLuint(k), GLsizei(buf.size()), &len, &size, &type, buf.data());
+        std::string name(buf.data(), size_t(len));
+        if (name.size() > 3 && name.compare(name.size() - 3, 3, "[0]") == 0)
+            name.resize(name.size() - 3);
+        const UniformType t = uniformType(type);
+        for (GLint e = 0; e < size; ++e) {
+            const std::string element = size > 1 ? name + "[" + std::to_string(e) + "]" : name;
+            UniformDefault d;
+            d.location = glGetUniformLocation(prog, element.c_str());
+            if (d.location < 0) continue;
+            d.type = type;
+            if (t.kind == 'f') {
+                d.f.resize(size_t(t.components));
+                glGetUniformfv(prog, d.location, d.f.data());
+            } else if (t.kind == 'u') {
+                d.u.resize(size_t(t.components));
+                glGetUniformuiv(prog, d.location, d.u.data());
+            } else {
+                d.i.resize(size_t(t.components));
+                glGetUniformiv(prog, d.location, d.i.data());
+            }
+            out.push_back(std::move(d));
+        }
+    }
+    drainGlErrors();  // a type this table does not know is left as it is
+    return out;
+}
+
+void setValue(const UniformDefault& d) {
+    const UniformType t = uniformType(d.type);
+    if (t.matrix == 2) glUniformMatrix2fv(d.location, 1, GL_FALSE, d.f.data());
+    if (t.matrix == 3) glUniformMatrix3fv(d.location, 1, GL_FALSE, d.f.data());
+    if (t.matrix == 4) glUniformMatrix4fv(d.location, 1, GL_FALSE, d.f.data());
+    if (t.matrix) return;
+    using SetF = void (*)(GLint, GLsizei, const GLfloat*);
+    using SetI = void (*)(GLint, GLsizei, const GLint*);
+    using SetU = void (*)(GLint, GLsizei, const GLuint*);
+    static const SetF setF[4] = {glUniform1fv, glUniform2fv, glUniform3fv, glUniform4fv};
+    static const SetI setI[4] = {glUniform1iv, glUniform2iv, glUniform3iv, glUniform4iv};
+    static const SetU setU[4] = {glUniform1uiv, glUniform2uiv, glUniform3uiv, glUniform4uiv};
+    const size_t n = size_t(t.components - 1);
+    if (t.kind == 'f') setF[n](d.location, 1, d.f.data());
+    if (t.kind == 'i') setI[n](d.location, 1, d.i.data());
+    if (t.kind == 'u') setU[n](d.location, 1, d.u.data());
+}
+
+struct Program {
+    GLuint id = 0;
+    std::vector<UniformDefault> linked;  // every uniform's value as linked
+};
+
+// Programs by their text (the vertex stage's, then the fragment stage's, as compiled): a
+// setting that changes what is compiled changes the key, with no list of settings to keep.
+// What a draw sets (uniforms, textures, samplers) is set before every draw
+// (methods/shader/glsl_method.cpp), so no program carries another method's state.
 std::map<std::string, Program> gPrograms;
 
 }  // namespace
 
 GLuint programFor(const GlslSpec& spec) {
-    std::string key = spec.path + "\n" + spec.function + "\n" + spec.version + "\n" +
-                      (spec.hlsl ? "hlsl" : "glsl") + "\n" + spec.call + "\n" + spec.body + "\n" +
-                      spec.samplerState + "\n" + (spec.api == GlslSpec::Api::Gl ? "gl" : "d3d") +
-                      "\n";
-    for (const auto& [name, value] : spec.defines) key += name + "=" + value + "\n";
-    for (const std::string& name : spec.samplers) key += name + "\n";
-    key += spec.source;
-    auto it = gPrograms.find(key);
-    if (it != gPrograms.end()) return it->second.id;
     if (!spec.hlsl && spec.call.empty() && spec.body.empty() && !isShaderIdentifier(spec.function))
         throw InputError(spec.path, "function", spec.function, "is not a GLSL identifier");
     checkDialect(spec);
@@ -386,6 +497,9 @@ GLuint programFor(const GlslSpec& spec) {
     }
     std::string fs =
         prelude + user + pieces.glue + "#define PGT_FUNCTION " + pieces.function + "\n" + kMain;
+    std::string key = std::string(kVertex) + '\0' + fs;
+    auto it = gPrograms.find(key);
+    if (it != gPrograms.end()) return it->second.id;
     checkShaderBounds(fs, spec.path, spec.hlsl ? "hlsl" : "glsl");
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     const std::vector<GlslSpec::LineOrigin> none;
@@ -399,8 +513,17 @@ GLuint programFor(const GlslSpec& spec) {
     glDeleteShader(f);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
                   spec.path, "link", first, count, entry, origins);
-    gPrograms[key] = {prog};
+    gPrograms.emplace(std::move(key), Program{prog, linkedValues(prog)});
     return prog;
+}
+
+void restoreLinkedValues(GLuint prog) {
+    for (const auto& [key, p] : gPrograms)
+        if (p.id == prog) {
+            for (const UniformDefault& d : p.linked) setValue(d);
+            drainGlErrors();
+            return;
+        }
 }
 
 }  // namespace pgt::gl

@@ -10,6 +10,12 @@ namespace pgt::gl {
 
 // The linked program for the spec's file, function and samplers, compiled once per process.
 // Compile and link errors throw InputError naming the user's file and line. Caller holds gMutex.
+// Keyed by the program's text, so any setting that changes what is compiled is another program.
 GLuint programFor(const GlslSpec& spec);
+
+// Every uniform of `prog` back to its value as linked: called before each draw, so that a
+// method sharing a program with another (the same text) never runs with the other's uniforms
+// or sampler units. Caller holds gMutex, with `prog` in use.
+void restoreLinkedValues(GLuint prog);
 
 }  // namespace pgt::gl
