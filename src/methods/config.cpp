@@ -34,18 +34,25 @@ void readShadowParameters(JsonFields& f, BuiltinMethod& cfg) {
     cfg.shadowSteps = f.integer("shadow_steps", cfg.shadowSteps, 1, 4096);
 }
 
-// {"preset": NAME, "label": optional, "scale", "bias", "uniforms": {...}}: the preset's
-// configuration, labelled NAME, with what the entry overrides (setShaderParameter).
-MethodConfig parsePreset(const Json& object, const std::string& file, const std::string& path) {
+// {"preset": NAME, "amplitude": "scene" | "shipped", "label": optional, "scale", "bias",
+// "uniforms": {...}}: the preset's configuration on the scene's surface (or at its shipped
+// amplitude, labelled NAME_shipped), labelled NAME, with what the entry overrides
+// (setShaderParameter).
+MethodConfig parsePreset(const Json& object, const std::string& file, const std::string& path,
+                         double worldPerUv) {
     JsonFields f(object, file, path);
     std::vector<std::string> names;
     for (const auto& p : methodPresets()) names.push_back(p.name);
     std::string name = f.choice("preset", names, "");
-    std::string label = f.string("label", name);
+    const bool shipped = f.choice("amplitude", {"scene", "shipped"}, "scene") == "shipped";
+    std::string label = f.string("label", shipped ? name + "_shipped" : name);
     checkLabel(label, file, f.fieldPath("label"));
     MethodConfig cfg;
     for (const auto& p : methodPresets())
-        if (p.name == name) cfg = presetConfig(p, label, file, f.fieldPath("preset"));
+        if (p.name == name)
+            cfg = presetConfig(p, label, file, f.fieldPath("preset"),
+                               shipped ? PresetAmplitude::Shipped : PresetAmplitude::Scene,
+                               worldPerUv);
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
     if (BuiltinMethod* b = cfg.builtin()) readShadowParameters(f, *b);
@@ -121,11 +128,12 @@ void readMethodInputs(JsonFields& f, MethodConfig& cfg) {
                                  cfg.viewPerVertex ? "per_vertex" : "per_pixel") == "per_vertex";
 }
 
-MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path) {
+MethodConfig parseMethod(const Json& entry, const std::string& file, const std::string& path,
+                         double worldPerUv) {
     Json object = entry.is_string() ? Json{{"name", entry}} : entry;
     if (!object.is_object())
         throw InputError(file, path, shortDump(entry), "expected a method name or object");
-    if (object.contains("preset")) return parsePreset(object, file, path);
+    if (object.contains("preset")) return parsePreset(object, file, path, worldPerUv);
     JsonFields f(object, file, path);
     if (object.contains("glsl") || object.contains("hlsl")) return parseShaderMethod(f, file);
     MethodConfig cfg;
@@ -142,14 +150,14 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
 }
 
 std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file,
-                                       const std::string& path) {
+                                       const std::string& path, double worldPerUv) {
     if (!list.is_array()) throw InputError(file, path, shortDump(list), "expected an array");
     if (list.empty())
         throw InputError(file, path, "[]",
                          "the method list is empty; known methods: " + joinNames(methodNames()));
     std::vector<MethodConfig> out;
     for (size_t i = 0; i < list.size(); ++i)
-        out.push_back(parseMethod(list[i], file, path + "[" + std::to_string(i) + "]"));
+        out.push_back(parseMethod(list[i], file, path + "[" + std::to_string(i) + "]", worldPerUv));
     assignLabels(out, file, path);
     return out;
 }
@@ -217,6 +225,7 @@ Json toJson(const MethodConfig& c) {
     j["discard_outside"] = c.discardOutside;
     if (std::isfinite(c.scale)) j["scale"] = c.scale;
     if (std::isfinite(c.bias)) j["bias"] = c.bias;
+    if (std::isfinite(c.biasPerScale)) j["bias_per_scale"] = c.biasPerScale;
     if (c.lodGrad) j["lod"] = "grad";
     if (c.format != StorageFormat::Float) j["format"] = storageFormatName(c.format);
     if (c.viewPerVertex) j["V"] = "per_vertex";
@@ -288,6 +297,7 @@ std::string setShaderParameter(MethodConfig& cfg, const std::string& param, cons
             std::abs(value.get<double>()) > kMaxOwnDisplacement)
             fail("expected a finite number of at most 1e3 in magnitude");
         (param == "scale" ? cfg.scale : cfg.bias) = value.get<double>();
+        if (param == "bias") cfg.biasPerScale = NAN;  // the method's own b, whatever its engine's
         return param.substr(0, 1) + formatNumber(value.get<double>(), 6);
     }
     if (param == "format" || param == "V") {  // what it reads, as any method's

@@ -19,10 +19,12 @@ constexpr double kMaxOwnDisplacement = 1e3;
 
 // Parses a "methods" array: each entry a name or an object {"name": ..., parameters}.
 // Labels are unique: a method listed twice gets its parameters in the label ("pom_32").
+// `worldPerUv`: the base's l, which a preset whose amplitude is in world units reads
+// (methods/presets/presets.h).
 std::vector<MethodConfig> parseMethods(const nlohmann::json& list, const std::string& file,
-                                       const std::string& path);
+                                       const std::string& path, double worldPerUv = 1);
 MethodConfig parseMethod(const nlohmann::json& entry, const std::string& file,
-                         const std::string& path);
+                         const std::string& path, double worldPerUv = 1);
 // Reads the parameters of a built-in `cfg`'s kind that `f` holds (its integer parameters,
 // scale, bias, discard_outside, precision) over cfg's current values. The caller calls f.finish(),
 // which rejects every other key. A study varies a configuration through this.

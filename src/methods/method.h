@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -92,6 +93,18 @@ struct MethodConfig {
     // The method's own (s, b) when it differs from the truth's (fitting, mis-set shaders);
     // NaN = use the scene's displacement (docs/model.md §3).
     double scale = NAN, bias = NAN;
+    // A preset on the scene's surface whose engine fixes b as a multiple of s (b = this x the
+    // method's s: -1 a depth map, -0.5 PlayCanvas, 0 Babylon's offset; docs/methods.md "Engine
+    // presets"); NaN: the bias is the scene's, or the method's own `bias`.
+    double biasPerScale = NAN;
+    // The (s, b) the method runs with, given the view's (docs/model.md §3, UV units).
+    std::pair<double, double> scaleBias(double viewScale, double viewBias) const {
+        const double s = std::isfinite(scale) ? scale : viewScale;
+        const double b = std::isfinite(bias)           ? bias
+                         : std::isfinite(biasPerScale) ? biasPerScale * s
+                                                       : viewBias;
+        return {s, b};
+    }
     StorageFormat format = StorageFormat::Float;  // the height map as the method reads it
     // "V": "per_vertex": V computed per vertex and interpolated (FragmentInputs::viewVertex),
     // as jMonkeyEngine and Ogre do; else per pixel.

@@ -134,13 +134,16 @@ void parseTruth(Scene& s, JsonFields& root) {
         f.finish();
     }
     if (const PlaneBase* plane = s.plane()) {
-        // Vertices of the plane's truth (the 2x-rate one when the uncertainty is asked for).
-        double verts =
-            PlaneLattice(*plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1)).vertices();
-        if (verts > double(1u << 31))
+        // Segments across the plane's lattice (the 2x-rate one's when the uncertainty is asked
+        // for), each side an int. What a view builds is its window of it, which the memory
+        // estimate counts (study/view_memory.h).
+        const PlaneLattice lattice(*plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1));
+        const double side = std::max(lattice.nu, lattice.nv);
+        if (side > double(1 << 30))
             throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
-                             "rate x map size x tiling asks for " + std::to_string(int64_t(verts)) +
-                                 " truth vertices (more than 2^31); lower the rate or the tiling");
+                             "rate x map size x tiling asks for " + std::to_string(int64_t(side)) +
+                                 " truth segments across the plane (more than 2^30); lower the "
+                                 "rate or the tiling");
     }
 }
 
@@ -178,7 +181,7 @@ Scene parseScene(const Json& json, const std::string& file) {
     }
     parseCamera(s, root);
     parseLight(s, root);
-    s.methods = parseMethods(root.raw("methods"), file, "methods");
+    s.methods = parseMethods(root.raw("methods"), file, "methods", s.worldPerUv());
     for (size_t i = 0; i < s.methods.size(); ++i)
         if (s.methods[i].lodGrad && !s.mipmaps)
             throw InputError(file, "methods[" + std::to_string(i) + "].lod", "grad",

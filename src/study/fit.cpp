@@ -86,7 +86,8 @@ FitPlan readFitPlan(const Scene& scene, FitReport& rep) {
         std::vector<int> res = f.integers("resolution", 2, 1, 4096);
         plan.width = res[0], plan.height = res[1];
     }
-    plan.methods = f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods")
+    plan.methods = f.has("methods") ? parseMethods(f.raw("methods"), scene.file, "fit.methods",
+                                                   scene.worldPerUv())
                                     : scene.methods;
     f.finish();
     return plan;

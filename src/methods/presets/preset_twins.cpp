@@ -7,6 +7,7 @@
 #include <map>
 
 #include "methods/method.h"
+#include "methods/presets/presets.h"
 
 namespace pgt {
 
@@ -458,13 +459,28 @@ std::map<std::string, PresetTwin> makeTwins() {
 }  // namespace
 
 const PresetTwin* presetTwin(const std::string& preset) {
-    static const std::map<std::string, PresetTwin> twins = makeTwins();
-    // NAME_tangents runs NAME's function on the base frame's per-pixel V: NAME's twin, which
-    // is a twin of NAME itself only where NAME is fed V too (tests/gl_engines_test.cpp).
-    const std::string suffix = "_tangents";
-    const bool tangents = preset.size() > suffix.size() &&
-                          preset.compare(preset.size() - suffix.size(), suffix.size(), suffix) == 0;
-    auto it = twins.find(tangents ? preset.substr(0, preset.size() - suffix.size()) : preset);
+    // NAME_tangents runs NAME's function on the base frame's per-pixel V, with the signs its
+    // engine's tangent path hands it (MethodPreset::tangentsSignX/Y): NAME's twin on that V,
+    // which is a twin of NAME itself only where NAME is fed V too (tests/gl_engines_test.cpp).
+    static const std::map<std::string, PresetTwin> twins = [] {
+        std::map<std::string, PresetTwin> out = makeTwins();
+        const std::string suffix = "_tangents";
+        for (const MethodPreset& p : methodPresets()) {
+            if (p.name.size() <= suffix.size() ||
+                p.name.compare(p.name.size() - suffix.size(), suffix.size(), suffix) != 0)
+                continue;
+            auto it = out.find(p.name.substr(0, p.name.size() - suffix.size()));
+            if (it == out.end()) continue;
+            PresetTwin twin = it->second;
+            const float sx = float(p.tangentsSignX), sy = float(p.tangentsSignY);
+            twin.run = [run = it->second.run, sx, sy](const Texture& t, Vec2f uv, Vec3f v) {
+                return run(t, uv, Vec3f(sx * v.x, sy * v.y, v.z));
+            };
+            out.emplace(p.name, std::move(twin));
+        }
+        return out;
+    }();
+    auto it = twins.find(preset);
     return it == twins.end() ? nullptr : &it->second;
 }
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/data_dir.h"
+#include "core/error.h"
 #include "core/json_read.h"
 #include "methods/registry.h"
 #include "methods/shader/source_text.h"
@@ -38,18 +39,21 @@ MethodConfig softShadowed(MethodConfig c) {
 }
 
 MethodPreset builtinPreset(const char* name, const char* source, MethodConfig config) {
-    return {name, source, std::move(config), {}, ""};
+    MethodPreset p;
+    p.name = name, p.source = source, p.config = std::move(config);
+    return p;
 }
 
 GlslSpec::Uniform uniform(const char* name, double value, bool isInt = false) {
-    return {name, {value}, isInt, ""};
+    return {name, {value}, isInt, "", 1};
 }
 
 // A GLSL preset: the shader file under shaderDir(), its function, sampler and uniforms.
 MethodPreset glslPreset(const char* name, const char* source, const char* file,
                         const char* function, const char* sampler, bool depthTexture,
                         std::vector<GlslSpec::Uniform> uniforms) {
-    MethodPreset p{name, source, {}, {}, file};
+    MethodPreset p;
+    p.name = name, p.source = source, p.shaderFile = file;
     p.glsl.function = function;
     p.glsl.samplers[size_t(MapKind::Height)] = sampler;
     p.glsl.layout = depthTexture ? GlslSpec::Layout::Depth : GlslSpec::Layout::Height;
@@ -176,12 +180,18 @@ std::vector<MethodPreset> enginePresetsB() {
 // interpolated (jMonkeyEngine's Lighting.vert). The preset runs that path; NAME_tangents is the
 // same function fed the base frame's per-pixel V (the engine's path with mesh tangents, or
 // PBRLighting's per-fragment V; three.js has none: there it is pgt's variant).
+// The functions of babylon.glsl and playcanvas.glsl are written for V as their derivative
+// frames hand it (Babylon's, on a left-handed WebGL scene, (-V.x, -V.y); PlayCanvas's
+// TBN_DERIVATIVES (V.x, -V.y)), while their paths with mesh tangents (Babylon's bumpVertex
+// TANGENT, PlayCanvas's TBN_TANGENTS) hand the same code +V: NAME_tangents feeds the function
+// V with those signs undone (signX, signY).
 struct EngineFrame {
     const char* prefix;
     const char* view;    // the GLSL giving V from the engine's inputs; null: V per vertex
     const char* unread;  // a uniform of the _tangents variant the engine's path does not read
     const char* engineNote;
     const char* tangentsNote;
+    double signX = 1, signY = 1;
 };
 constexpr EngineFrame kEngineFrames[] = {
     {"threejs_", "threeEngineV(uv)", "world_per_uv",
@@ -189,10 +199,13 @@ constexpr EngineFrame kEngineFrames[] = {
      "; fed the base frame's per-pixel V (pgt's variant: three.js has no tangent path)"},
     {"babylon_", "cotangentFrameV(uv)", "",
      "; V in the cotangent frame of screen derivatives (a mesh without tangents)",
-     "; V per pixel in the mesh tangents' frame"},
+     "; V per pixel in the mesh tangents' frame, handed to the function as +V (bumpVertex "
+     "TANGENT)",
+     -1, -1},
     {"playcanvas", "cotangentFrameV(uv)", "",
      "; V in the frame of screen derivatives (TBN_DERIVATIVES: a mesh without tangents)",
-     "; V per pixel in the mesh tangents' frame (TBN_TANGENTS)"},
+     "; V per pixel in the mesh tangents' frame, handed to the function as +V (TBN_TANGENTS)", 1,
+     -1},
     {"jme", nullptr, "", "; V per vertex, interpolated (Lighting.vert)",
      "; V per fragment from the vertex tangents (PBRLighting)"},
 };
@@ -211,6 +224,14 @@ std::vector<MethodPreset> withEngineFrames(std::vector<MethodPreset> list) {
         MethodPreset tangents = p;
         tangents.name += "_tangents";
         tangents.source += frame->tangentsNote;
+        if (frame->signX != 1 || frame->signY != 1) {
+            auto sign = [](double s, const char* c) {
+                return std::string(s < 0 ? "-V." : "V.") + c;
+            };
+            tangents.glsl.call = p.glsl.function + "(uv, vec3(" + sign(frame->signX, "x") + ", " +
+                                 sign(frame->signY, "y") + ", V.z))";
+            tangents.tangentsSignX = frame->signX, tangents.tangentsSignY = frame->signY;
+        }
         p.source += frame->engineNote;
         if (frame->view) {
             p.glsl.engineInputs = true;
@@ -226,10 +247,50 @@ std::vector<MethodPreset> withEngineFrames(std::vector<MethodPreset> list) {
     return out;
 }
 
-// The document and built-in presets, then the engine presets.
+// Each preset's surface at a scene's (s, b): the b its engine expresses and the uniforms
+// that carry s (docs/methods.md "Engine presets" derives each from the shader).
+struct SurfaceRule {
+    const char* prefix;  // the presets whose names start with it (first match)
+    PresetSurface surface;
+};
+PresetSurface surface(double biasPerScale, const char* scaleUniform = "", double factor = 1,
+                      bool perWorldUnit = false, const char* biasUniform = "",
+                      const char* worldPerUvUniform = "") {
+    return {biasPerScale, scaleUniform, factor, perWorldUnit, biasUniform, worldPerUvUniform};
+}
+const SurfaceRule kSurfaces[] = {
+    {"welsh", surface(NAN)},  // Welsh's MAD has a scale and a bias: any b
+    {"learnopengl_", surface(-1)},
+    {"deferred_blog", surface(-1)},
+    {"tatarchuk_soft", surface(-1)},
+    {"godot", surface(-1, "heightmap_scale", 100)},  // x 0.01 in the shader
+    {"bevy_", surface(-1, "depth_scale")},
+    {"unity_hdrp", surface(-1, "height_amplitude")},
+    {"tatarchuk", surface(-1, "height_map_scale")},
+    {"jme_steep", surface(-1, "parallax_height", 1 / 0.3)},  // its ray spans 0.3 ParallaxHeight
+    {"jme", surface(-0.6, "parallax_height")},               // h s - 0.6 s
+    {"playcanvas_offset_limited", surface(-0.5, "height_map_factor", 10)},  // s = 0.1 factor
+    {"playcanvas", surface(-0.5, "height_map_factor", 40)},                 // s = 0.025 factor
+    {"ogre_", surface(-1, "height_scale")},
+    {"o3de_", surface(-1, "factor")},
+    {"darkplaces_", surface(NAN, "offset_scale", 1, false, "offset_bias")},
+    {"babylon_offset", surface(0, "parallax_scale")},  // h s V.xy: the relief above the polygon
+    {"babylon_", surface(-1, "parallax_scale")},
+    // the example's negated scale: -s l (its V.xy is in world units per UV unit)
+    {"threejs_", surface(0, "parallax_scale", -1, true, "", "world_per_uv")},
+};
+
+// The document and built-in presets, then the engine presets; each with its surface.
 std::vector<MethodPreset> withEngines(std::vector<MethodPreset> presets) {
     for (auto list : {enginePresetsA(), enginePresetsB()})
         for (auto& p : withEngineFrames(std::move(list))) presets.push_back(std::move(p));
+    for (MethodPreset& p : presets) {
+        const SurfaceRule* rule = nullptr;
+        for (const SurfaceRule& r : kSurfaces)
+            if (!rule && p.name.rfind(r.prefix, 0) == 0) rule = &r;
+        PGT_CHECK(rule);
+        p.surface = rule->surface;
+    }
     return presets;
 }
 
@@ -294,14 +355,42 @@ const std::vector<MethodPreset>& methodPresets() {
     return presets;
 }
 
+namespace {
+
+// The preset's spec and configuration on the scene's surface: s (and b where its engine has a
+// bias) bound to the uniforms that carry them, its engine's b fixed as a multiple of s.
+void onSceneSurface(const MethodPreset& preset, MethodConfig& cfg, GlslSpec* spec,
+                    double worldPerUv) {
+    const PresetSurface& surface = preset.surface;
+    cfg.scale = cfg.bias = NAN;
+    cfg.biasPerScale = surface.biasPerScale;
+    if (!spec) return;
+    for (GlslSpec::Uniform& u : spec->uniforms) {
+        if (u.name == surface.scaleUniform)
+            u = {u.name,
+                 {},
+                 false,
+                 "scale",
+                 surface.factor * (surface.perWorldUnit ? worldPerUv : 1)};
+        if (u.name == surface.biasUniform) u = {u.name, {}, false, "offset_bias", 1};
+        if (u.name == surface.worldPerUvUniform) u.values = {worldPerUv};
+    }
+}
+
+}  // namespace
+
 MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
-                          const std::string& file, const std::string& field) {
+                          const std::string& file, const std::string& field,
+                          PresetAmplitude amplitude, double worldPerUv) {
     MethodConfig cfg = preset.config;
     cfg.label = label;
     cfg.preset = preset.name;
+    const bool scene = amplitude == PresetAmplitude::Scene;
+    if (preset.shaderFile.empty() && scene) onSceneSurface(preset, cfg, nullptr, worldPerUv);
     if (!preset.shaderFile.empty()) {  // a GLSL preset: its shader, read now
         cfg.name = preset.name;
         auto spec = std::make_shared<GlslSpec>(preset.glsl);
+        if (scene) onSceneSurface(preset, cfg, spec.get(), worldPerUv);
         spec->path = (std::filesystem::path(shaderDir()) / preset.shaderFile).lexically_normal();
         readShaderSource(*spec, file, field);
         cfg.method = ShaderMethod{std::move(spec)};

@@ -38,8 +38,7 @@ MethodTextures makeMethodTextures(const Texture& height, double scale, double bi
 namespace {
 // The (s, b) a method runs with in a view: its own where it has one (docs/model.md §3, UV units).
 std::pair<double, double> methodScaleBias(const MethodConfig& cfg, const Displacement& view) {
-    return {std::isfinite(cfg.scale) ? cfg.scale : view.scale,
-            std::isfinite(cfg.bias) ? cfg.bias : view.bias};
+    return cfg.scaleBias(view.scale, view.bias);
 }
 }  // namespace
 
@@ -146,8 +145,7 @@ double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& 
         read |= want;
         if (runsInGl(cfg)) inGl |= want, inGl.add(MapKind::Height);
         if (want.has(MapKind::Normal) || want.has(MapKind::Parallax))
-            displacements.insert({std::isfinite(cfg.scale) ? cfg.scale : 1e300,
-                                  std::isfinite(cfg.bias) ? cfg.bias : 1e300});
+            displacements.insert(cfg.scaleBias(1e300, 1e300));
     }
     if (read.has(MapKind::RelaxedCone)) read.add(MapKind::Cone);
     double perTexel = 0;

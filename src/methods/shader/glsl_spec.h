@@ -110,12 +110,15 @@ struct GlslSpec {
     // "defines": #define NAME VALUE lines put before the source, in the entry's order.
     std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;
-    // or bound to the case's s ("scale") or b ("bias"), which a sweep varies.
+    // or bound to the case's s ("scale") or b ("bias"), which a sweep varies, times `factor`
+    // (a preset's amplitude in its engine's units); "offset_bias": 1 + b / s (DarkPlaces'
+    // offset bias, set by a preset on the scene's surface).
     struct Uniform {
         std::string name;
         std::vector<double> values;
         bool isInt = false;
-        std::string bind;  // "", "scale" or "bias"
+        std::string bind;  // "", "scale", "bias" or "offset_bias"
+        double factor = 1;
     };
     std::vector<Uniform> uniforms;
     // "steps_uniform": the integer uniform that is the method's step count, which `pgt fit`
@@ -125,7 +128,7 @@ struct GlslSpec {
     // through a uniform bound to it or a call or body that names it: what `pgt fit` varies.
     bool reaches(const std::string& param) const {
         for (const Uniform& u : uniforms)
-            if (u.bind == param) return true;
+            if (u.bind == param || u.bind == "offset_bias") return true;
         const std::string name = param == "scale" ? "s" : "b";
         return mentionsIdentifier(call, name) || mentionsIdentifier(body, name);
     }

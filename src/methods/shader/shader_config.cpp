@@ -36,7 +36,7 @@ bool fitsGlslInt(const Json& v) {
 // 4 numbers, or, where `binds`, "scale" / "bias" (the case's s / b). `fail(message)` throws.
 template <class Fail>
 GlslSpec::Uniform uniformValue(const std::string& name, const Json& value, bool binds, Fail fail) {
-    GlslSpec::Uniform un{name, {}, false, ""};
+    GlslSpec::Uniform un{name, {}, false, "", 1};
     if (binds && value.is_string() && (value == "scale" || value == "bias")) {
         un.bind = value.get<std::string>();
     } else if (value.is_number()) {
@@ -386,9 +386,12 @@ void shaderJson(const GlslSpec& g, Json& j) {
     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
     Json u = Json::object();
     for (const auto& un : g.uniforms)
-        u[un.name] = !un.bind.empty()        ? Json(un.bind)
-                     : un.values.size() == 1 ? Json(un.values[0])
-                                             : Json(un.values);
+        u[un.name] =
+            un.bind == "offset_bias" ? Json("1 + bias / scale")
+            : !un.bind.empty()
+                ? Json(un.factor == 1 ? un.bind : un.bind + " * " + formatNumber(un.factor, 9))
+            : un.values.size() == 1 ? Json(un.values[0])
+                                    : Json(un.values);
     j["uniforms"] = u;
     // The shader's text is part of the identity: an edited file is another method.
     j["source_sha1"] = textSha1(g.source);
@@ -437,7 +440,7 @@ MethodConfig glslTwin(const MethodConfig& builtIn) {
         if (!p.written) continue;
         const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
                                        p.key) != twin.floatParameters.end();
-        spec->uniforms.push_back({p.key, {double(b.*p.field)}, !asFloat, ""});
+        spec->uniforms.push_back({p.key, {double(b.*p.field)}, !asFloat, "", 1});
     }
     MethodConfig cfg;
     cfg.name = cfg.label = builtIn.label + "_gl";
