@@ -14,6 +14,7 @@ namespace pgt {
 
 MethodChecks::Tally& MethodChecks::Tally::operator+=(const Tally& o) {
     oblique += o.oblique, unchanged += o.unchanged, alongV += o.alongV;
+    tanOblique += o.tanOblique, tanCompared += o.tanCompared;
     headOn += o.headOn, headOnNonfinite += o.headOnNonfinite;
     compared += o.compared, errSum += o.errSum, noneSum += o.noneSum;
     oneView = oneView && o.oneView;
@@ -57,10 +58,12 @@ void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view
             const Vec3d v = view[k];
             const double lateral = std::sqrt(v.x * v.x + v.y * v.y);  // V is a unit vector
             const bool finite = std::isfinite(p.uv.x) && std::isfinite(p.uv.y);
+            const double tanTheta = v.z > 0 ? lateral / v.z : 0;
             // Compared where the method's error is defined (covered, finite, the truth hit).
             const float e = errors.data[size_t(frags.pixel[k])];
             if (!std::isnan(e)) {
                 ++t.compared;
+                t.tanCompared += tanTheta;
                 t.errSum += e;
                 t.noneSum += noneErrors[k];
             }
@@ -73,6 +76,7 @@ void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view
             if (!finite || lateral <= 1e-3) continue;
             const Vec2d uv0 = frags.uv0[k], off = p.uv - uv0;
             ++t.oblique;
+            t.tanOblique += tanTheta;
             // A method that returns uv0 gives it back rounded to float (or exactly in double).
             const double tol = 2e-7 * std::max({1.0, std::abs(uv0.x), std::abs(uv0.y)});
             t.unchanged += std::abs(off.x) <= tol && std::abs(off.y) <= tol;
@@ -112,23 +116,63 @@ std::vector<MethodWarning> MethodChecks::finish() const {
                                          " UV along V.xy) where the relief lies below the "
                                          "polygon, which the eye ray reaches beyond uv0: check "
                                          "the sign of V"});
-    // Worse than giving uv0 back, by more than a texel and a tenth: the offsets run the wrong
-    // way (a depth map read as a height map or the reverse, a scale of the wrong sign).
+    // Worse than giving uv0 back, by more than a texel and a tenth, with the cause that fits
+    // the data (worseThanNoneCause); at grazing views the documents' known breakdown.
     const double mean = all_.compared > 0 ? all_.errSum / double(all_.compared) : 0,
                  none = all_.compared > 0 ? all_.noneSum / double(all_.compared) : 0;
-    if (c_.userCode && c_.displaced && !c_.skipNoOffset && mean > 1.1 * none + 1.0)
-        out.push_back({"worse_than_none",
-                       "its mean error (" + formatNumber(mean, 4) +
-                           " texels) is above no parallax's (" + formatNumber(none, 4) +
-                           ") on this view: is the map read the wrong way round (\"texture\": "
-                           "\"height\" for a depth map or \"depth\" for a height map), or the "
-                           "scale's sign?"});
+    if (c_.userCode && c_.displaced && !c_.skipNoOffset && mean > 1.1 * none + 1.0) {
+        const std::string cause = worseThanNoneCause(mean);
+        const std::string head = "its mean error (" + formatNumber(mean, 4) +
+                                 " texels) is above no parallax's (" + formatNumber(none, 4) +
+                                 ") on this view: ";
+        if (cause.rfind("grazing", 0) == 0)
+            out.push_back({"grazing_breakdown", head + cause});
+        else
+            out.push_back({"worse_than_none",
+                           head + (cause.empty() ? "no cause found in its data (its (s, b) are "
+                                                   "the surface's, its offsets run the relief's "
+                                                   "way): the method itself"
+                                                 : cause)});
+    }
     if (all_.headOnNonfinite > 0)
         out.push_back({"nonfinite_head_on",
                        std::to_string(all_.headOnNonfinite) + " of " + std::to_string(all_.headOn) +
                            " pixels seen exactly head-on (V.xy = 0) have a non-finite uv' "
                            "(a division by |V.xy| or normalize(V.xy)?)"});
     return out;
+}
+
+std::string MethodChecks::worseThanNoneCause(double mean) const {
+    const double h = c_.meanHeight;
+    const double tanCompared = all_.compared > 0 ? all_.tanCompared / double(all_.compared) : 0;
+    // An amplitude or bias other than the surface's: the offsets differ by tan theta times
+    // the difference of the heights the two put at the map's mean.
+    const double delta = (c_.methodScale - c_.scale) * h + (c_.methodBias - c_.bias);
+    const double predicted = tanCompared * std::abs(delta) * c_.texelsPerUv;
+    if (std::abs(delta) > 1e-12 && predicted >= 0.5 * mean)
+        return "its (s, b) = (" + formatNumber(c_.methodScale, 4) + ", " +
+               formatNumber(c_.methodBias, 4) + ") are not the surface's (" +
+               formatNumber(c_.scale, 4) + ", " + formatNumber(c_.bias, 4) +
+               "): tan theta |delta(s h + b)| predicts " + formatNumber(predicted, 4) +
+               " texels of it (an amplitude or bias mismatch: a preset's engine cannot express "
+               "this b, or its own scale is set)";
+    // Offsets along V against the relief's: the mean offset parallax would make is
+    // tan theta (s h + b) along V.xy.
+    const double tanOblique = all_.oblique > 0 ? all_.tanOblique / double(all_.oblique) : 0;
+    const double along = all_.oblique > 0 ? all_.alongV / double(all_.oblique) : 0;
+    const double expected = tanOblique * (c_.methodScale * h + c_.methodBias);
+    if (std::abs(expected) > 1e-12 && along * expected < 0 &&
+        std::abs(along) > 0.25 * std::abs(expected))
+        return "its offsets run against the relief's (mean " + formatNumber(along, 4) +
+               " UV along V.xy where the relief asks " + formatNumber(expected, 4) +
+               "): is the map read the wrong way round (\"texture\": \"height\" for a depth "
+               "map or \"depth\" for a height map), or the scale's sign?";
+    const double degrees = std::atan(tanCompared) * 180.0 / kPi;
+    if (degrees >= 80)
+        return "grazing views (mean theta " + formatNumber(degrees, 3) +
+               " degrees), where an offset that does not bound itself breaks down (Welsh 2004; "
+               "the documents' known limit, not a misuse)";
+    return "";
 }
 
 std::string warningKinds(const std::vector<MethodWarning>& w) {

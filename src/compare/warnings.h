@@ -29,6 +29,10 @@ struct CheckContext {
     bool mapVaries = false;     // the height map is not constant
     bool skipNoOffset = false;  // "none": gives uv0 back by definition (no offset checks)
     bool userCode = false;      // a shader or preset (worse_than_none is asked of these)
+    // What worse_than_none's causes are tested with: the truth's (s, b), the method's, the
+    // map's mean height and texels per UV unit (docs/outputs.md "Warnings").
+    double scale = 0, bias = 0, methodScale = 0, methodBias = 0;
+    double meanHeight = 0.5, texelsPerUv = 1;
 };
 
 // The map a band's errors are measured on (compare/statistics.h uvErrorTexels).
@@ -48,6 +52,12 @@ class MethodChecks {
              const Image2D<MethodPixel>& pixels, const Image2D<float>& errors,
              const std::vector<float>& noneErrors);
     std::vector<MethodWarning> finish() const;
+    // Why the mean error is above no parallax's, tested on the data in this order: an (s, b)
+    // other than the surface's whose offset difference tan theta |delta(s h + b)| accounts
+    // for at least half the error; offsets along V of the opposite sign to the relief's (an
+    // inverted map or scale); a grazing view (mean theta >= 80 degrees), where an offset that
+    // does not bound itself breaks down as the documents say. Empty: none fits.
+    std::string worseThanNoneCause(double mean) const;
 
   private:
     // What the fragments of a band (or of a block of it) add up to.
@@ -55,9 +65,11 @@ class MethodChecks {
         int64_t oblique = 0;    // covered, finite, |V.xy| > 1e-3
         int64_t unchanged = 0;  // of those, uv' = uv0 (to float rounding)
         double alongV = 0;      // sum of (uv' - uv0) . V.xy / |V.xy| over them
+        double tanOblique = 0;  // sum of tan theta over them
         int64_t headOn = 0, headOnNonfinite = 0;
         int64_t compared = 0;            // finite uv', truth hit
         double errSum = 0, noneSum = 0;  // their errors in texels, the method's and uv0's
+        double tanCompared = 0;          // their tan theta summed
         bool oneView = true;             // every V within 1e-9 of the frame's first
         bool haveOffset = false;
         Vec2d offMin{0}, offMax{0};

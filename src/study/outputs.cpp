@@ -106,11 +106,9 @@ Json methodJson(const MethodFrame& m) {
     methodColumnsJson(m, j);  // the label and the timing, as results.csv's columns say them
     if (m.haveExactFrame) {
         // The error with the exact frame is the method's own; the rest of the mean is
-        // what the per-vertex tangent frame adds.
+        // what the per-vertex tangent frame adds. Both over the pixels with an exact frame.
         j["exact_frame"] = toJson(m.statsExactFrame);
-        double a = m.stats.error.mean, e = m.statsExactFrame.error.mean;
-        j["frame_share_of_mean"] =
-            a > 0 && std::isfinite(a) && std::isfinite(e) ? Json(1.0 - e / a) : Json(nullptr);
+        j["frame_share_of_mean"] = finiteOrNull(frameShareOfMean(m));
     }
     j["config"] = toJson(m.config);
     j["warnings"] = Json::array();
@@ -325,7 +323,8 @@ void interleaveFrameBand(const FrameBand& b, float* rows) {
             p[tail + 1] = shadowChannel(t.shadow);
             for (int c = 0; c < 3; ++c) {
                 p[view + size_t(c)] = f.covered ? float(f.viewTangent[c]) : NAN;
-                p[view + 3 + size_t(c)] = f.covered ? float(f.viewTangentExact[c]) : NAN;
+                p[view + 3 + size_t(c)] =
+                    f.covered && f.exactFrame ? float(f.viewTangentExact[c]) : NAN;
                 if (b.inputs)
                     p[view + 6 + size_t(c)] =
                         f.covered ? float(b.inputs->data[k].viewVertex[c]) : NAN;

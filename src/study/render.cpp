@@ -34,21 +34,33 @@ struct TruthInput {
     }
 };
 
-// The height map's lowest and highest h.
-std::pair<float, float> heightRange(const Texture& map) {
+// The height map's lowest, highest and mean h.
+struct HeightRange {
     float lo = INFINITY, hi = -INFINITY;
-    for (size_t k = 0; k < map.texels.size(); k += size_t(map.channels))
-        lo = std::min(lo, map.texels[k]), hi = std::max(hi, map.texels[k]);
-    return {lo, hi};
+    double mean = 0.5;
+};
+HeightRange heightRange(const Texture& map) {
+    HeightRange r;
+    double sum = 0;
+    size_t n = 0;
+    for (size_t k = 0; k < map.texels.size(); k += size_t(map.channels), ++n)
+        r.lo = std::min(r.lo, map.texels[k]), r.hi = std::max(r.hi, map.texels[k]),
+        sum += map.texels[k];
+    if (n > 0) r.mean = sum / double(n);
+    return r;
 }
 
 // What the warnings' checks need to know of a case (compare/warnings.h): the (s, b) the
 // method is given, where the true relief lies (the map's range [lo, hi]), whether the map
 // varies.
-CheckContext checkContext(float lo, float hi, const MethodConfig& cfg, const Displacement& d) {
-    const double s = std::isfinite(cfg.scale) ? cfg.scale : d.scale;
-    const double b = std::isfinite(cfg.bias) ? cfg.bias : d.bias;
+CheckContext checkContext(const HeightRange& range, int texelsPerUv, const MethodConfig& cfg,
+                          const Displacement& d) {
+    const float lo = range.lo, hi = range.hi;
+    const auto [s, b] = cfg.scaleBias(d.scale, d.bias);
     CheckContext c;
+    c.scale = d.scale, c.bias = d.bias, c.methodScale = s, c.methodBias = b;
+    c.meanHeight = range.mean;
+    c.texelsPerUv = texelsPerUv;
     c.displaced = s != 0 || b != 0;
     c.below =
         (d.scale != 0 || d.bias != 0) && d.scale * lo + d.bias <= 0 && d.scale * hi + d.bias <= 0;
@@ -63,6 +75,10 @@ struct MethodRun {
     const MethodConfig* config = nullptr;
     const MethodTextures* textures = nullptr;
     ErrorTally tally, tallyExact;
+    // The per-vertex frame's error summed over the pixels with an exact frame (those the
+    // exact pass counts), for the frame's share of the mean.
+    double sumWhereExact = 0;
+    int64_t countWhereExact = 0;
     MethodChecks checks;
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
@@ -127,13 +143,14 @@ class BandPipeline {
           r_(r),
           sampler_(timing.maxFragments, timing.seed) {
         const bool inPlace = options.keepImages || options.keepCodedErrors;
-        const auto [lo, hi] = heightRange(scene.height);  // once a frame, for every method
+        const HeightRange range = heightRange(scene.height);  // once a frame, for every method
         for (const MethodConfig& cfg : configs) {
             MethodRun m;
             m.config = &cfg;
             if (inPlace) m.tally = ErrorTally(r.camera.width(), r.camera.height());
             m.textures = &textures.get(cfg, r.view.displacement);
-            m.checks = MethodChecks(checkContext(lo, hi, cfg, r.view.displacement));
+            m.checks =
+                MethodChecks(checkContext(range, scene.height.width, cfg, r.view.displacement));
             runs_.push_back(std::move(m));
         }
     }
@@ -254,6 +271,7 @@ class BandPipeline {
         tg = Clock::now();
         std::vector<Image2D<MethodPixel>> glExact(runs_.size());
         drawGlsl(glExact);
+        const Image2D<TruthSample>& exactTruth = truthWhereExact();
         r_.timingsMs["methods_eval"] += msSince(tg);
         r_.timingsMs["methods"] += msSince(tg);
         for (size_t i = 0; i < runs_.size(); ++i) {
@@ -267,10 +285,43 @@ class BandPipeline {
             m.checks.add(*frags_, frags_->view, m.pixels, m.errTexels, noneErrors_);
             if (framesCanDiffer(scene_.base) && !frags_->pixel.empty()) {
                 if (!gl) evaluate(m, true, exactPixels_);
-                m.tallyExact.add(*truthBand_, gl ? glExact[i] : exactPixels_, map.width, map.height,
-                                 map.address);
+                Image2D<MethodPixel>& exact = gl ? glExact[i] : exactPixels_;
+                leaveOutNoExactFrame(exact, m);
+                m.tallyExact.add(exactTruth, exact, map.width, map.height, map.address);
             }
             r_.timingsMs["methods"] += msSince(t0);
+        }
+    }
+
+    // The band's truth for the exact pass: where a covered pixel's triangle has no exact frame
+    // (zero UV area), its hit is left out, so the exact pass counts only pixels it defines.
+    const Image2D<TruthSample>& truthWhereExact() {
+        const Image2D<Fragment>& frags = *fragments_;
+        const bool any = framesCanDiffer(scene_.base) &&
+                         std::any_of(frags.data.begin(), frags.data.end(),
+                                     [](const Fragment& f) { return f.covered && !f.exactFrame; });
+        if (!any) return *truthBand_;
+        truthWhereExact_ = *truthBand_;
+        for (size_t k = 0; k < frags.data.size(); ++k)
+            if (frags.data[k].covered && !frags.data[k].exactFrame)
+                truthWhereExact_.data[k].hit = false;
+        return truthWhereExact_;
+    }
+
+    // A method's exact-frame pixels without an exact frame left out (not covered: with the
+    // truth's hit left out too, they count as neither), and its per-vertex error summed over
+    // the rest.
+    void leaveOutNoExactFrame(Image2D<MethodPixel>& exact, MethodRun& m) const {
+        const Image2D<Fragment>& frags = *fragments_;
+        for (size_t k = 0; k < frags.data.size(); ++k) {
+            const Fragment& f = frags.data[k];
+            if (!f.covered) continue;
+            if (!f.exactFrame) {
+                exact.data[k].covered = false;
+                continue;
+            }
+            const float e = m.errTexels.data[k];
+            if (std::isfinite(e)) m.sumWhereExact += e, ++m.countWhereExact;
         }
     }
 
@@ -321,6 +372,8 @@ class BandPipeline {
             if (framesCanDiffer(scene_.base)) {
                 mf.statsExactFrame = m.tallyExact.finish();
                 mf.haveExactFrame = true;
+                mf.meanWhereExactFrame =
+                    m.countWhereExact ? m.sumWhereExact / double(m.countWhereExact) : NAN;
             }
         });
         r_.timingsMs["statistics"] = msSince(tStats);
@@ -366,8 +419,9 @@ class BandPipeline {
     Image2D<Fragment> ownFragments_;
     Image2D<FragmentInputs> ownInputs_;
     FragmentList ownFrags_;
-    Image2D<MethodPixel> exactPixels_;  // a built-in's pixels in the exact frame
-    std::vector<float> noneErrors_;     // uv0's error at each of the band's fragments
+    Image2D<MethodPixel> exactPixels_;      // a built-in's pixels in the exact frame
+    Image2D<TruthSample> truthWhereExact_;  // the truth for the exact pass (truthWhereExact)
+    std::vector<float> noneErrors_;         // uv0's error at each of the band's fragments
 };
 
 RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,

@@ -37,8 +37,11 @@ struct MethodFrame {
     FrameStats stats;
     // Meshes: the same method fed the exact frame; the difference to `stats` is the share
     // of the error caused by the per-vertex tangent frame.
+    // Meshes: the error with V in the exact frame, over the pixels whose triangle has one
+    // (not those of zero UV area), and the per-vertex frame's mean over the same pixels.
     FrameStats statsExactFrame;
     bool haveExactFrame = false;
+    double meanWhereExactFrame = NAN;
     double nsPerPixel = NAN;  // timing.median; NaN when not measured
     MethodTiming timing;      // its spread, repeats and workload
     // A study's GLSL methods are timed once per view direction (docs/studies.md): the case
@@ -53,6 +56,14 @@ struct MethodFrame {
     // Silent mistakes its output shows on this frame (compare/warnings.h).
     std::vector<MethodWarning> warnings;
 };
+
+// The share of a mesh's mean error that the per-vertex tangent frame adds: 1 - the exact
+// frame's mean / the per-vertex frame's mean, both over the pixels with an exact frame; NaN
+// where either is not finite or the mean is 0 (docs/outputs.md).
+inline double frameShareOfMean(const MethodFrame& m) {
+    const double a = m.meanWhereExactFrame, e = m.statsExactFrame.error.mean;
+    return a > 0 && std::isfinite(a) && std::isfinite(e) ? 1.0 - e / a : NAN;
+}
 
 struct RenderResult {
     ViewSpec view;  // the camera and (s, b) the frame was rendered with

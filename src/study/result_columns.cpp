@@ -139,6 +139,8 @@ std::vector<ResultColumn> errorColumns() {
         uncertainty("truth_uncertainty_max", &TruthUncertainty::maxTexels),
         exact("mean_exact_frame", &Summary::mean),
         exact("p90_exact_frame", &Summary::p90),
+        column("frame_share_of_mean", Part::Computed,
+               [](const Row& x) { return x.m.haveExactFrame ? frameShareOfMean(x.m) : NAN; }),
     };
 }
 
