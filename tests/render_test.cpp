@@ -9,7 +9,9 @@
 #include <map>
 
 #include "core/error.h"
+#include "methods/config.h"
 #include "study/outputs.h"
+#include "study/view_memory.h"
 #include "test_util.h"
 #include "truth/builder.h"
 
@@ -239,6 +241,30 @@ TEST(Render, TruthInBlocksMatchesTheWholeView) {
         EXPECT_NEAR(blocks.methods[m].stats.error.mean, whole.methods[m].stats.error.mean, 1e-5);
 }
 
+// A plane tiled 128 times, at rate 4 with the uncertainty's 2x-rate pass: its whole lattice
+// would hold 65537^2 vertices (more than 2^31: the scene was refused before), but a framed
+// view builds only its window's. The scene is accepted, estimated by what it builds, renders,
+// and its truth is the same surface's: it hits every pixel and its two passes agree.
+TEST(Render, AFinelyTiledPlaneCountsOnlyTheWindowItBuilds) {
+    const Scene s = parseScene(nlohmann::json::parse(R"({
+        "heightmap": {"procedural": "sine", "size": [64, 64]}, "address": "repeat",
+        "base": {"type": "plane", "size": 1.0, "tiling": 128},
+        "displacement": {"scale": 0.05, "bias": -0.025},
+        "camera": {"type": "orthographic", "theta": 40, "phi": 20, "frame": "fill",
+                   "fill_size": 0.02, "resolution": [48, 48]},
+        "methods": ["none", "pom"], "truth": {"rate": 4, "uncertainty": true}})"),
+                               "tiled.json");
+    const double bytes = estimateViewBytes(s, 48, 48, {.configs = &s.methods});
+    EXPECT_LT(bytes, 512.0 * 1024 * 1024);
+    EXPECT_LT(truthVertices(s, makeCamera(s)), 2e7);
+    const RenderResult r = renderFrame(s, {.timingRepeats = 0});
+    int64_t hits = 0;
+    for (const TruthSample& t : r.truth.data) hits += t.hit;
+    EXPECT_EQ(hits, 48 * 48);
+    EXPECT_LT(r.uncertainty.p99Texels, 0.05);
+    EXPECT_GT(r.methods[1].stats.error.count, 2000);
+}
+
 }  // namespace
 }  // namespace pgt
 
@@ -402,6 +428,58 @@ TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedForAndTheMapsTheirLegend) {
         EXPECT_GT(white, 20) << "no title text";
     }
     for (const auto& d : {all, some, none}) std::filesystem::remove_all(d);
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// Presets measure the scene's surface (docs/methods.md "Engine presets"): on a surface its
+// engine expresses (b = -s for LearnOpenGL's depth map), learnopengl_pom is pom with 8-32 layers
+// pixel for pixel; where the scene's b is another (-s/2), it runs at b = -s, its configuration
+// says so and the warnings name the mismatch; "amplitude": "shipped" keeps the shipped (0.1,
+// -0.1) under the label learnopengl_pom_shipped.
+TEST(Presets, OnTheScenesSurfaceADocumentPresetIsItsBuiltIn) {
+    auto scene = [](double s, double b) {
+        return parseScene(nlohmann::json::parse(R"({
+            "heightmap": {"procedural": "bricks", "size": [64, 64]},
+            "displacement": {"scale": )" + std::to_string(s) +
+                                                R"(, "bias": )" + std::to_string(b) + R"(},
+            "base": {"type": "plane", "infinite": true},
+            "camera": {"type": "orthographic", "theta": 60, "phi": 30, "frame": "fill",
+                       "resolution": [48, 48]},
+            "methods": [{"name": "pom", "min_layers": 8, "max_layers": 32},
+                        {"preset": "learnopengl_pom"},
+                        {"preset": "learnopengl_pom", "amplitude": "shipped"}],
+            "truth": {"rate": 1, "uncertainty": false}})"),
+                          "presets.json");
+    };
+    const RenderResult same = renderFrame(scene(0.04, -0.04), {.timingRepeats = 0});
+    ASSERT_EQ(same.methods.size(), 3u);
+    EXPECT_EQ(same.methods[1].config.label, "learnopengl_pom");
+    EXPECT_EQ(same.methods[2].config.label, "learnopengl_pom_shipped");
+    int differ = 0, apart = 0;
+    for (size_t k = 0; k < same.methods[0].pixels.data.size(); ++k) {
+        const Vec2d a = same.methods[0].pixels.data[k].uv, b = same.methods[1].pixels.data[k].uv;
+        differ += !(a == b || (std::isnan(a.x) && std::isnan(b.x)));
+        apart += glm::length(same.methods[2].pixels.data[k].uv - a) * 64 > 0.1;
+    }
+    EXPECT_EQ(differ, 0);
+    EXPECT_GT(apart, 500);  // the shipped (0.1, -0.1) is another surface
+    EXPECT_EQ(same.methods[1].stats.error.mean, same.methods[0].stats.error.mean);
+    // b = -s/2: the preset runs at b = -s (its configuration says so), pom at the scene's b.
+    const RenderResult other = renderFrame(scene(0.04, -0.02), {.timingRepeats = 0});
+    EXPECT_EQ(toJson(other.methods[1].config).value("bias_per_scale", 0.0), -1.0);
+    EXPECT_GT(other.methods[1].stats.error.mean, 2 * other.methods[0].stats.error.mean);
+    bool named = false;
+    for (const MethodWarning& w : other.methods[1].warnings)
+        named = named || (w.kind == "worse_than_none" &&
+                          w.text.find("amplitude or bias mismatch") != std::string::npos);
+    std::printf("learnopengl_pom at b = -s/2: %.4f texels, pom %.4f\n",
+                other.methods[1].stats.error.mean, other.methods[0].stats.error.mean);
+    if (!other.methods[1].warnings.empty()) EXPECT_TRUE(named);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "core/memory.h"
 #include "study/outputs.h"
 #include "study/render.h"
+#include "truth/builder.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -35,8 +36,9 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
                     methods * (sizeof(MethodPixel) + sizeof(float));
     double truth = 0;  // a plane's lattice (a mesh's truth is in its own estimate)
     if (scene.plane()) {
-        TruthWindow whole;  // not limited: the whole base
-        truth = truthVertices(scene, whole, whole) * kTruthBytesPerGridVertex;
+        // What the view's frame builds: the lattice over its window (frameWindow; the whole
+        // tile where the view needs it), not the whole plane at every rate.
+        truth = truthVertices(scene, makeCamera(scene)) * kTruthBytesPerGridVertex;
         if (m.truthInBlocks) {
             truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
             perPixel += 2.0 * sizeof(TruthSample);  // the blocks fill whole frames
@@ -59,9 +61,9 @@ double bytesBesideTruth(const Scene& scene, const Camera& camera, bool writesIma
                         bool keepsImages) {
     const ViewMemory view{
         .configs = &scene.methods, .writesImages = writesImages, .keepsImages = keepsImages};
-    TruthWindow tile;  // what estimateViewBytes counts for the lattice
+    const double lattice = scene.plane() ? truthVertices(scene, makeCamera(scene)) : 0.0;
     return estimateViewBytes(scene, camera.width(), camera.height(), view) -
-           truthVertices(scene, tile, tile) * kTruthBytesPerGridVertex +
+           lattice * kTruthBytesPerGridVertex +
            2.0 * sizeof(TruthSample) * camera.width() * camera.height();
 }
 

@@ -269,10 +269,26 @@ struct TruthSurface::Impl {
         return w.result;
     }
 
+    // How far a shadow ray starts off the surface at `p` (local frame) along the unit normal
+    // `n`: 1e-5 of the relief (a plane's l·|s|; a mesh's size, its relief bends with it), so
+    // that scaling the heights and the light's slope together changes no shadow, and never
+    // within float rounding of the point as Embree holds it (a periodic plane's within its
+    // tile), projected on the normal.
+    double shadowOffset(Vec3d p, Vec3d n) const {
+        const double relief = base->isGrid() ? base->worldPerUv * std::abs(built.scale)
+                                             : glm::length(boundsHi - boundsLo);
+        if (periodic) {
+            const double L = base->periodWorld;
+            p.x = std::remainder(p.x, L), p.y = std::remainder(p.y, L);
+        }
+        const double rounding = 64.0 * double(std::numeric_limits<float>::epsilon()) *
+                                (std::abs(p.x * n.x) + std::abs(p.y * n.y) + std::abs(p.z * n.z));
+        return std::max(1e-5 * relief, rounding);
+    }
+
     // The truth's shadow at the hit `s` of the ray `eye` (docs/model.md §5b): in shadow where
     // the sheet, on the side the eye sees, faces away from the light, or where a ray from the
-    // hit toward the light meets the sheet (it starts 1e-5 of the sheet's size off the
-    // surface, a hundredth of a triangle at the default rates, far above float rounding).
+    // hit toward the light meets the sheet (it starts shadowOffset off the surface).
     int8_t shadowAt(const Ray& eye, const TruthSample& s, Vec3d ng, Vec3d light,
                     RTCIntersectContext* ctx) const {
         if (!s.hit) return kShadowNone;
@@ -286,7 +302,7 @@ struct TruthSurface::Impl {
         ng /= len;
         if (!(glm::dot(ng, light) > 0)) return kShadowDark;
         const Vec3d p = eye.origin + eye.dir * s.t;
-        const double eps = 1e-5 * std::max(glm::length(boundsHi - boundsLo), glm::length(p));
+        const double eps = shadowOffset(p - base->origin - shift, ng);
         return trace(Ray{p + ng * eps, light, false}, ctx).hit ? kShadowDark : kShadowLit;
     }
 

@@ -150,8 +150,8 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
     m.periodUv = plane.tiling;
     // `rate` samples per texel per axis over the texels the plane covers.
     const PlaneLattice lattice(plane, height, rate);
-    // The scene parser bounds the vertex count; this keeps the int conversion defined.
-    PGT_CHECK_LT(lattice.vertices(), double(int64_t(1) << 31));
+    // The scene parser bounds the sides; this keeps the int conversion defined.
+    PGT_CHECK_LT(std::max(lattice.nu, lattice.nv), double(int64_t(1) << 30));
     g.nu = g.fullNu = int(lattice.nu);
     g.nv = g.fullNv = int(lattice.nv);
     g.invNu = 1.0 / g.nu;
@@ -166,6 +166,8 @@ std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
         g.offsetI = int(su.first), g.nu = int(su.count);
         g.offsetJ = int(sv.first), g.nv = int(sv.count);
     }
+    // What is built: the memory estimate refuses a larger lattice before any work.
+    PGT_CHECK_LT((double(g.nu) + 1) * (double(g.nv) + 1), double(int64_t(1) << 32));
     m.tessellateMs = msSince(t0);
     return out;
 }
