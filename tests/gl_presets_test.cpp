@@ -19,7 +19,7 @@ namespace pgt {
 namespace {
 
 GlslRun runPreset(const std::string& name, const Texture& t, const test::Fragments& in) {
-    MethodConfig cfg = test::method(R"({"preset":")" + name + "\"}");
+    MethodConfig cfg = test::method(R"({"preset":")" + name + R"(","amplitude":"shipped"})");
     EXPECT_EQ(cfg.preset, name);
     return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
 }

@@ -340,7 +340,7 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
     Inputs in = randomInputs(400, 13);
     auto preset = [&](const char* name) {
         MethodConfig cfg =
-            parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
+            parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + R"(","amplitude":"shipped"})"),
                         "scene.json", "methods[0]");
         EXPECT_EQ(cfg.preset, name);
         return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
@@ -365,7 +365,7 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
 // The source documents' own settings are the built-in methods with their (s, b).
 TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     auto preset = [](const char* name) {
-        return parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + "\"}"),
+        return parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + R"(","amplitude":"shipped"})"),
                            "scene.json", "methods[0]");
     };
     MethodConfig welsh = preset("welsh");
@@ -377,7 +377,7 @@ TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     EXPECT_EQ(blog.builtin()->maxLayers, 100);
     EXPECT_EQ(blog.builtin()->maxSteps, 100);
     EXPECT_EQ(blog.scale, 0.15);
-    EXPECT_EQ(blog.label, "deferred_blog");
+    EXPECT_EQ(blog.label, "deferred_blog_shipped");
     MethodConfig lpom = preset("learnopengl_pom");
     EXPECT_EQ(lpom.builtin()->kind, MethodKind::Pom);
     EXPECT_EQ(lpom.scale, 0.1);

@@ -479,7 +479,9 @@ TEST(Presets, OnTheScenesSurfaceADocumentPresetIsItsBuiltIn) {
                           w.text.find("amplitude or bias mismatch") != std::string::npos);
     std::printf("learnopengl_pom at b = -s/2: %.4f texels, pom %.4f\n",
                 other.methods[1].stats.error.mean, other.methods[0].stats.error.mean);
-    if (!other.methods[1].warnings.empty()) EXPECT_TRUE(named);
+    if (!other.methods[1].warnings.empty()) {
+        EXPECT_TRUE(named);
+    }
 }
 
 }  // namespace

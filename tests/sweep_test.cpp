@@ -102,6 +102,7 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
                                                  "truth_uncertainty_max",
                                                  "mean_exact_frame",
                                                  "p90_exact_frame",
+                                                 "frame_share_of_mean",
                                                  "timing_backend",
                                                  "ns_per_px_p25",
                                                  "ns_per_px_p75",

@@ -139,6 +139,14 @@ void parseTruth(Scene& s, JsonFields& root) {
         // estimate counts (study/view_memory.h).
         const PlaneLattice lattice(*plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1));
         const double side = std::max(lattice.nu, lattice.nv);
+        // A view framing the whole plane builds all of it: refused here, from the map's size
+        // alone (an image's header), before anything is decoded.
+        if (s.camera.frame == Framing::Plane && lattice.vertices() > double(1u << 31))
+            throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
+                             "rate x map size x tiling asks for " +
+                                 std::to_string(int64_t(lattice.vertices())) +
+                                 " truth vertices (more than 2^31) for a view of the whole "
+                                 "plane; lower the rate or the tiling, or frame less of it");
         if (side > double(1 << 30))
             throw InputError(s.file, "truth.rate", std::to_string(s.truth.rate),
                              "rate x map size x tiling asks for " + std::to_string(int64_t(side)) +
