@@ -339,9 +339,9 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
     Texture t = test::makeTexture(16, 16, [&](int, int) { return h; });
     Inputs in = randomInputs(400, 13);
     auto preset = [&](const char* name) {
-        MethodConfig cfg =
-            parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + R"(","amplitude":"shipped"})"),
-                        "scene.json", "methods[0]");
+        MethodConfig cfg = parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name +
+                                                             R"(","amplitude":"shipped"})"),
+                                       "scene.json", "methods[0]");
         EXPECT_EQ(cfg.preset, name);
         return runGlsl(*cfg.shader(), MapRefs{.height = &t}, 0.05, -0.025, in.uv0, in.view);
     };
@@ -365,7 +365,8 @@ TEST(Gl, EnginePresetsHaveTheirClosedFormsOnFlatDepth) {
 // The source documents' own settings are the built-in methods with their (s, b).
 TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     auto preset = [](const char* name) {
-        return parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name + R"(","amplitude":"shipped"})"),
+        return parseMethod(nlohmann::json::parse(std::string(R"({"preset":")") + name +
+                                                 R"(","amplitude":"shipped"})"),
                            "scene.json", "methods[0]");
     };
     MethodConfig welsh = preset("welsh");
