@@ -354,7 +354,7 @@ TEST(Shadows, TheHardMarchEndsExactlyAtTheTop) {
 TEST(Shadows, ScalingTheReliefWithTheLightsSlopeKeepsEveryShadow) {
     const double cot0 = 1.0 / std::tan(60.0 * kPi / 180.0);
     double first = -1;
-    for (double k : {1.0, 1e-1, 1e-2}) {
+    for (double k : {1.0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6}) {
         Scene sc = litPlane(test::bricks(32), 0.1 * k, -0.05 * k, 0, 0, 64, R"(["none"])");
         sc.light = LightSpec{std::atan2(1.0, k * cot0) * 180.0 / kPi, 30};
         const RenderResult r = renderFrame(sc, {.timingRepeats = 0});

@@ -71,6 +71,25 @@ struct TruthSurface::Impl {
         return 2;
     }
 
+    // The vertex indices of the one triangle a hit lies on (a grid cell is split along its
+    // (1,0)-(0,1) diagonal, as Embree splits a grid's quads and cellUv interpolates).
+    void hitTriangle(const RTCRayHit& rh, uint32_t tri[3]) const {
+        uint32_t out[2][3];
+        int pick = 0;
+        if (candidates(rh, out) == 2) {
+            if (geometry == TruthGeometry::Grid) {
+                const RTCGrid& g = grids[rh.hit.primID];
+                const double gx = double(rh.hit.u) * (g.width - 1);
+                const double gy = double(rh.hit.v) * (g.height - 1);
+                const int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
+                pick = (gx - ci) + (gy - cj) <= 1 ? 0 : 1;
+            } else {
+                pick = int(rh.hit.primID % 2);
+            }
+        }
+        std::copy(out[pick], out[pick] + 3, tri);
+    }
+
     // Vertex UVs interpolated over the triangle of cell (ci, cj) containing local (fx, fy):
     // the cell is split along its (1,0)-(0,1) diagonal.
     Vec2d cellUv(int ci, int cj, double fx, double fy) const {
@@ -206,8 +225,7 @@ struct TruthSurface::Impl {
         w.result = hitToSample(rh);
         if (w.result.hit) {
             w.result.uv += w.uvOffset;
-            w.result.t = w.t + double(rh.ray.tfar);
-            w.ng = Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+            w.result.t = w.t + refinedDistance(w, rh, w.ng);
             w.done = true;
             return;
         }
@@ -223,6 +241,27 @@ struct TruthSurface::Impl {
         } else if (++w.guard >= 100000) {
             w.done = true;  // not a hole: the walk gave up inside the slab
         }
+    }
+
+    // The stretch's distance to its hit, and the hit triangle's normal (unnormalised), in
+    // double: the ray met with the plane of the triangle Embree reports, its vertices as Embree
+    // holds them. Embree's float distance is off by float rounding of the stretch (~1e-7 of
+    // its length), which is more than a tiny relief is tall (docs/model.md §5b): a shadow ray
+    // from such a point could start under the surface it leaves. Embree's own distance stays
+    // where the two disagree by more than rounding (a ray along the triangle's plane).
+    double refinedDistance(const Walk& w, const RTCRayHit& rh, Vec3d& ng) const {
+        const double tf = double(rh.ray.tfar);
+        ng = Vec3d(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+        uint32_t tri[3];
+        hitTriangle(rh, tri);
+        const Vec3d v0(vertices[tri[0]]), v1(vertices[tri[1]]), v2(vertices[tri[2]]);
+        const Vec3d n = glm::cross(v1 - v0, v2 - v0);
+        const double denom = glm::dot(w.dir, n);
+        if (!(std::abs(denom) > 0)) return tf;
+        const double t = glm::dot(v0 - w.segOrg, n) / denom;
+        if (!(std::abs(t - tf) <= 1e-4 * (tf + margin))) return tf;
+        ng = n;
+        return t;
     }
 
     // Whether a ray that met nothing had to meet a plane's sheet: a plane's displaced sheet is
