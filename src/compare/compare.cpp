@@ -127,6 +127,9 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
     foundScratch_.resize(inPlace_ ? 0 : n);
     depthScratch_.resize(n);
     std::vector<uint32_t> found(blocks, 0), depths(blocks, 0);
+    // Each block's signed depth sum apart, added in block order below: a sum joined in the
+    // reduction's order would differ from run to run in its last digits.
+    std::vector<double> depthSums(blocks, 0.0);
     all_ += tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, blocks), CompareTally{},
         [&](const tbb::blocked_range<size_t>& r, CompareTally acc) {
@@ -139,7 +142,7 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
                         const double d =
                             depthErrorTexels(truth.data[k], method.data[k], texWidth, texHeight);
                         if (std::isfinite(d)) {
-                            acc.depthSignedSum += d;
+                            depthSums[b] += d;
                             depthScratch_[b * block + depths[b]++] = float(std::fabs(d));
                         }
                     }
@@ -152,6 +155,7 @@ void ErrorTally::add(const Image2D<TruthSample>& truth, const Image2D<MethodPixe
         },
         [](CompareTally x, const CompareTally& y) { return x += y; });
     for (size_t b = 0; b < blocks; ++b) {
+        all_.depthSignedSum += depthSums[b];
         const auto at = [&](std::vector<float>& v) { return v.begin() + int64_t(b * block); };
         if (!inPlace_)
             errors_.insert(errors_.end(), at(foundScratch_), at(foundScratch_) + found[b]);
