@@ -240,6 +240,29 @@ TEST(MeshRender, BundledMeshScenesRender) {
 namespace pgt {
 namespace {
 
+// An 8 x 8 quad grid on z = 0 as an OBJ, its v bent by `bend` * sin(pi x) (0: an affine UV
+// map); `collapse` >= 0 gives that column of quads zero UV width (column collapse + 1's u is
+// column collapse's), so its triangles have no exact tangent frame.
+void writeUvGrid(const std::filesystem::path& path, double bend, int collapse = -1) {
+    std::ofstream obj(path);
+    const int n = 8;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const int iu = collapse >= 0 && i == collapse + 1 ? collapse : i;
+            obj << "vt " << double(iu) / n << " " << double(j) / n + bend * std::sin(kPi * i / n)
+                << "\n";
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
+            obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c << " " << d
+                << "/" << d << "\n";
+        }
+}
+
 // The exact-frame split responds to the tangent frame: on a flat grid whose UVs are an
 // affine map the Listing 7.4 frame is exact (share 0); bend the UV map (v shifted by a sine
 // of x, so the direction of dS/du turns across the mesh) and neighbouring triangles disagree
@@ -248,23 +271,7 @@ namespace {
 // 7.8 rebuilds B from n x t.)
 TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
     auto dir = test::tempDir("bentuv");
-    auto writeGrid = [&](const std::string& name, double bend) {
-        std::ofstream obj(dir / name);
-        const int n = 8;
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i)
-                obj << "v " << double(i) / n - 0.5 << " " << double(j) / n - 0.5 << " 0\n";
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i)
-                obj << "vt " << double(i) / n << " " << double(j) / n + bend * std::sin(kPi * i / n)
-                    << "\n";
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i) {
-                int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 2, d = a + n + 1;
-                obj << "f " << a << "/" << a << " " << b << "/" << b << " " << c << "/" << c << " "
-                    << d << "/" << d << "\n";
-            }
-    };
+    auto writeGrid = [&](const std::string& name, double bend) { writeUvGrid(dir / name, bend); };
     writeGrid("affine.obj", 0.0);
     writeGrid("bent.obj", 0.3);
     auto share = [&](const std::string& obj) {
@@ -303,6 +310,50 @@ TEST(MeshRender, FrameShareIsZeroForAffineUvsAndNotForBentOnes) {
     // The two V channels agree where the frames do, and part where they do not.
     EXPECT_LT(affineApart, 1e-6);
     EXPECT_GT(bentApart, 1e-3);
+    std::filesystem::remove_all(dir);
+}
+
+// Pixels whose triangle has zero UV area have no exact frame: frame.exr's base.Vexact is NaN
+// there (not a copy of base.V), the exact pass leaves them out, and frame_share_of_mean
+// compares the two frames over the same pixels only: the per-vertex frame's mean over the
+// pixels with an exact frame, recomputed here from the kept per-pixel errors.
+TEST(MeshRender, PixelsWithoutAnExactFrameAreMarkedAndLeftOut) {
+    auto dir = test::tempDir("degenerateuv");
+    writeUvGrid(dir / "grid.obj", 0.3, 3);
+    const std::string json = R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
+        "displacement": {"scale": 0.05, "bias": -0.025},
+        "base": {"type": "mesh", "file": "grid.obj", "scheme": "bilinear", "refine": 0},
+        "camera": {"type": "orthographic", "theta": 60, "phi": 30, "resolution": [64, 64]},
+        "methods": ["parallax"], "truth": {"rate": 2, "uncertainty": false}})";
+    Scene s = parseScene(nlohmann::json::parse(json), (dir / "s.json").string());
+    RenderResult r = renderFrame(s, {.timingRepeats = 1});
+    const MethodFrame& m = r.methods[0];
+    ASSERT_TRUE(m.haveExactFrame);
+    EXPECT_GT(r.raster.noExactFrame, 100);
+    const std::vector<std::string> names = frameChannelNames(s.methods);
+    const size_t nc = names.size();
+    const size_t vx =
+        size_t(std::find(names.begin(), names.end(), "base.Vexact.x") - names.begin());
+    std::vector<float> px(size_t(r.camera.width()) * r.camera.height() * nc);
+    interleaveFrameBand(wholeFrameBand(r), px.data());
+    int64_t without = 0, with = 0;
+    double sum = 0;
+    for (size_t k = 0; k < r.fragments.data.size(); ++k) {
+        const Fragment& f = r.fragments.data[k];
+        if (!f.covered) continue;
+        if (!f.exactFrame) {
+            ++without;
+            EXPECT_TRUE(std::isnan(px[k * nc + vx])) << k;
+        } else if (std::isfinite(m.errTexels.data[k])) {
+            ++with, sum += m.errTexels.data[k];
+        }
+    }
+    EXPECT_EQ(without, r.raster.noExactFrame);
+    EXPECT_EQ(m.statsExactFrame.error.count, with);
+    EXPECT_LT(m.statsExactFrame.error.count, m.stats.error.count);
+    EXPECT_NEAR(m.meanWhereExactFrame, sum / double(with), 1e-9 * sum / double(with));
+    EXPECT_NEAR(frameShareOfMean(m), 1.0 - m.statsExactFrame.error.mean / (sum / double(with)),
+                1e-9);
     std::filesystem::remove_all(dir);
 }
 
