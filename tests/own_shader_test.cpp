@@ -421,6 +421,61 @@ TEST(OwnShader, SilentMistakesAreWarned) {
         EXPECT_EQ(headOn.at(fine), "") << fine;  // nothing to see without V.xy
 }
 
+// worse_than_none names the cause that fits the data: the same parallax (uv + V.xy / V.z
+// (s h + b)) with its own b set (0.1 where the surface's is -0.05) is an amplitude or bias
+// mismatch, with its sign turned it runs against the relief, and on the surface's own (s, b)
+// at 80 degrees (bricks, s 0.1, b -0.1) it is the documents' known grazing breakdown, its own
+// kind (an orthographic view's mean angle is 80 to a rounding).
+TEST(OwnShader, WorseThanNoneNamesItsCause) {
+    const auto dir = test::tempDir("own_shader_causes");
+    std::ofstream(dir / "p.glsl")
+        << "#version 330\nuniform sampler2D depthMap;\n"
+           "vec2 F(vec2 uv, vec3 V, float s, float b) {\n"
+           "    return uv + V.xy / V.z * (s * texture(depthMap, uv).r + b);\n}\n"
+           "vec2 G(vec2 uv, vec3 V, float s, float b) {\n"
+           "    return uv - V.xy / V.z * (s * texture(depthMap, uv).r + b);\n}\n";
+    const std::string file = (dir / "p.glsl").string();
+    const nlohmann::json methods = {
+        "none",
+        {{"name", "right"}, {"glsl", file}, {"call", "F(uv, V, s, b)"}, {"texture", "height"}},
+        {{"name", "doubled"},
+         {"glsl", file},
+         {"call", "F(uv, V, s, b)"},
+         {"texture", "height"},
+         {"bias", 0.1}},
+        {{"name", "against"}, {"glsl", file}, {"call", "G(uv, V, s, b)"}, {"texture", "height"}}};
+    auto warned = [&](double theta, double bias) {
+        nlohmann::json scene = nlohmann::json::parse(R"({
+            "heightmap": {"procedural": "bricks", "size": [64, 64]},
+            "base": {"type": "plane", "infinite": true},
+            "camera": {"type": "orthographic", "phi": 0, "frame": "fill", "resolution": [48, 48]},
+            "truth": {"rate": 1, "uncertainty": false}})");
+        scene["displacement"] = {{"scale", 0.1}, {"bias", bias}};
+        scene["camera"]["theta"] = theta;
+        scene["methods"] = methods;
+        const RenderResult r =
+            renderFrame(parseScene(scene, (dir / "s.json").string()), {.timingRepeats = 0});
+        std::map<std::string, MethodWarning> out;
+        for (const MethodFrame& m : r.methods)
+            for (const MethodWarning& w : m.warnings)
+                if (w.kind == "worse_than_none" || w.kind == "grazing_breakdown")
+                    out[m.config.name] = w;
+        return out;
+    };
+    const auto at60 = warned(60, -0.05);
+    EXPECT_EQ(at60.count("right"), 0u);
+    ASSERT_EQ(at60.count("doubled"), 1u);
+    EXPECT_NE(at60.at("doubled").text.find("amplitude or bias mismatch"), std::string::npos)
+        << at60.at("doubled").text;
+    ASSERT_EQ(at60.count("against"), 1u);
+    EXPECT_NE(at60.at("against").text.find("run against the relief"), std::string::npos)
+        << at60.at("against").text;
+    const auto at80 = warned(80, -0.1);
+    ASSERT_EQ(at80.count("right"), 1u);
+    EXPECT_EQ(at80.at("right").kind, "grazing_breakdown") << at80.at("right").text;
+    EXPECT_NE(at80.at("right").text.find("mean theta 80 degrees"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace pgt
 

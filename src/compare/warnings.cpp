@@ -153,9 +153,10 @@ std::string MethodChecks::worseThanNoneCause(double mean) const {
         return "its (s, b) = (" + formatNumber(c_.methodScale, 4) + ", " +
                formatNumber(c_.methodBias, 4) + ") are not the surface's (" +
                formatNumber(c_.scale, 4) + ", " + formatNumber(c_.bias, 4) +
-               "): tan theta |delta(s h + b)| predicts " + formatNumber(predicted, 4) +
-               " texels of it (an amplitude or bias mismatch: a preset's engine cannot express "
-               "this b, or its own scale is set)";
+               "): the difference moves its offsets by tan theta |delta(s h + b)| = " +
+               formatNumber(predicted, 4) +
+               " texels (an amplitude or bias mismatch: a preset's engine cannot express this "
+               "b, or its own scale is set)";
     // Offsets along V against the relief's: the mean offset parallax would make is
     // tan theta (s h + b) along V.xy.
     const double tanOblique = all_.oblique > 0 ? all_.tanOblique / double(all_.oblique) : 0;
@@ -167,11 +168,13 @@ std::string MethodChecks::worseThanNoneCause(double mean) const {
                " UV along V.xy where the relief asks " + formatNumber(expected, 4) +
                "): is the map read the wrong way round (\"texture\": \"height\" for a depth "
                "map or \"depth\" for a height map), or the scale's sign?";
+    // (An orthographic view at 80 degrees has atan(mean tan) a rounding below 80.)
     const double degrees = std::atan(tanCompared) * 180.0 / kPi;
-    if (degrees >= 80)
+    if (degrees >= 80 - 1e-6)
         return "grazing views (mean theta " + formatNumber(degrees, 3) +
-               " degrees), where an offset that does not bound itself breaks down (Welsh 2004; "
-               "the documents' known limit, not a misuse)";
+               " degrees), where parallax approximations break down (an offset grows as tan "
+               "theta, a march's steps grow coarse: the documents' known limit, Welsh 2004, "
+               "not a misuse)";
     return "";
 }
 

@@ -55,8 +55,8 @@ class MethodChecks {
     // Why the mean error is above no parallax's, tested on the data in this order: an (s, b)
     // other than the surface's whose offset difference tan theta |delta(s h + b)| accounts
     // for at least half the error; offsets along V of the opposite sign to the relief's (an
-    // inverted map or scale); a grazing view (mean theta >= 80 degrees), where an offset that
-    // does not bound itself breaks down as the documents say. Empty: none fits.
+    // inverted map or scale); a grazing view (mean theta >= 80 degrees), where parallax
+    // approximations break down as the documents say. Empty: none fits.
     std::string worseThanNoneCause(double mean) const;
 
   private:
