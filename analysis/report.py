@@ -17,7 +17,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, save_figure, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
-from report_configs import fig_heatmaps, storage_lines  # noqa: E402
+from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
@@ -199,11 +199,20 @@ def header_lines(df, study):
     return lines
 
 
-def ranking_note(n_common, n_total, flagged):
-    """Which cases the figures and tables average over, and who had non-finite uv'."""
+def ranking_note(n_common, n_total, flagged, renamed):
+    """Which cases the figures and tables average over, who runs on its own surface only, and
+    who had non-finite uv'."""
     lines = [f"Every figure, ranking and table below is over the {n_common} of {n_total} cases "
              "that every configuration finished with a finite mean error; a configuration's "
              "error is averaged over those same cases."]
+    if renamed:
+        lines += ["", "Presets marked `[b/s R]` run at b = R·s whatever the case's b (their "
+                  "engine cannot express another: results.csv's `params` bias_per_scale, "
+                  "docs/methods.md \"Engine presets\"); they are averaged over the cases whose "
+                  "surface is at that b/s only, the surface they can be given (`[runs at b/s "
+                  "R]`: the study has no such case, so every case counts, surfaces they were "
+                  "not given included): "
+                  + ", ".join(f"`{l}`" for l in renamed) + "."]
     if flagged:
         lines += ["", "Configurations marked ⚠ had pixels with a non-finite uv' (counted, never "
                   "averaged: see \"Stiff cases counted\") in some cases: "
@@ -337,6 +346,8 @@ def main():
     common, n_common, n_total, flagged = common_cases(df)
     if common.empty:
         sys.exit(f"{args.dir}: no case that every configuration finished with a finite error")
+    common, renamed = own_surface(common)
+    flagged = {renamed.get(l, l): n for l, n in flagged.items()}
 
     # The heat maps and the angle figures draw in two forked workers while this process
     # draws the rest (matplotlib drawing is most of the report's time).
@@ -355,7 +366,7 @@ def main():
     pool.close()
     pool.join()
 
-    lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged)
+    lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged, renamed)
              + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
                              flagged)
              + defaults_lines(table, table80, heat)

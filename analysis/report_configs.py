@@ -35,6 +35,45 @@ def common_cases(df):
     return rows, len(good), total, flagged
 
 
+def fixed_bias_ratio(params):
+    """The b/s a configuration runs at whatever the case's b (params' `bias_per_scale`: a preset
+    whose engine cannot express another b), or None."""
+    try:
+        r = json.loads(params).get("bias_per_scale")
+    except (TypeError, ValueError, AttributeError):
+        return None
+    return None if r is None else float(r)
+
+
+def own_surface(df):
+    """Rows with each fixed-b configuration measured on its own surface only: a preset that runs
+    at b/s = R whatever the case's b (fixed_bias_ratio) keeps the cases whose surface is at R,
+    where the study has some, so it is ranked on the surface its engine can be given and not
+    on surfaces it was never given. Its label gains " [b/s R]" (" [runs at b/s R]" where the
+    study has no case at R: every case kept), so every table and figure says so beside its row.
+    Returns the rows and {label: its new label}."""
+    if "params" not in df.columns or "bias_ratio" not in df.columns or df.empty:
+        return df, {}
+    keep = np.ones(len(df), dtype=bool)
+    renamed = {}
+    for label, params in df.groupby("label", sort=False)["params"].first().items():
+        ratio = fixed_bias_ratio(params)
+        if ratio is None:
+            continue
+        rows = (df["label"] == label).values
+        at = rows & (np.abs(df["bias_ratio"].values - ratio) < 1e-9)
+        if at.all() or not rows.any() or at[rows].all():
+            continue  # every case of it is on its own surface
+        if at.any():
+            keep &= ~(rows & ~at)
+            renamed[label] = f"{label} [b/s {ratio:g}]"
+        else:
+            renamed[label] = f"{label} [runs at b/s {ratio:g}]"
+    out = df[keep].copy()
+    out["label"] = out["label"].replace(renamed)
+    return out, renamed
+
+
 def _grid(n):
     cols = min(3, n)
     return int(math.ceil(n / cols)), cols
@@ -77,12 +116,14 @@ def _angle_panel(ax, sub, family, labels, same):
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
     ax.set_title(family, fontsize=9)
     ax.tick_params(labelsize=7)
-    ax.legend(fontsize=6)
+    if series:
+        ax.legend(fontsize=6)
 
 
 def fig_error_vs_theta(df, figdir):
-    """One figure per scale (at the bias ratio nearest -1/2): a panel per family with every
-    configuration of it; mean error, and the p50..p90 band where a panel has few lines."""
+    """One figure per scale (at the bias ratio nearest -1/2; a preset kept to its own surface
+    at that surface's): a panel per family with every configuration of it; mean error, and
+    the p50..p90 band where a panel has few lines."""
     out = []
     ratios = sorted(df["bias_ratio"].dropna().unique())
     fams = families(df)
@@ -90,7 +131,9 @@ def fig_error_vs_theta(df, figdir):
         sub = df[df["scale"] == scale]
         ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
         if ratios:
-            sub = sub[np.isclose(sub["bias_ratio"], ratio)]
+            # A preset kept to its own surface (own_surface: "[b/s R]") is drawn there.
+            at = np.isclose(sub["bias_ratio"], ratio)
+            sub = sub[at | ~sub["label"].isin(set(sub[at]["label"]))]
         # Equal curves are named across the panels, not only within one.
         everything = [s for labels in fams.values() for s in _angle_series(sub, labels)]
         same = _duplicates([(l, r["mean"].values) for l, r in everything])

@@ -7,6 +7,7 @@ import math
 import os
 
 from common import nice, np, plt, save_figure
+from report_configs import fixed_bias_ratio
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X"]
 
@@ -37,7 +38,9 @@ def _row(label, g):
     fit = g[g["bias_ratio"] == ratio]
     by_theta = fit.groupby("theta")["mean"].mean()
     bad = g[g["nonfinite"] > 0]
-    return {"label": label, "ratio": ratio, "fit_mean": by_ratio.min(),
+    fixed = fixed_bias_ratio(g["params"].iloc[0])
+    return {"label": label, "runs_at": "the case's" if fixed is None else nice(fixed),
+            "ratio": ratio, "fit_mean": by_ratio.min(),
             "worst_theta": by_theta.idxmax(), "worst": by_theta.max(),
             "head_on": by_theta.get(0, float("nan")),
             "nonfinite": int(g["nonfinite"].sum()),
@@ -87,18 +90,20 @@ def engine_lines(df, figdir=None):
         return []
     rows = [_row(label, g) for label, g in presets.groupby("label", sort=False)]
     lines = ["## What each preset gets wrong, and where", "",
-             "Per preset (an engine's or a document's shipped defaults): the bias ratio b/s of "
-             "the surface it fits best and its mean error there, the view angle where that "
-             "error is largest, its error head-on, its non-finite pixels, and the largest of "
-             "these defects. The figure draws each preset's error against view angle on the "
-             "surface it fits best, a panel per engine.", ""]
+             "Per preset (an engine's or a document's parallax on the study's surfaces, its "
+             "amplitude mapped from the case's s; `_shipped`: at the values its engine ships): "
+             "the b/s it runs at (the case's, or the one its engine can express), the bias "
+             "ratio b/s of the surface it fits best and its mean error there, the view angle "
+             "where that error is largest, its error head-on, its non-finite pixels, and the "
+             "largest of these defects. The figure draws each preset's error against view "
+             "angle on the surface it fits best, a panel per engine.", ""]
     if figdir:
         name = _fig_engines(presets, rows, figdir)
         lines += [f"![{name}](figures/{name})", ""]
-    lines += ["| preset | fits b/s | mean there | worst theta | mean there | head-on | "
-              "non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|"]
+    lines += ["| preset | runs at b/s | fits b/s | mean there | worst theta | mean there | "
+              "head-on | non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['label']} | {nice(r['ratio'])} | {nice(r['fit_mean'])} | "
+        lines.append(f"| {r['label']} | {r['runs_at']} | {nice(r['ratio'])} | {nice(r['fit_mean'])} | "
                      f"{nice(r['worst_theta'])} | {nice(r['worst'])} | {nice(r['head_on'])} | "
                      f"{r['nonfinite']} | {_defect(r)} |")
     lines.append("")

@@ -17,6 +17,7 @@ except ImportError:
 
 sys.path.insert(0, os.path.join(sys.argv[2], "analysis"))
 from report_depth import depth_shadow_lines  # noqa: E402
+from report_configs import own_surface  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
 
@@ -25,6 +26,8 @@ def rows():
     for label, method, preset in (("pom", "pom", None), ("shifty", "shifty", "shifty"),
                                   ("nanny", "nanny", "nanny"), ("calm", "calm", "calm")):
         params = json.dumps({"preset": preset} if preset else {"precision": "float"})
+        if label == "calm":  # its engine expresses b = -s only
+            params = json.dumps({"preset": preset, "bias_per_scale": -1.0})
         for theta in (0, 40, 80):
             for ratio in (-0.5, -1.0):
                 mean = {"pom": 0.1, "calm": 0.2 + theta / 10 + (ratio == -0.5) * 5}.get(label, 2.0)
@@ -56,12 +59,25 @@ lines = engine_lines(df)
 table = {l.split("|")[1].strip(): [c.strip() for c in l.split("|")[1:-1]]
          for l in lines if l.startswith("| ") and not l.startswith("| preset")}
 check("pom" not in table, "a built-in is not a preset")
-check(table["calm"][1] == "-1", f"calm fits b/s -1, got {table['calm']}")
-check(table["calm"][3] == "80" and table["calm"][4] == "8.2", f"calm's worst angle: {table['calm']}")
-check("grows to 8.2 texels at theta 80" in table["calm"][7], f"calm's defect: {table['calm']}")
-check("non-finite uv' on 14 pixels (view angles 0)" in table["nanny"][7],
+check(table["calm"][2] == "-1", f"calm fits b/s -1, got {table['calm']}")
+check(table["calm"][4] == "80" and table["calm"][5] == "8.2", f"calm's worst angle: {table['calm']}")
+check("grows to 8.2 texels at theta 80" in table["calm"][8], f"calm's defect: {table['calm']}")
+check("non-finite uv' on 14 pixels (view angles 0)" in table["nanny"][8],
       f"nanny's defect: {table['nanny']}")
-check("moves texels head-on (3 texels" in table["shifty"][7], f"shifty's defect: {table['shifty']}")
+check("moves texels head-on (3 texels" in table["shifty"][8], f"shifty's defect: {table['shifty']}")
+check(table["calm"][1] == "-1" and table["shifty"][1] == "the case's",
+      f"the b/s each runs at: {table['calm']}, {table['shifty']}")
+
+# A preset at a fixed b/s is measured on its own surface only, and says so in its label.
+restricted, renamed = own_surface(df)
+check(renamed == {"calm": "calm [b/s -1]"}, f"renamed: {renamed}")
+check(set(restricted[restricted["label"] == "calm [b/s -1]"]["bias_ratio"]) == {-1.0},
+      "calm keeps only its own surface's cases")
+check(len(restricted[restricted["label"] == "pom"]) == len(df[df["label"] == "pom"]),
+      "a built-in keeps every case")
+elsewhere, renamed = own_surface(df[df["bias_ratio"] == -0.5])
+check(renamed == {"calm": "calm [runs at b/s -1]"} and len(elsewhere) == len(df) // 2,
+      f"no case on its surface: every case kept, and said: {renamed}")
 check(engine_lines(df[df["label"] == "pom"]) == [], "no preset: no section")
 
 with tempfile.TemporaryDirectory() as figdir:
