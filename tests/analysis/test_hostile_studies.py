@@ -426,6 +426,48 @@ def study_hostile3(d):
     _long_labels(d)
 
 
+def _edited_includes(d):
+    """A file a method includes is part of the study: run one case of a study whose HLSL (or
+    GLSL) method includes lib, edit lib, resume: refused (exit 2, naming the study), rows kept;
+    shards run before and after the edit do not merge."""
+    for kind, lib, main_text, call in (
+            ("hlsl", "float k() { return 1.0; }\n",
+             '#include "lib.hlsli"\nfloat2 F(float2 uv, float3 V, float s) '
+             "{ return uv + V.xy * s * k(); }\n", "F(uv, V, s)"),
+            ("glsl", "float k() { return 1.0; }\n",
+             '#include "lib.glsli"\nvec2 F(vec2 uv, vec3 V, float s) '
+             "{ return uv + V.xy * s * k(); }\n", "F(uv, V, s)")):
+        sub = os.path.join(d, kind)
+        os.makedirs(sub)
+        lib_path = write(sub, f"lib.{kind}i", lib)
+        write(sub, f"main.{kind}", main_text)
+        scene = copy(SWEEP)
+        scene["methods"] = ["parallax", {"name": "mine", kind: f"main.{kind}", "call": call,
+                                         "sampler": ""}]
+        path = write(sub, "scene.json", json.dumps(scene))
+        part = os.path.join(sub, "part")
+        check(f"{kind}: one case", sweep(path, part, "--max-cases", "1").returncode == 0)
+        _, before = shards_of(sub, scene, 2, name="before")
+        write(sub, f"lib.{kind}i", lib.replace("1.0", "0.5"))
+        kept = open(os.path.join(part, "results.csv")).read()
+        r = sweep(path, part)
+        check(f"{kind}: an edited include is another study", r.returncode == 2 and
+              "study.json" in r.stderr and "--fresh" in r.stderr, f"exit {r.returncode} {r.stderr}")
+        check(f"{kind}: rows kept", open(os.path.join(part, "results.csv")).read() == kept)
+        _, after = shards_of(sub, scene, 2, name="after")
+        out = os.path.join(sub, "merged")
+        r = merge([before[0], after[1]], out)
+        check(f"{kind}: shards before and after the edit do not merge", r.returncode == 2 and
+              not os.path.exists(out), f"exit {r.returncode} {r.stderr}")
+        check(f"{kind}: lib is read", os.path.exists(lib_path))
+
+
+def study_hostile4(d):
+    """An outside tester's fourth round: a study's identity covers the files its methods
+    include (HLSL as GLSL)."""
+    _edited_includes(d)
+
+
 def _columns_moved(extra=None, drop=None):
     """An edit of results.csv's lines: its columns in reverse order, `extra` (a value) in a
     column "note" at the third place, or without the column `drop`."""
@@ -499,4 +541,4 @@ def csv_by_name(d):
 
 if __name__ == "__main__":
     main([rows_per_case, merge_data_loss, merge_edited_shards, merge_memory, slurm_semantics,
-          small_options, study_hostile3, csv_by_name])
+          small_options, study_hostile3, study_hostile4, csv_by_name])

@@ -43,8 +43,11 @@ struct GlslSpec {
         int line = 0;
     };
     std::vector<LineOrigin> origins;
-    // HLSL: the text of the files it includes and the enums they and the file declare
-    // (methods/shader/source_text.h), for what pgt declares and rewrites.
+    // HLSL: every file its #include lines name (resolved path, text with line ends made LF),
+    // read once when the scene is parsed: glslang is served these texts, never the disk again,
+    // and the study's identity hashes them, so an edited include is another method. `included`:
+    // their texts joined; `enums`: what they and the file declare.
+    std::vector<std::pair<std::string, std::string>> includeFiles;
     std::string included;
     std::vector<std::string> enums;
     std::string function = "ParallaxMapping";

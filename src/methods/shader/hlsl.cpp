@@ -81,8 +81,9 @@ int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(),
 // include result with no name).
 class Includer : public glslang::TShader::Includer {
   public:
-    Includer(std::string top, std::vector<std::string> enums)
-        : top_(std::move(top)), enums_(std::move(enums)) {}
+    Includer(std::string top, std::vector<std::string> enums,
+             const std::vector<std::pair<std::string, std::string>>& files)
+        : top_(std::move(top)), enums_(std::move(enums)), files_(files) {}
     IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
         return resolve(requested, from, depth);
     }
@@ -108,9 +109,15 @@ class Includer : public glslang::TShader::Includer {
                                  "includes nest more than " + std::to_string(kMaxIncludeDepth) +
                                      " deep (a file that includes itself?)");
             if (once_.count(name)) return new IncludeResult(name, "", 0, content);
+            // The text read when the scene was parsed (the study's identity hashes it); the
+            // disk only for a file that could not be read then, so that its error is named.
+            const auto read = std::find_if(files_.begin(), files_.end(),
+                                           [&](const auto& f) { return f.first == name; });
             *content = hlslSamplerDefaults(hlslEnumsAsConstants(
-                normaliseLineEnds(readTextFile(name, owner.string(), "#include", "HLSL include",
-                                               kMaxShaderBytes)),
+                read != files_.end()
+                    ? read->second
+                    : normaliseLineEnds(readTextFile(name, owner.string(), "#include",
+                                                     "HLSL include", kMaxShaderBytes)),
                 enums_));
             if (takePragmaOnce(*content)) once_.insert(name);
         } catch (const std::exception& e) {
@@ -121,6 +128,7 @@ class Includer : public glslang::TShader::Includer {
     }
     std::string top_;
     std::vector<std::string> enums_;
+    const std::vector<std::pair<std::string, std::string>>& files_;
     std::set<std::string> once_;
 };
 
@@ -253,7 +261,7 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
                                       EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
-    Includer includer(spec.path, spec.enums);
+    Includer includer(spec.path, spec.enums, spec.includeFiles);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {

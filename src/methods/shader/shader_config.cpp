@@ -395,6 +395,12 @@ void shaderJson(const GlslSpec& g, Json& j) {
     j["uniforms"] = u;
     // The shader's text is part of the identity: an edited file is another method.
     j["source_sha1"] = textSha1(g.source);
+    // So are an HLSL file's includes (GLSL's are expanded into the source).
+    if (!g.includeFiles.empty()) {
+        std::string all;
+        for (const auto& [name, text] : g.includeFiles) all += name + '\0' + text + '\0';
+        j["includes_sha1"] = textSha1(all);
+    }
     j["precision"] = "float";
 }
 

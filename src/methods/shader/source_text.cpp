@@ -139,9 +139,10 @@ std::string enumConstants(const std::string& t, const std::vector<ShaderWord>& w
     return out.str();
 }
 
-// The text of the files `text` includes, to `depth` levels, each once.
+// The files `text` includes (resolved path, text), to `depth` levels, each once.
 void collectIncludes(const std::string& path, const std::string& text, size_t depth,
-                     std::set<std::string>& seen, std::string& out) {
+                     std::set<std::string>& seen, size_t& bytes,
+                     std::vector<std::pair<std::string, std::string>>& out) {
     if (depth >= kMaxIncludeDepth) return;
     std::istringstream in(text);
     for (std::string line; std::getline(in, line);) {
@@ -151,11 +152,12 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
             (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
         if (!seen.insert(name).second) continue;
         try {
-            const std::string sub = normaliseLineEnds(
+            std::string sub = normaliseLineEnds(
                 readTextFile(name, path, "#include", "HLSL include", kMaxShaderBytes));
-            out += sub + "\n";
-            if (out.size() > kMaxShaderBytes) return;
-            collectIncludes(name, sub, depth + 1, seen, out);
+            bytes += sub.size() + 1;
+            out.emplace_back(name, sub);
+            if (bytes > kMaxShaderBytes) return;
+            collectIncludes(name, sub, depth + 1, seen, bytes, out);
         } catch (const std::exception&) {
             // glslang names a file it cannot include when it compiles.
         }
@@ -164,10 +166,12 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
 
 }  // namespace
 
-std::string hlslIncludedText(const std::string& path, const std::string& text) {
-    std::set<std::string> seen = {path};
-    std::string out;
-    collectIncludes(path, text, 0, seen, out);
+std::vector<std::pair<std::string, std::string>> hlslIncludes(const std::string& path,
+                                                              const std::string& text) {
+    std::set<std::string> seen = {std::filesystem::path(path).lexically_normal().string()};
+    size_t bytes = 0;
+    std::vector<std::pair<std::string, std::string>> out;
+    collectIncludes(path, text, 0, seen, bytes, out);
     return out;
 }
 
@@ -395,7 +399,9 @@ void readShaderSource(GlslSpec& spec, const std::string& owner, const std::strin
     spec.origins.clear();
     if (spec.hlsl) {  // glslang includes the HLSL files (methods/shader/hlsl.cpp)
         takePragmaOnce(text);
-        spec.included = hlslIncludedText(spec.path, text);
+        spec.includeFiles = hlslIncludes(spec.path, text);
+        spec.included.clear();
+        for (const auto& [name, sub] : spec.includeFiles) spec.included += sub + "\n";
         spec.enums = hlslEnumNames(text + spec.included);
         spec.source = hlslSamplerDefaults(hlslEnumsAsConstants(text, spec.enums));
         return;

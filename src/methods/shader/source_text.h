@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "methods/shader/glsl_spec.h"
@@ -27,9 +28,11 @@ std::string normaliseLineEnds(std::string text);
 // written E_A for E declared here or in `known`; on the enum's own lines, so that no later
 // line moves.
 std::string hlslEnumsAsConstants(const std::string& text, const std::vector<std::string>& known);
-// The text of the files an HLSL file includes (each once, to kMaxIncludeDepth levels; one
-// that cannot be read is left to glslang to name).
-std::string hlslIncludedText(const std::string& path, const std::string& text);
+// The files an HLSL file's #include lines name, resolved relative to the including file's
+// folder (as glslang asks for them), each once, to kMaxIncludeDepth levels: (path, text with
+// line ends made LF). One that cannot be read is left out, for the compile to name.
+std::vector<std::pair<std::string, std::string>> hlslIncludes(const std::string& path,
+                                                              const std::string& text);
 // The enums `text` declares (for `E::A` across files).
 std::vector<std::string> hlslEnumNames(const std::string& text);
 
