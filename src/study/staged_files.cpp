@@ -131,13 +131,51 @@ void StagedFiles::add(const std::string& name, const std::string& bytes) {
 
 void StagedFiles::commit() {
     for (const auto& s : streams_) PGT_CHECK(s->finished());  // every stream finished
+    // Every target a file or absent before anything moves: a directory in the way fails the
+    // whole set, the earlier files untouched.
+    for (const Staged& s : staged_) {
+        std::error_code ec;
+        const fs::file_status st = fs::symlink_status(s.path, ec);
+        if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_symlink(st))
+            throw OutputError("cannot write " + s.path + ": " +
+                              (fs::is_directory(st) ? "a directory is in the way"
+                                                    : "something other than a file is in the way") +
+                              " (nothing of this output was written)");
+    }
+    // Each file already there is linked to a hidden backup first, so that a rename failing
+    // part-way puts every earlier one back: the set is replaced whole or not at all.
+    std::vector<std::string> backups(staged_.size());
+    std::vector<std::unique_ptr<CleanupPath>> guards;
+    for (size_t k = 0; k < staged_.size(); ++k) {
+        std::error_code ec;
+        if (!fs::is_regular_file(fs::symlink_status(staged_[k].path, ec))) continue;
+        const std::string backup =
+            (fs::path(dir_) / tempName(fs::path(staged_[k].path).filename().string())).string();
+        fs::create_hard_link(staged_[k].path, backup, ec);
+        if (ec) continue;  // no hard links here: that file alone is not restorable
+        backups[k] = backup;
+        guards.push_back(std::make_unique<CleanupPath>(backup, CleanupPath::kFile));
+    }
     for (size_t k = 0; k < staged_.size(); ++k) {
         std::error_code ec;
         fs::rename(staged_[k].tmp, staged_[k].path, ec);
-        if (ec) {
-            staged_.erase(staged_.begin(), staged_.begin() + long(k));  // renamed ones stay
-            throw OutputError("cannot write " + staged_.front().path + ": " + ec.message());
+        if (!ec) continue;
+        const std::string why = ec.message();
+        for (size_t j = 0; j < k; ++j) {  // put the earlier ones back
+            std::error_code back;
+            if (!backups[j].empty())
+                fs::rename(backups[j], staged_[j].path, back);
+            else
+                fs::remove(staged_[j].path, back);
         }
+        for (const std::string& b : backups)
+            if (!b.empty()) fs::remove(b, ec);
+        throw OutputError("cannot write " + staged_[k].path + ": " + why +
+                          " (nothing of this output was written)");
+    }
+    for (const std::string& b : backups) {
+        std::error_code ec;
+        if (!b.empty()) fs::remove(b, ec);
     }
     staged_.clear();
 }

@@ -275,6 +275,32 @@ def render_checks_out_first(d):
         expect_error(f"{command}: unwritable --out", r, 3, ["cannot"])
 
 
+def outputs_whole(d):
+    """One render's files replace the earlier ones as a set or not at all: with a directory
+    where summary.json goes, a second render into the same folder is exit 3 naming it, and
+    every file of the first render is still the first render's (no frame.exr of the second,
+    no error map of a method only the second has), with no temporary left."""
+    out = os.path.join(d, "out")
+    first = copy(GOOD)
+    first["methods"] = ["parallax", "pom"]
+    r = run(["render", write(d, "a.json", json.dumps(first)), "--out", out])
+    check("first render", r.returncode == 0, r.stderr)
+    before = {n: open(os.path.join(out, n), "rb").read() for n in os.listdir(out)}
+    os.remove(os.path.join(out, "summary.json"))
+    os.mkdir(os.path.join(out, "summary.json"))
+    second = copy(GOOD)
+    second["methods"] = ["relief"]
+    second["camera"]["theta"] = 50
+    r = run(["render", write(d, "b.json", json.dumps(second)), "--out", out])
+    expect_error("a directory in the way", r, 3, ["summary.json", "directory"])
+    after = sorted(os.listdir(out))
+    check("nothing of the second render", after == sorted(before), f"{after}")
+    for name, data in before.items():
+        if name != "summary.json":
+            check(f"{name} is the first render's", open(os.path.join(out, name), "rb").read()
+                  == data)
+
+
 def memory_estimates(d):
     """Inputs accepted as valid but too large are refused with the estimate, before any
     allocation; --memory-limit raises or lowers the limit."""
@@ -613,4 +639,4 @@ if __name__ == "__main__":
           study_identity, results_csv_state, labels, full_disk, render_checks_out_first,
           memory_estimates, image_header_first, messages, zero_pixel_uncertainty,
           stale_temporaries, no_litter, signals, memory_beyond_the_frame, shipped_paths,
-          stress_folders, long_precompute])
+          stress_folders, long_precompute, outputs_whole])
