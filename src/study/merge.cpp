@@ -16,6 +16,7 @@
 #include "study/csv_table.h"
 #include "study/plan.h"
 #include "study/result_columns.h"
+#include "study/row_check.h"
 #include "study/staged_files.h"
 #include "study/study_dir.h"
 
@@ -71,34 +72,11 @@ Shard readShard(const std::string& dir) {
     return s;
 }
 
-// What a row of the study may say in its plan-given columns: per case, its key columns
-// (ResultColumn::caseField) as pgt writes them; per label, its method name and params.
-struct Plan {
-    std::vector<const ResultColumn*> keys;                               // the key columns
-    std::vector<std::vector<std::string>> caseColumns;                   // per case, `keys`
-    std::map<std::string, std::pair<std::string, std::string>> configs;  // label -> method, params
-};
-
-Plan readPlan(const Shard& s) {
+// The shard's plan (study/row_check.h), checked against its shard block.
+RowPlan readPlan(const Shard& s) {
     const std::string path = (fs::path(s.dir) / "study.json").string();
-    Plan p;
-    for (const ResultColumn& c : resultSchema())
-        if (c.caseField) p.keys.push_back(&c);
-    for (const StudyCase& c : planCases(s.identity, path)) {
-        p.caseColumns.emplace_back();
-        for (const ResultColumn* k : p.keys)
-            p.caseColumns.back().push_back(csvText(c.*k->caseField));
-    }
-    const Json configs = s.identity.value("configurations", Json());
-    std::vector<std::string> labels;
-    for (const Json& cfg : configs.is_array() ? configs : Json::array()) {
-        Json params = cfg;
-        params.erase("name");
-        params.erase("label");
-        labels.push_back(cfg.value("label", ""));
-        p.configs[labels.back()] = {cfg.value("name", ""), params.dump()};
-    }
-    if (int64_t(p.caseColumns.size()) != s.cases || labels != s.labels ||
+    RowPlan p = planRows(s.identity, path);
+    if (int64_t(p.caseColumns.size()) != s.cases || p.labels != s.labels ||
         int64_t(s.identity.value("cases", -1)) != s.cases)
         throw InputError(path, "shard", "",
                          "its cases or labels are not its study's (" +
@@ -106,42 +84,9 @@ Plan readPlan(const Shard& s) {
     return p;
 }
 
-// One record against the plan, its columns by name (`head`): exit 2 naming the shard's
-// results.csv, the line and the field.
-int checkRow(const std::vector<std::string>& f, const ResultHeader& head, const Shard& s,
-             const Plan& plan, const std::string& path, size_t line) {
-    auto bad = [&](const std::string& field, const std::string& value, const std::string& why) {
-        throw InputError(path, "line " + std::to_string(line) + ": " + field, value, why);
-    };
-    if (f.size() != head.size())
-        bad("columns", std::to_string(f.size()), "not a row of results.csv");
-    const std::string& text = head.field(f, "case");
-    if (text.empty() || text.size() > 9 ||
-        text.find_first_not_of("0123456789") != std::string::npos)
-        bad("case", text, "not a case index (digits only)");
-    const int index = std::stoi(text);
-    if (index >= s.cases || index % s.count != s.index)
-        bad("case", text,
-            "not a case of shard " + std::to_string(s.index) + " of " + std::to_string(s.count));
-    const std::vector<std::string>& planned = plan.caseColumns[size_t(index)];
-    for (size_t k = 0; k < planned.size(); ++k) {
-        const std::string& name = plan.keys[k]->name;
-        if (head.field(f, name) != planned[k])
-            bad(name, head.field(f, name), "case " + text + " has " + planned[k]);
-    }
-    const std::string &label = head.field(f, "label"), &method = head.field(f, "method");
-    auto it = plan.configs.find(label);
-    if (it == plan.configs.end()) bad("label", label, "not a configuration of the study");
-    if (method != it->second.first)
-        bad("method", method, "label " + label + " is a " + it->second.first);
-    if (head.field(f, "params") != it->second.second)
-        bad("params", head.field(f, "params"), "not label " + label + "'s parameters");
-    return index;
-}
-
 // The shard's rows by case index, as pgt writes them; InputError when a row is not its plan's
 // or a case is torn.
-void readRows(const Shard& s, const Plan& plan, std::map<int, std::vector<std::string>>& rows) {
+void readRows(const Shard& s, const RowPlan& plan, std::map<int, std::vector<std::string>>& rows) {
     const std::string path = (fs::path(s.dir) / "results.csv").string();
     const std::string text = readTextFile(path, path, "", "results.csv", 1ull << 34);
     const ResultHeader head(path, text, "");
@@ -152,7 +97,7 @@ void readRows(const Shard& s, const Plan& plan, std::map<int, std::vector<std::s
     std::map<int, std::vector<std::string>> mine;
     std::set<std::pair<int, std::string>> seen;
     for (size_t r = 0; r < records.size(); ++r) {
-        const int index = checkRow(records[r], head, s, plan, path, r + 2);
+        const int index = checkRow(records[r], head, plan, path, r + 2, s.index, s.count);
         const std::string& label = head.field(records[r], "label");
         if (!seen.insert({index, label}).second)
             throw InputError(path, "line " + std::to_string(r + 2) + ": label", label,
@@ -208,7 +153,7 @@ MergeSummary mergeShards(const std::vector<std::string>& dirs, const std::string
                 std::to_string(shards.size()) + " shards",
                 "merging " + std::to_string(shards.size()) + " shards (" +
                     std::to_string(int64_t(bytes / 1e6)) + " MB of results.csv)");
-    const Plan plan = readPlan(first);
+    const RowPlan plan = readPlan(first);
     std::map<int, std::vector<std::string>> rows;
     for (const Shard& s : shards) readRows(s, plan, rows);
     std::vector<int> missing;

@@ -20,6 +20,7 @@
 #include "core/json_read.h"
 #include "study/csv_table.h"
 #include "study/result_columns.h"
+#include "study/row_check.h"
 #include "study/staged_files.h"
 
 namespace pgt {
@@ -73,7 +74,8 @@ namespace {
 // torn last line, a half-written case) or its columns are not as pgt writes them (another
 // order; columns pgt does not write are left out), and returns the keys of the complete cases.
 // An empty (0-byte) file is given its header.
-std::set<std::string> loadFinished(const std::string& path, const Study& study) {
+std::set<std::string> loadFinished(const std::string& path, const Study& study,
+                                   const Json& identity, const std::string& studyPath) {
     std::set<std::string> finished;
     std::ifstream in(path, std::ios::binary);
     if (!in) return finished;
@@ -90,9 +92,15 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study) 
     bool torn = false;
     const auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
     bool rewrite = torn || !head.asWritten();
-    for (const auto& f : records) {
+    // Every row checked as a merge checks a shard's (study/row_check.h): an edited row is
+    // refused, never resumed.
+    const RowPlan plan = planRows(identity, studyPath);
+    for (size_t r = 0; r < records.size(); ++r) {
+        const auto& f = records[r];
+        checkRow(f, head, plan, path, r + 2, 0, 1,
+                 " (an edited results.csv: use --fresh or another --out)");
         StudyCase c;
-        if (!head.readCase(f, &c)) {  // a hand-edited or cut row
+        if (!head.readCase(f, &c)) {  // not a row pgt wrote
             rewrite = true;
             continue;
         }
@@ -129,7 +137,7 @@ std::set<std::string> openStudyDir(const Study& study, const Json& identity, boo
         fs::remove(studyPath, ec);
     }
     if (!holdsStudy(studyPath, identity)) writeTextFile(studyPath, identity.dump(2) + "\n");
-    std::set<std::string> finished = loadFinished(csvPath, study);
+    std::set<std::string> finished = loadFinished(csvPath, study, identity, studyPath);
     if (!fs::exists(csvPath)) writeTextFile(csvPath, resultHeader());
     return finished;
 }

@@ -462,10 +462,38 @@ def _edited_includes(d):
         check(f"{kind}: lib is read", os.path.exists(lib_path))
 
 
+def _edited_rows_resume(d):
+    """Resume checks each row as merge does: after --max-cases 1, a row's params edited or
+    emptied, its method or label changed, its theta moved: resume is exit 2 naming
+    results.csv, the line and the field, and results.csv is left as it was."""
+    scene = copy(SWEEP)
+    scene["methods"] = ["parallax", {"name": "pom", "min_layers": 4, "max_layers": 8,
+                                     "format": "unorm8"}]
+    path = write(d, "rows.json", json.dumps(scene))
+    whole = os.path.join(d, "rows_whole")
+    check("rows: one case", sweep(path, whole, "--max-cases", "1").returncode == 0)
+    rows = rows_of(os.path.join(whole, "results.csv"))  # parallax, then pom
+    check("rows: pom reads unorm8", "unorm8" in rows[1]["params"], rows[1]["params"])
+    edits = [("params", rows[1]["params"].replace("unorm8", "unorm16"), 1), ("params", "", 1),
+             ("params", "{}", 0), ("method", "parallax", 1), ("label", "relief", 0),
+             ("theta", "20", 1), ("scale", "0.03", 0)]
+    for column, value, row in edits:
+        work = os.path.join(d, f"rows_{column}_{row}_{len(value)}")
+        shutil.copytree(whole, work)
+        _edit_file(os.path.join(work, "results.csv"), _csv_edit(column, value, row))
+        kept = open(os.path.join(work, "results.csv")).read()
+        r = sweep(path, work)
+        expect_error(f"resume refuses an edited {column}", r, 2,
+                     ["results.csv", f"line {row + 2}: {column}", "--fresh"])
+        check(f"{column}: results.csv as it was",
+              open(os.path.join(work, "results.csv")).read() == kept)
+
+
 def study_hostile4(d):
     """An outside tester's fourth round: a study's identity covers the files its methods
-    include (HLSL as GLSL)."""
+    include (HLSL as GLSL); a resume checks each row as a merge does."""
     _edited_includes(d)
+    _edited_rows_resume(d)
 
 
 def _columns_moved(extra=None, drop=None):
