@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
+#include "methods/shader/source_text.h"
 #include "study/render.h"
 #include "test_util.h"
 
@@ -376,6 +377,41 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
     std::filesystem::remove_all(dir);
 }
 
+// pgt's passes over a file follow the preprocessor: an include under a branch that is
+// certainly skipped (#ifdef of a name nothing defines, #if 0) is not read (a missing file, a
+// self-include), one whose name the entry defines is (and its absence named), a #version in a
+// comment is none, and a #pragma once under #if 0 is none.
+TEST(OwnShader, IncludesFollowThePreprocessorsConditionals) {
+    const auto dir = test::tempDir("conditional_includes");
+    std::ofstream(dir / "lib.glsl") << "vec2 k() { return vec2(0.0); }\n";
+    std::ofstream(dir / "a.glsl") << "/* an old header:\n#version 999\n*/\n#version 330\n"
+                                     "#ifdef USE_EXTRA\n#include \"missing.glsl\"\n#endif\n"
+                                     "#if 0\n#include \"a.glsl\"\n#else\n#include \"lib.glsl\"\n"
+                                     "#endif\n// #include \"commented.glsl\"\n"
+                                     "vec2 F(vec2 uv, vec3 V) { return uv + k(); }\n";
+    const std::string file = (dir / "a.glsl").string();
+    auto parse = [&](const nlohmann::json& extra) {
+        nlohmann::json e = {{"name", "a"}, {"glsl", file}, {"function", "F"}, {"sampler", ""}};
+        e.update(extra);
+        return parseMethods(nlohmann::json::array({e}), "test", "methods");
+    };
+    const std::vector<MethodConfig> plain = parse(nlohmann::json::object());
+    const GlslSpec& spec = *plain[0].shader();
+    EXPECT_EQ(spec.version, "330");
+    EXPECT_NE(spec.source.find("vec2 k()"), std::string::npos);  // lib.glsl, the #else arm
+    EXPECT_EQ(spec.source.find("\n#include"), std::string::npos) << spec.source;
+    try {
+        parse({{"defines", {{"USE_EXTRA", "1"}}}});
+        ADD_FAILURE() << "an include the entry's define asks for was not read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.glsl"), std::string::npos) << e.what();
+    }
+    std::string once = "#if 0\n#pragma once\n#endif\nfloat f;\n";
+    EXPECT_FALSE(takePragmaOnce(once));
+    once = "#if 1\n#pragma once\n#endif\n";
+    EXPECT_TRUE(takePragmaOnce(once));
+}
+
 // The silent mistakes of docs/outputs.md "Warnings", each made on purpose: a shader that
 // gives uv back, one that reads the (always 1) alpha of the height layout, one with V's sign
 // flipped on a relief below the polygon, one that normalises V.xy (NaN head-on), one that
@@ -419,6 +455,33 @@ TEST(OwnShader, SilentMistakesAreWarned) {
     EXPECT_EQ(headOn.at("headon"), "nonfinite_head_on");
     for (const char* fine : {"none", "parallax", "pom", "same", "alpha", "flipped", "inverted"})
         EXPECT_EQ(headOn.at(fine), "") << fine;  // nothing to see without V.xy
+}
+
+// A shader that reads the (always 1) alpha of the height layout offsets every pixel alike at
+// every azimuth, not only where V has a zero component: constant_offset at each phi, on an
+// infinite plane seen whole ("fill": uv up to several units, where uv' rounds in float).
+TEST(OwnShader, ConstantOffsetIsWarnedAtEveryAzimuth) {
+    const auto dir = test::tempDir("constant_offset");
+    std::ofstream(dir / "alpha.glsl")
+        << "#version 330\nuniform sampler2D depthMap;\n"
+           "vec2 F(vec2 uv, vec3 V) {\n"
+           "    return uv - V.xy / V.z * 0.05 * texture(depthMap, uv).a;\n}\n";
+    for (double phi : {0.0, 20.0, 30.0, 45.0, 60.0, 90.0, 137.0}) {
+        nlohmann::json scene = nlohmann::json::parse(R"({
+            "heightmap": {"procedural": "bricks", "size": [64, 64]},
+            "displacement": {"scale": 0.05, "bias": -0.05},
+            "base": {"type": "plane", "infinite": true, "tiling": 4},
+            "camera": {"type": "orthographic", "theta": 45, "frame": "fill", "resolution": [32, 32]},
+            "truth": {"rate": 1, "uncertainty": false}})");
+        scene["camera"]["phi"] = phi;
+        scene["methods"] = {{{"name", "alpha"},
+                             {"glsl", (dir / "alpha.glsl").string()},
+                             {"function", "F"},
+                             {"texture", "height"}}};
+        const RenderResult r =
+            renderFrame(parseScene(scene, (dir / "s.json").string()), {.timingRepeats = 0});
+        EXPECT_EQ(warningKinds(r.methods[0].warnings), "constant_offset") << "phi " << phi;
+    }
 }
 
 // worse_than_none names the cause that fits the data: the same parallax (uv + V.xy / V.z

@@ -18,6 +18,7 @@ MethodChecks::Tally& MethodChecks::Tally::operator+=(const Tally& o) {
     headOn += o.headOn, headOnNonfinite += o.headOnNonfinite;
     compared += o.compared, errSum += o.errSum, noneSum += o.noneSum;
     oneView = oneView && o.oneView;
+    uvMagnitude = std::max(uvMagnitude, o.uvMagnitude);
     if (o.haveOffset) {
         offMin = haveOffset ? glm::min(offMin, o.offMin) : o.offMin;
         offMax = haveOffset ? glm::max(offMax, o.offMax) : o.offMax;
@@ -80,6 +81,7 @@ void MethodChecks::add(const FragmentList& frags, const std::vector<Vec3d>& view
             // A method that returns uv0 gives it back rounded to float (or exactly in double).
             const double tol = 2e-7 * std::max({1.0, std::abs(uv0.x), std::abs(uv0.y)});
             t.unchanged += std::abs(off.x) <= tol && std::abs(off.y) <= tol;
+            t.uvMagnitude = std::max({t.uvMagnitude, std::abs(uv0.x), std::abs(uv0.y)});
             t.alongV += (off.x * v.x + off.y * v.y) / lateral;
             t.offMin = t.haveOffset ? glm::min(t.offMin, off) : off;
             t.offMax = t.haveOffset ? glm::max(t.offMax, off) : off;
@@ -99,9 +101,12 @@ std::vector<MethodWarning> MethodChecks::finish() const {
                                         "no parallax (a constant or wrong channel, an unused "
                                         "sampler, a zero scale, or a march that never meets "
                                         "the relief?)"});
+    // The same offset on every pixel, to the float rounding of uv' = uv0 + offset (a few ulps
+    // of the largest |uv|: at phi 0 or 90 one component is exact, at other azimuths neither).
     const Vec2d spread = all_.offMax - all_.offMin;
+    const double rounding = 4e-7 * std::max(1.0, all_.uvMagnitude);
     if (!noOffset && !c_.skipNoOffset && c_.displaced && c_.mapVaries && all_.oneView &&
-        all_.haveOffset && all_.oblique > 1 && std::max(spread.x, spread.y) <= 1e-7)
+        all_.haveOffset && all_.oblique > 1 && std::max(spread.x, spread.y) <= rounding)
         out.push_back({"constant_offset",
                        "its offset is the same on all " + std::to_string(all_.oblique) +
                            " pixels of a view with one V (" + formatNumber(all_.offMin.x, 4) +

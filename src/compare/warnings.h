@@ -73,6 +73,7 @@ class MethodChecks {
         bool oneView = true;             // every V within 1e-9 of the frame's first
         bool haveOffset = false;
         Vec2d offMin{0}, offMax{0};
+        double uvMagnitude = 0;  // the largest |uv0| component of the oblique pixels
         Tally& operator+=(const Tally& o);
     };
     CheckContext c_;

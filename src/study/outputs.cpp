@@ -287,11 +287,11 @@ FrameChannelSet parseFrameChannels(const std::string& list, const std::string& f
                      : group == "shadow" ? &set.shadow
                      : group == "inputs" ? &set.inputs
                                          : nullptr;
-        if (!flag)
-            throw InputError("command line", field, list,
+        if (!flag)  // the item quoted, escaped and shortened (a command line can hold anything)
+            throw InputError("command line", field, shortDump(Json(list)),
                              "expected all, none or a comma-separated list of uv, depth, "
-                             "shadow, inputs (\"" +
-                                 group + "\" is none of them)");
+                             "shadow, inputs (" +
+                                 shortDump(Json(group)) + " is none of them)");
         *flag = true;
         start = end + 1;
     }
@@ -347,7 +347,9 @@ FrameBand wholeFrameBand(const RenderResult& r) {
 RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
                            const std::vector<MethodConfig>& configs,
                            const std::string& exrCompression, const FrameChannelSet& channels)
-    : scene_(scene), width_(width), height_(height) {
+    : scene_(scene), width_(width), height_(height), dir_(dir) {
+    std::error_code ec;
+    createdDir_ = !std::filesystem::exists(std::filesystem::symlink_status(dir, ec));
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
     const std::vector<std::string> names = frameChannelNames(configs);
@@ -364,7 +366,17 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     exr_ = std::make_unique<ExrWriter>(*exrFile_, "frame.exr", width, height, kept, exrCompression);
 }
 
-RenderWriter::~RenderWriter() = default;
+// A writer dropped before its files were committed (a full disk, a cancelled study) takes
+// its temporaries with it, and the directory it created if that is left empty: no empty
+// images/case_N of a case that wrote nothing.
+RenderWriter::~RenderWriter() {
+    if (committed_ || !createdDir_) return;
+    if (encoding_.valid()) encoding_.wait();
+    exr_.reset();
+    files_.reset();
+    std::error_code ec;
+    std::filesystem::remove(dir_, ec);  // only an empty directory goes
+}
 
 void RenderWriter::band(const RenderResult&, const FrameBand& b) {
     PGT_CHECK_EQ(b.pixels.size(), methods_);
@@ -420,6 +432,7 @@ void RenderWriter::finish(const RenderResult& r) {
     // summary.json last: its presence means the whole output is there.
     files_->add("summary.json", summary.dump(2) + "\n");
     files_->commit();
+    committed_ = true;
 }
 
 void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::string& dir) {

@@ -52,6 +52,8 @@ class RenderWriter : public FrameSink {
     void waitForRows();  // the band being encoded is done (throws OutputError if it failed)
     const Scene& scene_;
     int width_, height_;
+    std::string dir_;
+    bool createdDir_ = false, committed_ = false;
     size_t channels_ = 0;       // every channel interleaveFrameBand writes
     std::vector<size_t> keep_;  // those the file holds (FrameChannelSet), in order
     std::unique_ptr<StagedFiles> files_;

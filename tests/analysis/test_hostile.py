@@ -258,6 +258,18 @@ def full_disk(d):
         check(f"limit {size}: exit 3", r.returncode == 3 and "cannot" in r.stderr,
               f"exit {r.returncode} {r.stderr!r}")
         check(f"limit {size}: nothing left", left == [], f"left {left}")
+    # A study with --images whose frames cannot be written: exit 3, no empty case folder.
+    scene = copy(SWEEP)
+    scene["camera"]["resolution"] = [48, 48]
+    study = write(d, "study.json", json.dumps(scene))
+    out = os.path.join(d, "study_out")
+    r = subprocess.run([PGT, "sweep", study, "--out", out, "--images", "--no-report"],
+                       capture_output=True, text=True, preexec_fn=limit(6000), timeout=300)
+    images = os.path.join(out, "images")
+    empty = [n for n in (os.listdir(images) if os.path.isdir(images) else [])
+             if not os.listdir(os.path.join(images, n))]
+    check("sweep --images, frames too large: exit 3", r.returncode == 3, f"exit {r.returncode}")
+    check("sweep --images: no empty case folder", empty == [], f"{empty}")
 
 
 def render_checks_out_first(d):
@@ -458,6 +470,44 @@ def messages(d):
     check("--help exits 0", r.returncode == 0 and "render" in r.stdout, r.stderr)
 
 
+def messages4(d):
+    """The fourth round's messages: an unknown --channels item is quoted, escaped and short;
+    a body's shape errors name "body:N" (never pgt's wrapper), a comment-only body has no
+    return; a sampler_state that is a keyword or the texture's own name names sampler_state;
+    a NUL byte in a shader is named as such."""
+    path = write(d, "scene.json", json.dumps(GOOD))
+    out = os.path.join(d, "out")
+    for item, words in (("uv\nx", ["--channels", "\\n"]), ("x" * 100000, ["--channels", "..."])):
+        r = run(["render", path, "--out", out, "--channels", item])
+        expect_error(f"--channels {item[:8]!r}", r, 2, words, out)
+        check(f"--channels {item[:8]!r}: short", len(r.stderr) < 500, f"{len(r.stderr)} bytes")
+    write(d, "f.glsl", "vec2 k(vec2 uv) { return uv; }\n")
+    bodies = {"an unbalanced {": ("vec2 r = uv;\nif (s > 0.0) {\nreturn r;", "body:2"),
+              "an unterminated comment": ("vec2 r = uv; /* left\nreturn r;", "body:1"),
+              "a commented return": ("vec2 r = uv;\n// return r;", "no return"),
+              "a comment-only body": ("// nothing here", "no return"),
+              "a second main()": ("return uv;\n}\nvoid main() {", "body:")}
+    for name, (body, word) in bodies.items():
+        scene = copy(GOOD)
+        scene["methods"] = [{"name": "b", "glsl": "f.glsl", "body": body, "sampler": ""}]
+        r = run(["render", write(d, "body.json", json.dumps(scene)), "--out", out])
+        expect_error(name, r, 2, ["body", word], out)
+        check(f"{name}: not the wrapper", "wrapper" not in r.stderr, r.stderr)
+    write(d, "h.hlsl", "Texture2D HeightTex; SamplerState samp;\n"
+          "float2 F(float2 uv) { return uv + HeightTex.Sample(samp, uv).r * 0.0; }\n")
+    for state in ("float", "HeightTex"):
+        scene = copy(GOOD)
+        scene["methods"] = [{"name": "h", "hlsl": "h.hlsl", "call": "F(uv)",
+                             "sampler": "HeightTex", "sampler_state": state}]
+        r = run(["render", write(d, "state.json", json.dumps(scene)), "--out", out])
+        expect_error(f"sampler_state {state}", r, 2, ["sampler_state", state], out)
+    write(d, "nul.glsl", "vec2 ParallaxMapping(vec2 uv, vec3 V) {\n\0 return uv; }\n")
+    scene = copy(GOOD)
+    scene["methods"] = [{"name": "n", "glsl": "nul.glsl", "sampler": ""}]
+    r = run(["render", write(d, "nul.json", json.dumps(scene)), "--out", out])
+    expect_error("a NUL byte", r, 2, ["nul.glsl", "NUL byte on line 2"], out)
+
+
 def zero_pixel_uncertainty(d):
     """A frame where no pixel is compared reports nothing measured (null), not a perfect 0."""
     scene = copy(GOOD)
@@ -639,4 +689,4 @@ if __name__ == "__main__":
           study_identity, results_csv_state, labels, full_disk, render_checks_out_first,
           memory_estimates, image_header_first, messages, zero_pixel_uncertainty,
           stale_temporaries, no_litter, signals, memory_beyond_the_frame, shipped_paths,
-          stress_folders, long_precompute, outputs_whole])
+          stress_folders, long_precompute, outputs_whole, messages4])

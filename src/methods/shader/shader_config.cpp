@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <sstream>
 
 #include "core/format.h"
@@ -15,6 +16,7 @@
 #include "methods/config.h"
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
+#include "methods/shader/conditional_lines.h"
 #include "methods/shader/glsl_spec.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
@@ -132,6 +134,54 @@ void checkShaderLine(JsonFields& f, const std::string& field, const std::string&
 
 // "body": statements ending in a return, as a string (lines split at line breaks) or an
 // array of lines; each line is checked as a call is, but for its breaks.
+// A body's shape, checked before a compiler sees it inside pgt's wrapper (where its errors
+// would name the wrapper's lines): comments closed, brackets balanced, a return outside
+// comments, statements and not a shader. Errors name "body:N", the body's own line.
+void checkBodyShape(JsonFields& f, const std::string& body) {
+    auto lineOf = [&](size_t at) {
+        return "body:" +
+               std::to_string(1 + std::count(body.begin(), body.begin() + long(at), '\n'));
+    };
+    auto fail = [&](size_t at, const std::string& why) { f.fail("body", lineOf(at) + ": " + why); };
+    for (size_t i = body.find("/*"); i != std::string::npos; i = body.find("/*", i + 2)) {
+        const size_t line = body.rfind('\n', i);
+        if (body.substr(line == std::string::npos ? 0 : line,
+                        i - (line == std::string::npos ? 0 : line))
+                .find("//") != std::string::npos)
+            continue;  // inside a // comment
+        const size_t close = body.find("*/", i + 2);
+        if (close == std::string::npos) fail(i, "a /* comment is not closed");
+        i = close;
+    }
+    const std::vector<ShaderWord> words = shaderWords(body);
+    std::vector<size_t> open;  // the opening brackets' words, innermost last
+    bool returns = false;
+    for (size_t k = 0; k < words.size(); ++k) {
+        const std::string w = wordText(body, words[k]);
+        returns = returns || w == "return";
+        if (w == "main" && k + 1 < words.size() && wordText(body, words[k + 1]) == "(")
+            fail(words[k].begin,
+                 "defines or calls main(): a body is the statements of a function "
+                 "(a whole shader goes in the file)");
+        if (w == "{" || w == "(" || w == "[") open.push_back(k);
+        if (w == "}" || w == ")" || w == "]") {
+            const char want = w == "}" ? '{' : w == ")" ? '(' : '[';
+            if (open.empty() || body[words[open.back()].begin] != want)
+                fail(words[k].begin,
+                     "'" + w + "' closes nothing" +
+                         (open.empty() ? std::string()
+                                       : " (" + lineOf(words[open.back()].begin) + " opened '" +
+                                             body[words[open.back()].begin] + "')"));
+            open.pop_back();
+        }
+    }
+    if (!open.empty())
+        fail(words[open.back()].begin, "the '" + std::string(1, body[words[open.back()].begin]) +
+                                           "' opened here is not closed");
+    if (!returns)
+        f.fail("body", "has no return outside comments: it ends in return <uv'>; (a 2-vector)");
+}
+
 std::string readBody(JsonFields& f) {
     const Json& raw = f.raw("body");
     std::vector<std::string> lines;
@@ -151,8 +201,7 @@ std::string readBody(JsonFields& f) {
         checkShaderLine(f, "body", line);
         body += line + "\n";
     }
-    if (!mentionsIdentifier(body, "return"))
-        f.failValue("body", raw, "has no return: it ends in return <uv'>; (a 2-vector)");
+    checkBodyShape(f, body);
     return body;
 }
 
@@ -222,7 +271,7 @@ bool knownGlslVersion(const std::string& v) {
 // file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
 // The dialect a file's #version line names ("110" without one, GLSL's own default).
 std::string versionOfSource(const GlslSpec& spec) {
-    std::istringstream lines(spec.source);
+    std::istringstream lines(blankComments(spec.source));  // a #version in a comment is none
     std::string line;
     for (int n = 1; std::getline(lines, line); ++n) {
         std::istringstream words(line);
@@ -292,6 +341,8 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     const std::string key = spec->hlsl ? "hlsl" : "glsl";
     if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
     spec->path = shaderPath(f, key, file);
+    // Before the file: its #ifdef lines decide which includes are read (conditional_lines.h).
+    if (f.has("defines")) spec->defines = parseDefines(f);
     readShaderSource(*spec, file, f.fieldPath(key));
     spec->function = f.string("function", "ParallaxMapping");
     if (spec->hlsl && f.has("version"))
@@ -316,12 +367,53 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
         f.failValue("sampler_state", Json(spec->samplerState),
                     spec->hlsl ? "is not an HLSL identifier"
                                : "names an HLSL SamplerState; a GLSL sampler2D is \"sampler\"");
+    // pgt declares `SamplerState NAME;` beside the texture: a keyword or the texture's own
+    // name would fail in the compiler, naming pgt's declaration instead of this field.
+    static const std::set<std::string> kHlslWords = {"SamplerState", "SamplerComparisonState",
+                                                     "Texture2D",    "Texture3D",
+                                                     "TextureCube",  "sampler",
+                                                     "sampler2D",    "texture",
+                                                     "float",        "float2",
+                                                     "float3",       "float4",
+                                                     "half",         "double",
+                                                     "int",          "uint",
+                                                     "bool",         "void",
+                                                     "matrix",       "vector",
+                                                     "string",       "return",
+                                                     "if",           "else",
+                                                     "for",          "while",
+                                                     "do",           "switch",
+                                                     "case",         "default",
+                                                     "break",        "continue",
+                                                     "discard",      "struct",
+                                                     "class",        "interface",
+                                                     "namespace",    "cbuffer",
+                                                     "tbuffer",      "static",
+                                                     "const",        "uniform",
+                                                     "extern",       "in",
+                                                     "out",          "inout",
+                                                     "true",         "false",
+                                                     "register",     "packoffset",
+                                                     "typedef",      "technique",
+                                                     "pass",         "linear",
+                                                     "centroid",     "nointerpolation",
+                                                     "precise",      "shared",
+                                                     "groupshared",  "volatile",
+                                                     "row_major",    "column_major",
+                                                     "inline",       "export"};
+    if (kHlslWords.count(spec->samplerState))
+        f.failValue("sampler_state", Json(spec->samplerState),
+                    "is an HLSL keyword or type; name the file's SamplerState variable");
+    if (!spec->samplerState.empty() &&
+        spec->samplerState == spec->samplers[size_t(MapKind::Height)])
+        f.failValue("sampler_state", Json(spec->samplerState),
+                    "is the texture's own name (\"sampler\"): a Texture2D and its "
+                    "SamplerState are two variables with two names");
     spec->api = spec->hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
     if (f.has("api"))
         spec->api =
             f.choice("api", {"gl", "d3d"}, "") == "gl" ? GlslSpec::Api::Gl : GlslSpec::Api::D3d;
     spec->engineInputs = f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
-    if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     spec->stepsUniform = f.string("steps_uniform", "");
     if (!spec->stepsUniform.empty() && !mentionsIdentifier(spec->source, spec->stepsUniform))

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/json_read.h"
+#include "methods/shader/conditional_lines.h"
 #include "methods/shader/shader_words.h"
 
 namespace pgt {
@@ -29,6 +31,20 @@ std::string normaliseLineEnds(std::string text) {
 }
 
 namespace {
+
+// A shader's text holds no NUL byte (a binary file, or UTF-16): refused naming the file and the
+// line, instead of the compiler seeing the text end there ("lacks main").
+std::string withoutNul(std::string text, const std::string& path, const std::string& field,
+                       const std::string& what) {
+    const size_t at = text.find('\0');
+    if (at != std::string::npos)
+        throw InputError(
+            path, field, "",
+            what + " holds a NUL byte on line " +
+                std::to_string(1 + std::count(text.begin(), text.begin() + long(at), '\n')) +
+                " (a binary file, or text in UTF-16?)");
+    return text;
+}
 
 int countNewlines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -141,37 +157,44 @@ std::string enumConstants(const std::string& t, const std::vector<ShaderWord>& w
 
 // The files `text` includes (resolved path, text), to `depth` levels, each once.
 void collectIncludes(const std::string& path, const std::string& text, size_t depth,
-                     std::set<std::string>& seen, size_t& bytes,
+                     std::set<std::string>& seen, size_t& bytes, ConditionalLines& cond,
                      std::vector<std::pair<std::string, std::string>>& out) {
     if (depth >= kMaxIncludeDepth) return;
-    std::istringstream in(text);
+    std::istringstream in(blankComments(text));
+    cond.enterFile();
     for (std::string line; std::getline(in, line);) {
         const std::string target = includeTarget(line);
-        if (target.empty()) continue;
+        if (cond.next(line) == Branch::Skipped || target.empty()) continue;
+        throwIfCancelled();
         const std::string name =
             (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
         if (!seen.insert(name).second) continue;
+        std::string sub;
         try {
-            std::string sub = normaliseLineEnds(
+            sub = normaliseLineEnds(
                 readTextFile(name, path, "#include", "HLSL include", kMaxShaderBytes));
-            bytes += sub.size() + 1;
-            out.emplace_back(name, sub);
-            if (bytes > kMaxShaderBytes) return;
-            collectIncludes(name, sub, depth + 1, seen, bytes, out);
         } catch (const std::exception&) {
-            // glslang names a file it cannot include when it compiles.
+            continue;  // glslang names a file it cannot include when it compiles
         }
+        withoutNul(sub, name, "#include", "the HLSL include");
+        bytes += sub.size() + 1;
+        out.emplace_back(name, sub);
+        if (bytes > kMaxShaderBytes) return;
+        collectIncludes(name, sub, depth + 1, seen, bytes, cond, out);
     }
+    cond.leaveFile();
 }
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> hlslIncludes(const std::string& path,
-                                                              const std::string& text) {
+std::vector<std::pair<std::string, std::string>> hlslIncludes(
+    const std::string& path, const std::string& text,
+    const std::vector<std::pair<std::string, std::string>>& defines) {
     std::set<std::string> seen = {std::filesystem::path(path).lexically_normal().string()};
     size_t bytes = 0;
     std::vector<std::pair<std::string, std::string>> out;
-    collectIncludes(path, text, 0, seen, bytes, out);
+    ConditionalLines cond(defines);
+    collectIncludes(path, text, 0, seen, bytes, cond, out);
     return out;
 }
 
@@ -322,10 +345,17 @@ std::string hlslSamplerDefaults(const std::string& text) {
 
 bool takePragmaOnce(std::string& text) {
     bool found = false;
+    // Under "#if 0" (a branch certainly skipped) a #pragma once is none. The comment-blanked
+    // copy's lines are the text's, walked in step (a blanked pragma only shortens its line).
+    std::istringstream lines(blankComments(text));
+    ConditionalLines cond({}, false);
     for (size_t at = 0; at < text.size();) {
         size_t end = text.find('\n', at);
         if (end == std::string::npos) end = text.size();
+        std::string line;
+        std::getline(lines, line);
         size_t i = text.find_first_not_of(" \t", at);
+        if (cond.next(line) == Branch::Skipped) i = end;
         if (i < end && text[i] == '#') {
             i = text.find_first_not_of(" \t", i + 1);
             if (i < end && text.compare(i, 6, "pragma") == 0) {
@@ -352,20 +382,36 @@ class GlslIncludes {
     std::vector<GlslSpec::LineOrigin> origins;
     bool any = false;
 
+    explicit GlslIncludes(const std::vector<std::pair<std::string, std::string>>& defines)
+        : cond_(defines) {}
+
+    // Each line kept (an include in a branch certainly skipped, or in one pgt cannot judge
+    // whose file is missing, blanked: the compiler skips or names it); the includes expanded.
     void expand(const std::string& path, std::string source, size_t depth) {
         if (takePragmaOnce(source)) once_.insert(path);
-        std::istringstream in(source);
-        std::string line;
+        std::istringstream in(source), plain(blankComments(source));
+        std::string line, bare;
+        cond_.enterFile();
         for (int n = 1; std::getline(in, line); ++n) {
-            const std::string target = includeTarget(line);
+            std::getline(plain, bare);
+            const Branch branch = cond_.next(bare);
+            const std::string target = includeTarget(bare);
             if (target.empty()) {
                 text += line + "\n";
                 origins.push_back({path, n});
                 continue;
             }
             any = true;
+            throwIfCancelled();  // an include fan-out: Ctrl-C in Python stops between files
             const std::string name =
                 (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
+            std::error_code ec;
+            if (branch == Branch::Skipped ||
+                (branch == Branch::Unknown && !std::filesystem::is_regular_file(name, ec))) {
+                text += "\n";
+                origins.push_back({path, n});
+                continue;
+            }
             if (depth + 1 > kMaxIncludeDepth)
                 throw InputError(path, "#include", target,
                                  "includes nest more than " + std::to_string(kMaxIncludeDepth) +
@@ -375,8 +421,10 @@ class GlslIncludes {
                 origins.push_back({path, n});
                 continue;
             }
-            std::string sub = normaliseLineEnds(readTextFile(
-                name, path + ":" + std::to_string(n), "#include", "GLSL include", kMaxShaderBytes));
+            std::string sub = withoutNul(
+                normaliseLineEnds(readTextFile(name, path + ":" + std::to_string(n), "#include",
+                                               "GLSL include", kMaxShaderBytes)),
+                name, "#include", "the GLSL include");
             bytes_ += sub.size();
             if (bytes_ > kMaxShaderBytes)
                 throw InputError(path, "#include", target,
@@ -384,9 +432,11 @@ class GlslIncludes {
                                      std::to_string(kMaxShaderBytes >> 20) + " MiB");
             expand(name, std::move(sub), depth + 1);
         }
+        cond_.leaveFile();
     }
 
   private:
+    ConditionalLines cond_;
     std::set<std::string> once_;
     size_t bytes_ = 0;
 };
@@ -394,19 +444,20 @@ class GlslIncludes {
 }  // namespace
 
 void readShaderSource(GlslSpec& spec, const std::string& owner, const std::string& field) {
-    std::string text =
-        normaliseLineEnds(readTextFile(spec.path, owner, field, "shader file", kMaxShaderBytes));
+    std::string text = withoutNul(
+        normaliseLineEnds(readTextFile(spec.path, owner, field, "shader file", kMaxShaderBytes)),
+        spec.path, field, "the shader file");
     spec.origins.clear();
     if (spec.hlsl) {  // glslang includes the HLSL files (methods/shader/hlsl.cpp)
         takePragmaOnce(text);
-        spec.includeFiles = hlslIncludes(spec.path, text);
+        spec.includeFiles = hlslIncludes(spec.path, text, spec.defines);
         spec.included.clear();
         for (const auto& [name, sub] : spec.includeFiles) spec.included += sub + "\n";
         spec.enums = hlslEnumNames(text + spec.included);
         spec.source = hlslSamplerDefaults(hlslEnumsAsConstants(text, spec.enums));
         return;
     }
-    GlslIncludes includes;
+    GlslIncludes includes(spec.defines);
     includes.expand(spec.path, text, 0);
     if (!includes.any) {  // the file's own text, byte for byte (its SHA-1 names the study)
         spec.source = std::move(text);
