@@ -142,6 +142,11 @@ class BoundedDomBuilder {
 }  // namespace
 
 nlohmann::json parseJsonText(const std::string& text, const std::string& file) {
+    // The bound of a JSON file holds for JSON text handed over whole (a Python dict) too.
+    if (text.size() > kMaxJsonFileBytes)
+        throw InputError(file, "", "",
+                         "JSON text of " + std::to_string(text.size()) + " bytes, more than the " +
+                             std::to_string(kMaxJsonFileBytes) + " accepted (a scene is a few KB)");
     BoundedDomBuilder builder(file);
     bool ok = nlohmann::json::sax_parse(text, &builder);
     if (ok) return builder.take();

@@ -2,7 +2,8 @@
 # OpenImageIO on demand (ctest install.openimageio_on_demand; docs/install.md): the command
 # and the Python module do not link libOpenImageIO; a render of a procedural map never loads
 # it; a render of an image map loads it from lib/pgt/pgt_image.so beside the binary; a missing
-# module named by $PGT_IMAGE_MODULE is an error that names it, and the render writes nothing.
+# module named by $PGT_IMAGE_MODULE is an error that names it, and the render writes nothing;
+# so is one that is a truncated ELF, a FIFO, a directory, text or a device (exit 2, no hang).
 # Usage: test_loader.sh PGT SCENE_DIR [PYTHON_MODULE]
 set -euo pipefail
 pgt=$1
@@ -55,4 +56,22 @@ set -e
 grep -q 'PGT_IMAGE_MODULE' "$tmp/m.log" || fail "the error does not name PGT_IMAGE_MODULE: $(cat "$tmp/m.log")"
 grep -q 'missing.so' "$tmp/m.log" || fail "the error does not name the path: $(cat "$tmp/m.log")"
 [ ! -e "$tmp/m/summary.json" ] || fail "a failed render left summary.json"
+# Modules that are not a whole shared object for this machine: each exit 2 naming the path,
+# within 20 s (a FIFO used to block in open() forever; a truncated ELF, SIGBUS in dlopen).
+libm=$(ldconfig -p | awk '/libm\.so\.6 .*x86-64/ {print $NF; exit}')
+[ -n "$libm" ] || libm=$(find /lib /usr/lib -name 'libm.so.6' | head -n 1)
+head -c 4096 "$libm" > "$tmp/truncated.so"
+mkfifo "$tmp/fifo.so"
+mkdir "$tmp/dir.so"
+printf 'not an elf' > "$tmp/text.so"
+for bad in "$tmp/truncated.so" "$tmp/fifo.so" "$tmp/dir.so" "$tmp/text.so" /dev/zero; do
+  set +e
+  PGT_IMAGE_MODULE=$bad timeout 20 "$pgt" render "$tmp/image.json" --out "$tmp/bad" \
+    --no-timing > "$tmp/bad.log" 2>&1
+  rc=$?
+  set -e
+  [ "$rc" -eq 2 ] || fail "PGT_IMAGE_MODULE=$bad: exit $rc (want 2): $(cat "$tmp/bad.log")"
+  grep -q "$bad" "$tmp/bad.log" || fail "the error does not name $bad: $(cat "$tmp/bad.log")"
+  [ ! -e "$tmp/bad" ] || fail "PGT_IMAGE_MODULE=$bad left its --out"
+done
 echo "ok: OpenImageIO on demand"

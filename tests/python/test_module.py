@@ -258,6 +258,15 @@ def test_a_path_with_a_nul_is_refused(scenes, tmp_path):
         pgt.sweep(real + "\0.extra", str(tmp_path / "study"))
 
 
+def test_a_dict_over_the_scene_file_bound_is_refused(scenes):
+    """A dict is JSON text handed over whole: over the 64 MiB a scene file may hold, it is
+    refused as such a file is, before it is parsed."""
+    scene = small_scene(scenes)
+    scene["description"] = "x" * (65 << 20)
+    with pytest.raises(pgt.InputError, match="more than the 67108864 accepted"):
+        pgt.render(scene)
+
+
 CTRL_C_CHILD = r"""
 import json, os, sys, time
 import pgt
