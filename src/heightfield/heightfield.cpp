@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
@@ -380,14 +381,18 @@ Texture makeProceduralHeight(const Json& params, const std::string& sceneFile,
     Texture t;
     t.width = w;
     t.height = h;
-    t.texels.resize(size_t(w) * h);
+    // Row by row into reserved memory (a gigabyte's zero fill alone takes seconds), polling
+    // the cancel flag: Ctrl-C in Python stops a 16384^2 map here.
+    t.texels.reserve(size_t(w) * h);
     const double levels = quantize == 8 ? 255.0 : 65535.0;
-    for (int j = 0; j < h; ++j)
+    for (int j = 0; j < h; ++j) {
+        throwIfCancelled();
         for (int i = 0; i < w; ++i) {
             double v = fn((i + 0.5) / w, (j + 0.5) / h);
             if (quantize) v = std::round(std::clamp(v, 0.0, 1.0) * levels) / levels;
-            t.texel(i, j) = float(v);
+            t.texels.push_back(float(v));
         }
+    }
     return t;
 }
 
@@ -406,6 +411,7 @@ DerivedMaps makeDerivedMaps(const Texture& height, double scaleUv, double biasUv
         return std::clamp(k, 0, n - 1);
     };
     for (int j = 0; j < h; ++j) {
+        throwIfCancelled();
         for (int i = 0; i < w; ++i) {
             // Lengyel FGED 2 Eq. 7.41 with s in texel units = s_uv * W (resp. H).
             double dx = scaleUv * w / 2 *

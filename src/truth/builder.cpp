@@ -14,7 +14,10 @@ std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r,
                                                                  const TruthWindow& window) const {
     const Texture& h = scene_.height;
     return std::visit(
-        Overloaded{[&](const PlaneBase& p) { return tessellatePlane(h, p, r, window); },
+        Overloaded{[&](const PlaneBase& p) {
+                       return height_ ? tessellatePlane(height_, p, r, window)
+                                      : tessellatePlane(h, p, r, window);
+                   },
                    [&](const MeshBase& m) {
                        // The limit surface (the asset as meant) or the drawn triangles.
                        return m.truthSurface == MeshTruth::Limit
@@ -105,8 +108,12 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
         if (!fits) continue;
         f.truth = Image2D<TruthSample>(W, H);
         if (scene.truth.uncertainty) f.fine = Image2D<TruthSample>(W, H), f.haveFine = true;
+        // The scene's map, shared unowned by every block's tessellations (they end here,
+        // before the scene does): no gigabyte copy per block of a huge map.
+        const std::shared_ptr<const Texture> height(std::shared_ptr<const Texture>(),
+                                                    &scene.height);
         for (const PixelRect& b : blocks) {
-            TruthBuilder builder(scene);
+            TruthBuilder builder(scene, height);
             builder.limitToView(camera, scene.displacement, b);
             TruthPair pair = builder.build(scene.displacement, scene.truth.uncertainty);
             auto t0 = Clock::now();

@@ -21,7 +21,10 @@ struct TruthPair {
 // Base tessellations (independent of s, b) built once, displaced per (s, b) on request.
 class TruthBuilder {
   public:
-    explicit TruthBuilder(const Scene& scene) : scene_(scene) {}
+    // `height`: the scene's map shared instead of copied into each tessellation (a caller
+    // whose tessellations end before the scene does may pass the scene's own, unowned).
+    explicit TruthBuilder(const Scene& scene, std::shared_ptr<const Texture> height = nullptr)
+        : scene_(scene), height_(std::move(height)) {}
     // New surfaces for (s, b).
     TruthPair build(const Displacement& disp, bool withUncertainty);
     // The builder's own surfaces re-displaced to (s, b) (TruthSurface::setDisplacement: no
@@ -36,6 +39,7 @@ class TruthBuilder {
   private:
     std::shared_ptr<const BaseTessellation> tessellate(int rate, const TruthWindow& window) const;
     const Scene& scene_;
+    std::shared_ptr<const Texture> height_;
     std::shared_ptr<const BaseTessellation> base_, fine_;
     TruthPair current_;
     TruthWindow window_, windowFine_;

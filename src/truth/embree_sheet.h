@@ -21,6 +21,7 @@
 #include "compare/statistics.h"
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "truth/embree_device.h"
 #include "truth/truth.h"
 
@@ -415,6 +416,7 @@ struct TruthSurface::Impl {
         Box box = tbb::parallel_reduce(
             tbb::blocked_range<size_t>(0, n, 16384), Box{},
             [&](const tbb::blocked_range<size_t>& r, Box acc) {
+                throwIfCancelled();  // a huge sheet: Ctrl-C in Python stops here
                 for (size_t k = r.begin(); k < r.end(); ++k) {
                     Vec3f v(b.positionAt(k) +
                             b.normalAt(k) * (l * (disp.scale * b.heightAt(k) + disp.bias)));

@@ -124,6 +124,10 @@ constexpr double kTruthBytesPerSheetVertex = 300;
 std::shared_ptr<const BaseTessellation> tessellatePlane(const Texture& height,
                                                         const PlaneBase& plane, int rate,
                                                         const TruthWindow& window = {});
+// The same over a height map it shares (no copy: a 16384^2 map is a gigabyte).
+std::shared_ptr<const BaseTessellation> tessellatePlane(std::shared_ptr<const Texture> height,
+                                                        const PlaneBase& plane, int rate,
+                                                        const TruthWindow& window = {});
 
 // The `limit` truth of a mesh: the OpenSubdiv limit surface of the control mesh
 // (its scheme), tessellated face by face with the Bfr Tessellation API at a rate per cage

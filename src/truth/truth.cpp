@@ -19,6 +19,7 @@
 #include "compare/statistics.h"
 #include "core/clock.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/percentile.h"
 #include "truth/embree_device.h"
 #include "truth/embree_sheet.h"
@@ -66,6 +67,10 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     // (docs/model.md §5). Its cost is in docs/performance.md.
     rtcSetSceneFlags(m.scene, refittable ? RTC_SCENE_FLAG_DYNAMIC | RTC_SCENE_FLAG_ROBUST
                                          : RTC_SCENE_FLAG_ROBUST);
+    // A build of a huge sheet takes minutes: Embree asks this as it goes, and a cancel (Ctrl-C
+    // in Python) stops it there (rtcCommitScene returns; throwIfCancelled below).
+    rtcSetSceneProgressMonitorFunction(
+        m.scene, [](void*, double) { return !cancelRequested(); }, nullptr);
     if (refittable) rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_LOW);
     m.geom = rtcNewGeometry(
         dev, geometry == TruthGeometry::Grid ? RTC_GEOMETRY_TYPE_GRID : RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -122,6 +127,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     rtcAttachGeometry(m.scene, m.geom);
     rtcCommitScene(m.scene);
     m.stats.buildMs = msSince(t1);
+    throwIfCancelled();
     throwIfEmbreeFailed();
 }
 
@@ -158,6 +164,7 @@ void TruthSurface::setDisplacement(const Displacement& disp, TruthUpdate update)
     rtcCommitScene(m.scene);
     m.lastUpdate = update;
     m.stats.updateMs = msSince(t0);
+    throwIfCancelled();
     throwIfEmbreeFailed();
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Benchmark (not a test): how long Ctrl-C takes to stop pgt.render in Python, from SIGINT to
 KeyboardInterrupt, in the stages a render spends its time in: a C++ method over a large
-frame, a slow GLSL shader's draw, and a shader's compile (a child process). The tests assert
+frame, a slow GLSL shader's draw, a shader's compile (a child process), and a 16384^2 map's
+generation and truth (a gigabyte of heights; SIGINT at a seeded moment of its 40 s). The tests assert
 only that the interrupt happens and leaves nothing (python.module, hostile.python_cancel);
 the latency depends on the machine's load, so it is measured here.
 Usage: /usr/bin/python3 tests/bench/ctrl_c_latency.py BUILD_DIR [TRIALS]   (default 5)"""
@@ -52,6 +53,11 @@ def scenes(d):
     compile_ = dict(BASE, methods=[{"name": "many", "glsl": "many.glsl"}])
     compile_["camera"] = dict(BASE["camera"], resolution=[64, 64])
     out.append(("shader compile", compile_))
+    huge = {"heightmap": {"procedural": "bricks", "size": [16384, 16384]},
+            "base": {"type": "plane"}, "methods": ["parallax"],
+            "camera": {"type": "orthographic", "theta": 30, "resolution": [64, 64]},
+            "truth": {"rate": 1, "uncertainty": False}}
+    out.append(("16384^2 map", huge))
     paths = []
     for name, scene in out:
         path = os.path.join(d, name.replace(" ", "_") + ".json")
@@ -71,7 +77,9 @@ def main():
                 p = subprocess.Popen(["/usr/bin/python3", "-c", CHILD, path, out],
                                      stdout=subprocess.PIPE, text=True, env=env)
                 p.stdout.readline()
-                time.sleep(1.0 + rng.random())  # a seeded moment inside the stage
+                # A seeded moment inside the stage (the huge map's anywhere in its run).
+                time.sleep(rng.uniform(0.2, 35.0) if name.startswith("16384") else
+                           1.0 + rng.random())
                 sent = time.time()
                 p.send_signal(signal.SIGINT)
                 line = p.stdout.readline().strip()
