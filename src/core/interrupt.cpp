@@ -86,4 +86,27 @@ void installSignalCleanup() {
     for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
 }
 
+namespace {
+constexpr int kScopedSignals[2] = {SIGTERM, SIGHUP};
+}  // namespace
+
+SignalCleanupScope::SignalCleanupScope() {
+    for (int k = 0; k < 2; ++k) {
+        struct sigaction old {};
+        if (::sigaction(kScopedSignals[k], nullptr, &old) != 0 || old.sa_handler != SIG_DFL ||
+            (old.sa_flags & SA_SIGINFO))
+            continue;
+        struct sigaction sa {};
+        sa.sa_handler = cleanupOnSignal;
+        sigemptyset(&sa.sa_mask);
+        for (int sig : kScopedSignals) sigaddset(&sa.sa_mask, sig);
+        installed_[k] = ::sigaction(kScopedSignals[k], &sa, nullptr) == 0;
+    }
+}
+
+SignalCleanupScope::~SignalCleanupScope() {
+    for (int k = 0; k < 2; ++k)
+        if (installed_[k]) ::signal(kScopedSignals[k], SIG_DFL);
+}
+
 }  // namespace pgt

@@ -48,4 +48,18 @@ class CleanupPath {
 // signal with its default action (exit status 128 + signal in a shell).
 void installSignalCleanup();
 
+// The same handler for SIGTERM and SIGHUP while one is alive, where their action is the
+// default (the process ends): the Python module's calls, so that a terminated interpreter
+// leaves no temporary or created --out behind. A handler the host installed stays its own.
+class SignalCleanupScope {
+  public:
+    SignalCleanupScope();
+    ~SignalCleanupScope();
+    SignalCleanupScope(const SignalCleanupScope&) = delete;
+    SignalCleanupScope& operator=(const SignalCleanupScope&) = delete;
+
+  private:
+    bool installed_[2] = {false, false};
+};
+
 }  // namespace pgt

@@ -54,6 +54,9 @@ auto interruptible(F work) -> decltype(work()) {
         std::condition_variable cv;
         bool done = false;
         pgt::clearCancel();
+        // SIGTERM or SIGHUP (default action) ends the interpreter: its temporaries and the
+        // --out it created go first, as the CLI's do.
+        pgt::SignalCleanupScope cleanup;
         std::thread worker([&] {
             std::fesetenv(FE_DFL_ENV);
             try {

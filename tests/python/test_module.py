@@ -302,6 +302,23 @@ def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
     assert not out.exists(), os.listdir(out)
 
 
+def test_sigterm_ends_python_without_leaving_its_out(scenes, tmp_path):
+    """SIGTERM (its default action) ends the interpreter during pgt.render as it ends the CLI:
+    by the signal, with the --out the render created removed and no temporary left."""
+    scene = small_scene(scenes)
+    scene["camera"]["resolution"] = [1536, 1536]
+    scene["methods"] = [{"name": "pom", "min_layers": 64, "max_layers": 128}]
+    out = tmp_path / "out"
+    p = subprocess.Popen(["/usr/bin/python3", "-c", CTRL_C_CHILD, json.dumps(scene), str(out)],
+                         stdout=subprocess.PIPE, text=True, env=os.environ.copy())
+    assert p.stdout.readline().strip() == "started"
+    time.sleep(1.5)  # inside the render
+    p.send_signal(15)
+    assert p.wait(timeout=30) == -15
+    assert not out.exists(), os.listdir(out)
+    assert not [n for n in os.listdir(tmp_path) if ".pgt-tmp." in n]
+
+
 def test_the_callers_floating_point_state_is_kept_and_does_not_change_results(scenes):
     """pgt's tracing threads set flush-to-zero and denormals-are-zero for Embree: the calling
     Python thread keeps its own state (a denormal stays a denormal, its rounding mode stays),
