@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <stdexcept>
+#include <utility>
 
 #include "core/error.h"
 #include "core/interrupt.h"
@@ -355,7 +356,8 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
 // within about a strip's time (aimed at 0.05-0.25 s: the strip doubles while it is faster,
 // halves while slower) instead of after the whole image's. Strips start on even rows, so no
 // 2x2 quad (its derivatives) is split.
-void drawInStrips(int w, int h) {
+double drawInStrips(int w, int h) {
+    const auto start = std::chrono::steady_clock::now();
     glEnable(GL_SCISSOR_TEST);
     int rows = 8;
     for (int y = 0; y < h;) {
@@ -377,6 +379,37 @@ void drawInStrips(int w, int h) {
             rows /= 2;
     }
     glDisable(GL_SCISSOR_TEST);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One timed pass over the image (GL time and wall time, ns): one draw, or where a whole draw
+// takes longer than a poll may wait (a slow shader on a software GL), strips of rows of about
+// 0.1 s each, the cancel flag polled between them; the pass's time is the strips' sum.
+std::pair<double, double> timedPass(int w, int h, double wholeSeconds, GLuint query) {
+    int rows = h;
+    if (wholeSeconds > 0.25) rows = std::max(2, int(h * 0.1 / wholeSeconds) & ~1);
+    if (rows < h) glEnable(GL_SCISSOR_TEST);
+    double gpu = 0, wall = 0;
+    for (int y = 0; y < h; y += rows) {
+        if (rows < h) glScissor(0, y, w, std::min(rows, h - y));
+        glFinish();
+        if (cancelRequested()) {
+            glDisable(GL_SCISSOR_TEST);
+            throw Cancelled();
+        }
+        auto t0 = std::chrono::steady_clock::now();
+        glBeginQuery(GL_TIME_ELAPSED, query);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glEndQuery(GL_TIME_ELAPSED);
+        glFinish();
+        wall +=
+            std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+        GLuint64 t = 0;
+        glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
+        gpu += double(t);
+    }
+    glDisable(GL_SCISSOR_TEST);
+    return {gpu, wall};
 }
 
 // Draws `img` once, or times it: one warm-up draw, then draws (each between two glFinish and
@@ -389,7 +422,7 @@ void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, 
     const float clear[4] = {NAN, NAN, 0, 0};
     glClearBufferfv(GL_COLOR, 0, clear);
     glClearBufferfv(GL_COLOR, 1, clear + 2);
-    drawInStrips(img.w, img.h);
+    const double wholeSeconds = drawInStrips(img.w, img.h);
     if (!plan) return;
     GLuint query = 0;
     glGenQueries(1, &query);
@@ -398,23 +431,17 @@ void draw(const DrawImages& img, const GlslTimingPlan* plan, int64_t fragments, 
     const bool software = contextInfo().software;
     while (int(gpuNs.size()) < plan->maxRepeats &&
            (int(gpuNs.size()) < plan->minRepeats || totalMs < plan->minGpuMs)) {
-        glFinish();
-        if (cancelRequested()) {  // between timed draws (each is whole: its time is the measure)
+        std::pair<double, double> pass;
+        try {
+            pass = timedPass(img.w, img.h, wholeSeconds, query);
+        } catch (const Cancelled&) {
             glDeleteQueries(1, &query);
-            throw Cancelled();
+            throw;
         }
-        auto t0 = std::chrono::steady_clock::now();
-        glBeginQuery(GL_TIME_ELAPSED, query);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glEndQuery(GL_TIME_ELAPSED);
-        glFinish();
-        const double wall =
-            std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
-        GLuint64 t = 0;
-        glGetQueryObjectui64v(query, GL_QUERY_RESULT, &t);
-        gpuNs.push_back(double(t) / double(fragments));
+        const auto [t, wall] = pass;
+        gpuNs.push_back(t / double(fragments));
         wallNs.push_back(wall / double(fragments));
-        totalMs += (software ? wall : double(t)) * 1e-6;
+        totalMs += (software ? wall : t) * 1e-6;
     }
     glDeleteQueries(1, &query);
     // llvmpipe's GL_TIME_ELAPSED does not cover its deferred rasterisation (measured 0.2-16
