@@ -1,6 +1,6 @@
 // Internal to gl/: the OpenGL and EGL headers, the process's one headless context and the
-// GL error helpers that methods/shader/context.cpp, methods/shader/program.cpp and
-// methods/shader/glsl_method.cpp share.
+// GL error helpers that methods/shader/context.cpp, methods/shader/program.cpp,
+// methods/shader/glsl_method.cpp and methods/shader/timed_draws.cpp share.
 #pragma once
 
 #define EGL_EGLEXT_PROTOTYPES

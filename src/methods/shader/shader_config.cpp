@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <set>
 #include <sstream>
 
 #include "core/format.h"
@@ -326,6 +325,44 @@ std::string shaderPath(JsonFields& f, const std::string& key, const std::string&
     return path;
 }
 
+// "call" or "body": the entry's own code, checked as one line or as a body's shape.
+void readEntryCode(JsonFields& f, GlslSpec& spec) {
+    spec.call = f.string("call", "");
+    checkShaderLine(f, "call", spec.call);
+    if (f.has("body")) {
+        if (f.has("call")) f.fail("body", "a method has \"call\" or \"body\", not both");
+        spec.body = readBody(f);
+    }
+    checkCallNotVoid(f, spec);
+}
+
+// HLSL's "sampler_state": pgt declares `SamplerState NAME;` beside the texture, so a keyword
+// or the texture's own name would fail in the compiler, naming pgt's declaration instead of
+// this field.
+void readSamplerState(JsonFields& f, GlslSpec& spec) {
+    spec.samplerState = f.string("sampler_state", "");
+    const std::string& name = spec.samplerState;
+    if (name.empty()) return;
+    if (!spec.hlsl || !isShaderIdentifier(name))
+        f.failValue("sampler_state", Json(name),
+                    spec.hlsl ? "is not an HLSL identifier"
+                              : "names an HLSL SamplerState; a GLSL sampler2D is \"sampler\"");
+    static const std::string kHlslWords =
+        " SamplerState SamplerComparisonState Texture2D Texture3D TextureCube sampler sampler2D"
+        " texture float float2 float3 float4 half double int uint bool void matrix vector string"
+        " return if else for while do switch case default break continue discard struct class"
+        " interface namespace cbuffer tbuffer static const uniform extern in out inout true false"
+        " register packoffset typedef technique pass linear centroid nointerpolation precise"
+        " shared groupshared volatile row_major column_major inline export ";
+    if (kHlslWords.find(" " + name + " ") != std::string::npos)
+        f.failValue("sampler_state", Json(name),
+                    "is an HLSL keyword or type; name the file's SamplerState variable");
+    if (name == spec.samplers[size_t(MapKind::Height)])
+        f.failValue("sampler_state", Json(name),
+                    "is the texture's own name (\"sampler\"): a Texture2D and its "
+                    "SamplerState are two variables with two names");
+}
+
 }  // namespace
 
 // {"name": "mine", "glsl" | "hlsl": FILE, "function": F, "call": EXPR, "defines": {...},
@@ -355,60 +392,8 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
         spec->samplers[size_t(m.kind)] =
             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
     readTexture(f, *spec);
-    spec->call = f.string("call", "");
-    checkShaderLine(f, "call", spec->call);
-    if (f.has("body")) {
-        if (f.has("call")) f.fail("body", "a method has \"call\" or \"body\", not both");
-        spec->body = readBody(f);
-    }
-    checkCallNotVoid(f, *spec);
-    spec->samplerState = f.string("sampler_state", "");
-    if (!spec->samplerState.empty() && (!spec->hlsl || !isShaderIdentifier(spec->samplerState)))
-        f.failValue("sampler_state", Json(spec->samplerState),
-                    spec->hlsl ? "is not an HLSL identifier"
-                               : "names an HLSL SamplerState; a GLSL sampler2D is \"sampler\"");
-    // pgt declares `SamplerState NAME;` beside the texture: a keyword or the texture's own
-    // name would fail in the compiler, naming pgt's declaration instead of this field.
-    static const std::set<std::string> kHlslWords = {"SamplerState", "SamplerComparisonState",
-                                                     "Texture2D",    "Texture3D",
-                                                     "TextureCube",  "sampler",
-                                                     "sampler2D",    "texture",
-                                                     "float",        "float2",
-                                                     "float3",       "float4",
-                                                     "half",         "double",
-                                                     "int",          "uint",
-                                                     "bool",         "void",
-                                                     "matrix",       "vector",
-                                                     "string",       "return",
-                                                     "if",           "else",
-                                                     "for",          "while",
-                                                     "do",           "switch",
-                                                     "case",         "default",
-                                                     "break",        "continue",
-                                                     "discard",      "struct",
-                                                     "class",        "interface",
-                                                     "namespace",    "cbuffer",
-                                                     "tbuffer",      "static",
-                                                     "const",        "uniform",
-                                                     "extern",       "in",
-                                                     "out",          "inout",
-                                                     "true",         "false",
-                                                     "register",     "packoffset",
-                                                     "typedef",      "technique",
-                                                     "pass",         "linear",
-                                                     "centroid",     "nointerpolation",
-                                                     "precise",      "shared",
-                                                     "groupshared",  "volatile",
-                                                     "row_major",    "column_major",
-                                                     "inline",       "export"};
-    if (kHlslWords.count(spec->samplerState))
-        f.failValue("sampler_state", Json(spec->samplerState),
-                    "is an HLSL keyword or type; name the file's SamplerState variable");
-    if (!spec->samplerState.empty() &&
-        spec->samplerState == spec->samplers[size_t(MapKind::Height)])
-        f.failValue("sampler_state", Json(spec->samplerState),
-                    "is the texture's own name (\"sampler\"): a Texture2D and its "
-                    "SamplerState are two variables with two names");
+    readEntryCode(f, *spec);
+    readSamplerState(f, *spec);
     spec->api = spec->hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
     if (f.has("api"))
         spec->api =
