@@ -281,18 +281,24 @@ except KeyboardInterrupt:
 """
 
 
-def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
-    """SIGINT during pgt.render raises KeyboardInterrupt and leaves no --out behind (the render
-    created it). The outcome is asserted, not the latency: on a loaded machine the cancel flag's
-    next poll may come later than a second (tests/bench/ctrl_c_latency.py measures it)."""
+def render_in_a_child(scenes, out):
+    """A Python child 1.5 s into a pgt.render (1536^2, pom 64-128) into `out`."""
     scene = small_scene(scenes)
     scene["camera"]["resolution"] = [1536, 1536]
     scene["methods"] = [{"name": "pom", "min_layers": 64, "max_layers": 128}]
-    out = tmp_path / "out"
     p = subprocess.Popen(["/usr/bin/python3", "-c", CTRL_C_CHILD, json.dumps(scene), str(out)],
                          stdout=subprocess.PIPE, text=True, env=os.environ.copy())
     assert p.stdout.readline().strip() == "started"
     time.sleep(1.5)  # inside the render
+    return p
+
+
+def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
+    """SIGINT during pgt.render raises KeyboardInterrupt and leaves no --out behind (the render
+    created it). The outcome is asserted, not the latency: on a loaded machine the cancel flag's
+    next poll may come later than a second (tests/bench/ctrl_c_latency.py measures it)."""
+    out = tmp_path / "out"
+    p = render_in_a_child(scenes, out)
     sent = time.time()
     p.send_signal(2)
     line = p.stdout.readline().strip()
@@ -305,14 +311,8 @@ def test_ctrl_c_stops_a_render_and_removes_its_out(scenes, tmp_path):
 def test_sigterm_ends_python_without_leaving_its_out(scenes, tmp_path):
     """SIGTERM (its default action) ends the interpreter during pgt.render as it ends the CLI:
     by the signal, with the --out the render created removed and no temporary left."""
-    scene = small_scene(scenes)
-    scene["camera"]["resolution"] = [1536, 1536]
-    scene["methods"] = [{"name": "pom", "min_layers": 64, "max_layers": 128}]
     out = tmp_path / "out"
-    p = subprocess.Popen(["/usr/bin/python3", "-c", CTRL_C_CHILD, json.dumps(scene), str(out)],
-                         stdout=subprocess.PIPE, text=True, env=os.environ.copy())
-    assert p.stdout.readline().strip() == "started"
-    time.sleep(1.5)  # inside the render
+    p = render_in_a_child(scenes, out)
     p.send_signal(15)
     assert p.wait(timeout=30) == -15
     assert not out.exists(), os.listdir(out)
