@@ -406,10 +406,30 @@ TEST(OwnShader, IncludesFollowThePreprocessorsConditionals) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("missing.glsl"), std::string::npos) << e.what();
     }
+    // What an include defines under a branch pgt cannot judge (GL_ES: the compiler's) is
+    // unsure: an #ifndef of it is not skipped. A missing include there becomes an #error
+    // line, which the compiler's preprocessor skips or names. A hostile #if line (100,000
+    // '!') is read without recursion.
+    std::ofstream(dir / "es.glsl") << "#define LOW 1\n";
+    std::ofstream(dir / "desktop.glsl") << "float desk() { return 1.0; }\n";
+    std::ofstream(dir / "b.glsl") << "#ifdef GL_ES\n#include \"es.glsl\"\n#endif\n"
+                                     "#ifndef LOW\n#include \"desktop.glsl\"\n#endif\n"
+                                     "#ifdef GL_ES\n#include \"gone.glsl\"\n#endif\n#if "
+                                  << std::string(100000, '!') << "1\n#endif\n"
+                                  << "vec2 F(vec2 uv, vec3 V) { return uv * desk(); }\n";
+    nlohmann::json b = {
+        {"name", "b"}, {"glsl", (dir / "b.glsl").string()}, {"function", "F"}, {"sampler", ""}};
+    const std::vector<MethodConfig> unsure =
+        parseMethods(nlohmann::json::array({b}), "test", "methods");
+    EXPECT_NE(unsure[0].shader()->source.find("float desk()"), std::string::npos);
+    EXPECT_NE(unsure[0].shader()->source.find("#error pgt cannot read the include gone.glsl"),
+              std::string::npos);
     std::string once = "#if 0\n#pragma once\n#endif\nfloat f;\n";
     EXPECT_FALSE(takePragmaOnce(once));
     once = "#if 1\n#pragma once\n#endif\n";
     EXPECT_TRUE(takePragmaOnce(once));
+    once = "/*\n#pragma once\n*/\n";
+    EXPECT_FALSE(takePragmaOnce(once));
 }
 
 // The silent mistakes of docs/outputs.md "Warnings", each made on purpose: a shader that

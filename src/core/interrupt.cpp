@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <mutex>
 
 namespace pgt {
 
@@ -88,25 +89,40 @@ void installSignalCleanup() {
 
 namespace {
 constexpr int kScopedSignals[2] = {SIGTERM, SIGHUP};
+// Scopes alive (Python threads may call pgt at once): the first installs, the last restores.
+std::mutex gScopeMutex;
+int gScopes = 0;
+struct sigaction gBefore[2];
+bool gInstalled[2] = {false, false};
 }  // namespace
 
 SignalCleanupScope::SignalCleanupScope() {
+    std::lock_guard<std::mutex> lock(gScopeMutex);
+    if (gScopes++ > 0) return;
     for (int k = 0; k < 2; ++k) {
-        struct sigaction old {};
-        if (::sigaction(kScopedSignals[k], nullptr, &old) != 0 || old.sa_handler != SIG_DFL ||
-            (old.sa_flags & SA_SIGINFO))
+        gInstalled[k] = false;
+        if (::sigaction(kScopedSignals[k], nullptr, &gBefore[k]) != 0 ||
+            gBefore[k].sa_handler != SIG_DFL || (gBefore[k].sa_flags & SA_SIGINFO))
             continue;
         struct sigaction sa {};
         sa.sa_handler = cleanupOnSignal;
         sigemptyset(&sa.sa_mask);
         for (int sig : kScopedSignals) sigaddset(&sa.sa_mask, sig);
-        installed_[k] = ::sigaction(kScopedSignals[k], &sa, nullptr) == 0;
+        gInstalled[k] = ::sigaction(kScopedSignals[k], &sa, nullptr) == 0;
     }
 }
 
 SignalCleanupScope::~SignalCleanupScope() {
-    for (int k = 0; k < 2; ++k)
-        if (installed_[k]) ::signal(kScopedSignals[k], SIG_DFL);
+    std::lock_guard<std::mutex> lock(gScopeMutex);
+    if (--gScopes > 0) return;
+    for (int k = 0; k < 2; ++k) {
+        struct sigaction now {};
+        // Restored only where pgt's handler is still the one: a handler the host set
+        // meanwhile stays.
+        if (gInstalled[k] && ::sigaction(kScopedSignals[k], nullptr, &now) == 0 &&
+            now.sa_handler == cleanupOnSignal)
+            ::sigaction(kScopedSignals[k], &gBefore[k], nullptr);
+    }
 }
 
 }  // namespace pgt

@@ -50,16 +50,14 @@ void installSignalCleanup();
 
 // The same handler for SIGTERM and SIGHUP while one is alive, where their action is the
 // default (the process ends): the Python module's calls, so that a terminated interpreter
-// leaves no temporary or created --out behind. A handler the host installed stays its own.
+// leaves no temporary or created --out behind. A handler the host installed stays its own;
+// scopes nest and may overlap across threads (the last one alive restores).
 class SignalCleanupScope {
   public:
     SignalCleanupScope();
     ~SignalCleanupScope();
     SignalCleanupScope(const SignalCleanupScope&) = delete;
     SignalCleanupScope& operator=(const SignalCleanupScope&) = delete;
-
-  private:
-    bool installed_[2] = {false, false};
 };
 
 }  // namespace pgt

@@ -145,9 +145,11 @@ void StagedFiles::commit() {
     // Each file already there is linked to a hidden backup first, so that a rename failing
     // part-way puts every earlier one back: the set is replaced whole or not at all.
     std::vector<std::string> backups(staged_.size());
+    std::vector<bool> existed(staged_.size(), false);
     std::vector<std::unique_ptr<CleanupPath>> guards;
     for (size_t k = 0; k < staged_.size(); ++k) {
         std::error_code ec;
+        existed[k] = fs::exists(fs::symlink_status(staged_[k].path, ec));
         if (!fs::is_regular_file(fs::symlink_status(staged_[k].path, ec))) continue;
         const std::string backup =
             (fs::path(dir_) / tempName(fs::path(staged_[k].path).filename().string())).string();
@@ -161,17 +163,24 @@ void StagedFiles::commit() {
         fs::rename(staged_[k].tmp, staged_[k].path, ec);
         if (!ec) continue;
         const std::string why = ec.message();
-        for (size_t j = 0; j < k; ++j) {  // put the earlier ones back
+        // Put the earlier ones back: a file that was there from its backup, a new one
+        // removed; one that was there without a backup (no hard links, a symlink) stays
+        // replaced, and the message says so.
+        std::string replaced;
+        for (size_t j = 0; j < k; ++j) {
             std::error_code back;
             if (!backups[j].empty())
                 fs::rename(backups[j], staged_[j].path, back);
-            else
+            else if (!existed[j])
                 fs::remove(staged_[j].path, back);
+            if (back || (existed[j] && backups[j].empty()))
+                replaced += (replaced.empty() ? "" : ", ") + staged_[j].path;
         }
         for (const std::string& b : backups)
             if (!b.empty()) fs::remove(b, ec);
         throw OutputError("cannot write " + staged_[k].path + ": " + why +
-                          " (nothing of this output was written)");
+                          (replaced.empty() ? " (nothing of this output was written)"
+                                            : " (already replaced: " + replaced + ")"));
     }
     for (const std::string& b : backups) {
         std::error_code ec;

@@ -22,6 +22,9 @@ std::mutex gEmbreeErrorMutex;
 std::string gEmbreeError;
 
 void embreeError(void*, RTCError code, const char* message) {
+    // A build stopped by pgt's own cancel (the progress monitor) is no error: the cancel is
+    // thrown where the build returns, and a later build must not see this one's message.
+    if (code == RTC_ERROR_CANCELLED) return;
     std::lock_guard<std::mutex> lock(gEmbreeErrorMutex);
     if (gEmbreeError.empty())
         gEmbreeError =

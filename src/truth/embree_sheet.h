@@ -32,6 +32,15 @@ namespace pgt {
 constexpr int kGridBlock = 1024;
 
 struct TruthSurface::Impl {
+    Impl() = default;
+    Impl(const Impl&) = delete;
+    Impl& operator=(const Impl&) = delete;
+    // Released here, so that a constructor stopped part-way (a cancel, an Embree error)
+    // leaks neither the geometry nor the scene.
+    ~Impl() {
+        if (geom) rtcReleaseGeometry(geom);
+        if (scene) rtcReleaseScene(scene);
+    }
     std::shared_ptr<const BaseTessellation> base;
     TruthGeometry geometry;
     bool periodic = false;

@@ -131,10 +131,7 @@ TruthSurface::TruthSurface(std::shared_ptr<const BaseTessellation> base, const D
     throwIfEmbreeFailed();
 }
 
-TruthSurface::~TruthSurface() {
-    if (impl_ && impl_->geom) rtcReleaseGeometry(impl_->geom);
-    if (impl_ && impl_->scene) rtcReleaseScene(impl_->scene);
-}
+TruthSurface::~TruthSurface() = default;  // Impl releases the Embree objects
 
 const TruthBuildStats& TruthSurface::stats() const { return impl_->stats; }
 TruthUpdate TruthSurface::lastUpdate() const { return impl_->lastUpdate; }

@@ -8,6 +8,12 @@ namespace pgt {
 std::string blankComments(const std::string& text) {
     std::string out = text;
     for (size_t i = 0; i < out.size(); ++i) {
+        if (out[i] == '"') {  // a string (an #include's path): kept whole, to its line's end
+            for (++i; i < out.size() && out[i] != '"' && out[i] != '\n'; ++i) {
+            }
+            if (i < out.size() && out[i] == '\n') --i;
+            continue;
+        }
         if (out[i] != '/' || i + 1 >= out.size()) continue;
         if (out[i + 1] == '/') {
             for (; i < out.size() && out[i] != '\n'; ++i) out[i] = ' ';
@@ -73,59 +79,83 @@ ConditionalLines::Known ConditionalLines::defined(const std::string& name) const
     return it == names_.end() ? Known::No : it->second;
 }
 
-// A number, defined(NAME), defined NAME, NAME's definedness negated with '!': anything else
-// is unknown.
+// A number, defined(NAME), defined NAME, each negated with '!' and in parentheses: anything
+// else (and anything over 256 characters) is unknown. Read with indices, no recursion.
 Branch ConditionalLines::evaluate(const std::string& e) const {
     std::string x;
     for (char c : e)
         if (!std::isspace(static_cast<unsigned char>(c))) x += c;
-    if (x.empty()) return Branch::Unknown;
-    if (x[0] == '!') return negate(evaluate(x.substr(1)));
-    if (x.size() > 2 && x.front() == '(' && x.back() == ')')
-        return evaluate(x.substr(1, x.size() - 2));
-    if (x.find_first_not_of("0123456789") == std::string::npos)
-        return x.find_first_not_of('0') == std::string::npos ? Branch::Skipped : Branch::Active;
-    if (x.rfind("defined", 0) == 0) {
-        std::string name = x.substr(7);
-        if (name.size() > 2 && name.front() == '(' && name.back() == ')')
-            name = name.substr(1, name.size() - 2);
-        if (!identifier(name)) return Branch::Unknown;
-        const Known k = defined(name);
-        return k == Known::Yes  ? Branch::Active
-               : k == Known::No ? Branch::Skipped
-                                : Branch::Unknown;
+    if (x.empty() || x.size() > 256) return Branch::Unknown;
+    size_t a = 0, b = x.size();
+    bool negated = false;
+    for (;;) {
+        if (a < b && x[a] == '!') {
+            negated = !negated, ++a;
+        } else if (b - a > 2 && x[a] == '(' && x[b - 1] == ')') {
+            ++a, --b;
+        } else {
+            break;
+        }
     }
-    return Branch::Unknown;
+    const std::string t = x.substr(a, b - a);
+    Branch r = Branch::Unknown;
+    if (!t.empty() && t.find_first_not_of("0123456789") == std::string::npos) {
+        r = t.find_first_not_of('0') == std::string::npos ? Branch::Skipped : Branch::Active;
+    } else if (t.rfind("defined", 0) == 0) {
+        // defined(NAME), or `defined NAME` (a space after the word in the line as written);
+        // `defined_X` is a name of its own.
+        std::string name;
+        if (t.size() > 9 && t[7] == '(' && t.back() == ')') {
+            name = t.substr(8, t.size() - 9);
+        } else {
+            const size_t at = e.find("defined");
+            if (at != std::string::npos && at + 7 < e.size() &&
+                std::isspace(static_cast<unsigned char>(e[at + 7])))
+                name = t.substr(7);
+        }
+        if (identifier(name)) {
+            const Known k = defined(name);
+            r = k == Known::Yes  ? Branch::Active
+                : k == Known::No ? Branch::Skipped
+                                 : Branch::Unknown;
+        }
+    }
+    return negated ? negate(r) : r;
 }
 
 Branch ConditionalLines::here() const {
-    Branch b = Branch::Active;
-    for (const Group& g : stacks_.back()) {
-        if (g.branch == Branch::Skipped) return Branch::Skipped;
-        if (g.branch == Branch::Unknown) b = Branch::Unknown;
-    }
-    return b;
+    const File& f = files_.back();
+    if (f.from == Branch::Skipped || f.skipped > 0) return Branch::Skipped;
+    return f.from == Branch::Unknown || f.unknown > 0 ? Branch::Unknown : Branch::Active;
+}
+
+void ConditionalLines::count(File& f, const Group& g, int sign) const {
+    f.skipped += sign * (g.branch == Branch::Skipped);
+    f.unknown += sign * (g.branch == Branch::Unknown);
 }
 
 Branch ConditionalLines::next(const std::string& line) {
     const Branch around = here();
     const auto [word, rest] = directive(line);
-    auto& stack = stacks_.back();
+    File& file = files_.back();
     auto open = [&](Branch b) {
         Group g;
         g.branch = b;
         g.taken = b == Branch::Active;
         g.unsure = b == Branch::Unknown;
-        stack.push_back(g);
+        file.groups.push_back(g);
+        count(file, g, +1);
     };
     auto nextArm = [&](Branch b) {  // #elif / #else
-        if (stack.empty()) return;
-        Group& g = stack.back();
+        if (file.groups.empty()) return;
+        Group& g = file.groups.back();
+        count(file, g, -1);
         g.branch = g.taken                            ? Branch::Skipped
                    : g.unsure && b != Branch::Skipped ? Branch::Unknown
                                                       : b;
         g.taken = g.taken || g.branch == Branch::Active;
         g.unsure = g.unsure || g.branch == Branch::Unknown;
+        count(file, g, +1);
     };
     if (word == "if") {
         open(evaluate(rest));
@@ -141,7 +171,7 @@ Branch ConditionalLines::next(const std::string& line) {
     } else if (word == "else") {
         nextArm(Branch::Active);
     } else if (word == "endif") {
-        if (!stack.empty()) stack.pop_back();
+        if (!file.groups.empty()) count(file, file.groups.back(), -1), file.groups.pop_back();
     } else if ((word == "define" || word == "undef") && around != Branch::Skipped) {
         const std::string name = firstWord(rest);
         if (identifier(name))

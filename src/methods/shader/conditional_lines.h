@@ -29,9 +29,10 @@ class ConditionalLines {
     // conditional directive is judged in the branch around it, #define and #undef counted
     // where they are not skipped.
     Branch next(const std::string& line);
-    // A new file: its conditionals start at the top (what it defines stays known).
-    void enterFile() { stacks_.emplace_back(); }
-    void leaveFile() { stacks_.pop_back(); }
+    // A new file, included from a line in branch `from`: its lines lie in that branch, its
+    // own conditionals start at the top (what it defines stays known).
+    void enterFile(Branch from = Branch::Active) { files_.push_back({from, {}, 0, 0}); }
+    void leaveFile() { files_.pop_back(); }
 
   private:
     enum class Known { No, Yes, Maybe };
@@ -40,12 +41,18 @@ class ConditionalLines {
         bool taken = false;              // an earlier arm is certainly taken
         bool unsure = false;             // an earlier arm is unknown
     };
+    struct File {
+        Branch from = Branch::Active;  // the include line's branch
+        std::vector<Group> groups;     // its open conditionals, innermost last
+        int skipped = 0, unknown = 0;  // how many of them are in such an arm (counted)
+    };
     Branch evaluate(const std::string& expr) const;
     Branch here() const;  // the branch the current line lies in
     Known defined(const std::string& name) const;
+    void count(File& f, const Group& g, int sign) const;
     std::map<std::string, Known> names_;
     bool knowsDefines_;
-    std::vector<std::vector<Group>> stacks_{1};
+    std::vector<File> files_{File{}};
 };
 
 }  // namespace pgt

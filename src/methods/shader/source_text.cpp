@@ -158,13 +158,15 @@ std::string enumConstants(const std::string& t, const std::vector<ShaderWord>& w
 // The files `text` includes (resolved path, text), to `depth` levels, each once.
 void collectIncludes(const std::string& path, const std::string& text, size_t depth,
                      std::set<std::string>& seen, size_t& bytes, ConditionalLines& cond,
-                     std::vector<std::pair<std::string, std::string>>& out) {
+                     std::vector<std::pair<std::string, std::string>>& out,
+                     Branch from = Branch::Active) {
     if (depth >= kMaxIncludeDepth) return;
     std::istringstream in(blankComments(text));
-    cond.enterFile();
+    cond.enterFile(from);
     for (std::string line; std::getline(in, line);) {
         const std::string target = includeTarget(line);
-        if (cond.next(line) == Branch::Skipped || target.empty()) continue;
+        const Branch branch = cond.next(line);
+        if (branch == Branch::Skipped || target.empty()) continue;
         throwIfCancelled();
         const std::string name =
             (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
@@ -179,8 +181,8 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
         withoutNul(sub, name, "#include", "the HLSL include");
         bytes += sub.size() + 1;
         out.emplace_back(name, sub);
-        if (bytes > kMaxShaderBytes) return;
-        collectIncludes(name, sub, depth + 1, seen, bytes, cond, out);
+        if (bytes > kMaxShaderBytes) break;
+        collectIncludes(name, sub, depth + 1, seen, bytes, cond, out, branch);
     }
     cond.leaveFile();
 }
@@ -355,7 +357,8 @@ bool takePragmaOnce(std::string& text) {
         std::string line;
         std::getline(lines, line);
         size_t i = text.find_first_not_of(" \t", at);
-        if (cond.next(line) == Branch::Skipped) i = end;
+        // Skipped, or a pragma inside a comment (the blanked line has none): not one.
+        if (cond.next(line) == Branch::Skipped || line.find("pragma") == std::string::npos) i = end;
         if (i < end && text[i] == '#') {
             i = text.find_first_not_of(" \t", i + 1);
             if (i < end && text.compare(i, 6, "pragma") == 0) {
@@ -387,11 +390,12 @@ class GlslIncludes {
 
     // Each line kept (an include in a branch certainly skipped, or in one pgt cannot judge
     // whose file is missing, blanked: the compiler skips or names it); the includes expanded.
-    void expand(const std::string& path, std::string source, size_t depth) {
+    void expand(const std::string& path, std::string source, size_t depth,
+                Branch from = Branch::Active) {
         if (takePragmaOnce(source)) once_.insert(path);
         std::istringstream in(source), plain(blankComments(source));
         std::string line, bare;
-        cond_.enterFile();
+        cond_.enterFile(from);
         for (int n = 1; std::getline(in, line); ++n) {
             std::getline(plain, bare);
             const Branch branch = cond_.next(bare);
@@ -406,9 +410,14 @@ class GlslIncludes {
             const std::string name =
                 (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
             std::error_code ec;
-            if (branch == Branch::Skipped ||
-                (branch == Branch::Unknown && !std::filesystem::is_regular_file(name, ec))) {
+            if (branch == Branch::Skipped) {
                 text += "\n";
+                origins.push_back({path, n});
+                continue;
+            }
+            if (branch == Branch::Unknown && !std::filesystem::is_regular_file(name, ec)) {
+                // Left to the compiler's preprocessor: skipped there, or named if taken.
+                text += "#error pgt cannot read the include " + target + "\n";
                 origins.push_back({path, n});
                 continue;
             }
@@ -430,7 +439,7 @@ class GlslIncludes {
                 throw InputError(path, "#include", target,
                                  "the file and its includes pass " +
                                      std::to_string(kMaxShaderBytes >> 20) + " MiB");
-            expand(name, std::move(sub), depth + 1);
+            expand(name, std::move(sub), depth + 1, branch);
         }
         cond_.leaveFile();
     }

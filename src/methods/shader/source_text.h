@@ -30,9 +30,11 @@ std::string normaliseLineEnds(std::string text);
 std::string hlslEnumsAsConstants(const std::string& text, const std::vector<std::string>& known);
 // The files an HLSL file's #include lines name, resolved relative to the including file's
 // folder (as glslang asks for them), each once, to kMaxIncludeDepth levels: (path, text with
-// line ends made LF). One that cannot be read is left out, for the compile to name.
-std::vector<std::pair<std::string, std::string>> hlslIncludes(const std::string& path,
-                                                              const std::string& text);
+// line ends made LF). One that cannot be read is left out, for the compile to name; one under
+// a conditional certainly skipped with `defines` (conditional_lines.h) is not read.
+std::vector<std::pair<std::string, std::string>> hlslIncludes(
+    const std::string& path, const std::string& text,
+    const std::vector<std::pair<std::string, std::string>>& defines);
 // The enums `text` declares (for `E::A` across files).
 std::vector<std::string> hlslEnumNames(const std::string& text);
 
