@@ -368,45 +368,34 @@ struct UniformType {
     int components = 1;
     int matrix = 0;  // 2, 3, 4: a square float matrix
 };
+// GL's uniform types, one row each; any other type (samplers, images) is a unit: 'i', 1.
+struct UniformTypeRow {
+    GLenum type;
+    UniformType shape;
+};
+constexpr UniformTypeRow kUniformTypes[] = {{GL_FLOAT, {'f', 1}},
+                                            {GL_FLOAT_VEC2, {'f', 2}},
+                                            {GL_FLOAT_VEC3, {'f', 3}},
+                                            {GL_FLOAT_VEC4, {'f', 4}},
+                                            {GL_FLOAT_MAT2, {'f', 4, 2}},
+                                            {GL_FLOAT_MAT3, {'f', 9, 3}},
+                                            {GL_FLOAT_MAT4, {'f', 16, 4}},
+                                            {GL_INT, {'i', 1}},
+                                            {GL_BOOL, {'i', 1}},
+                                            {GL_INT_VEC2, {'i', 2}},
+                                            {GL_BOOL_VEC2, {'i', 2}},
+                                            {GL_INT_VEC3, {'i', 3}},
+                                            {GL_BOOL_VEC3, {'i', 3}},
+                                            {GL_INT_VEC4, {'i', 4}},
+                                            {GL_BOOL_VEC4, {'i', 4}},
+                                            {GL_UNSIGNED_INT, {'u', 1}},
+                                            {GL_UNSIGNED_INT_VEC2, {'u', 2}},
+                                            {GL_UNSIGNED_INT_VEC3, {'u', 3}},
+                                            {GL_UNSIGNED_INT_VEC4, {'u', 4}}};
 UniformType uniformType(GLenum type) {
-    switch (type) {
-        case GL_FLOAT:
-            return {'f', 1};
-        case GL_FLOAT_VEC2:
-            return {'f', 2};
-        case GL_FLOAT_VEC3:
-            return {'f', 3};
-        case GL_FLOAT_VEC4:
-            return {'f', 4};
-        case GL_FLOAT_MAT2:
-            return {'f', 4, 2};
-        case GL_FLOAT_MAT3:
-            return {'f', 9, 3};
-        case GL_FLOAT_MAT4:
-            return {'f', 16, 4};
-        case GL_INT:
-        case GL_BOOL:
-            return {'i', 1};
-        case GL_INT_VEC2:
-        case GL_BOOL_VEC2:
-            return {'i', 2};
-        case GL_INT_VEC3:
-        case GL_BOOL_VEC3:
-            return {'i', 3};
-        case GL_INT_VEC4:
-        case GL_BOOL_VEC4:
-            return {'i', 4};
-        case GL_UNSIGNED_INT:
-            return {'u', 1};
-        case GL_UNSIGNED_INT_VEC2:
-            return {'u', 2};
-        case GL_UNSIGNED_INT_VEC3:
-            return {'u', 3};
-        case GL_UNSIGNED_INT_VEC4:
-            return {'u', 4};
-        default:
-            return {'i', 1};  // samplers and images: a unit
-    }
+    for (const UniformTypeRow& r : kUniformTypes)
+        if (r.type == type) return r.shape;
+    return {'i', 1};
 }
 
 // Every active uniform's linked value, element by element (block members have no location
