@@ -57,6 +57,21 @@ struct TruthSurface::Impl {
     Displacement built;  // the (s, b) in Embree's vertices
     Vec3d shift{0};      // a translation of the built sheet (TruthUpdate::Translate)
 
+    // A grid hit's cell in the lattice and the point within it. Embree 3.13 reports a grid
+    // hit's u, v over the whole grid primitive (0..1 across its width x height vertices), not
+    // over the cell that was hit: the cell is found here, and (u, v) made local to it.
+    struct GridCell {
+        int ci, cj;     // lattice cell (the block's start added)
+        double fx, fy;  // within it, 0..1
+    };
+    GridCell gridCell(const RTCRayHit& rh) const {
+        const RTCGrid& g = grids[rh.hit.primID];
+        const double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
+        const int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
+        return {gridStart[rh.hit.primID].first + ci, gridStart[rh.hit.primID].second + cj, gx - ci,
+                gy - cj};
+    }
+
     // The candidate triangles (vertex indices) of a hit: one, or a grid cell's two.
     int candidates(const RTCRayHit& rh, uint32_t out[2][3]) const {
         if (!base->sheet.triangles.empty()) {
@@ -66,10 +81,8 @@ struct TruthSurface::Impl {
         }
         int ci, cj;
         if (geometry == TruthGeometry::Grid) {
-            const RTCGrid& g = grids[rh.hit.primID];
-            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
-            ci = gridStart[rh.hit.primID].first + std::min(int(gx), g.width - 2);
-            cj = gridStart[rh.hit.primID].second + std::min(int(gy), g.height - 2);
+            const GridCell c = gridCell(rh);
+            ci = c.ci, cj = c.cj;
         } else {
             ci = int((rh.hit.primID / 2) % unsigned(nu));
             cj = int((rh.hit.primID / 2) / unsigned(nu));
@@ -88,11 +101,8 @@ struct TruthSurface::Impl {
         int pick = 0;
         if (candidates(rh, out) == 2) {
             if (geometry == TruthGeometry::Grid) {
-                const RTCGrid& g = grids[rh.hit.primID];
-                const double gx = double(rh.hit.u) * (g.width - 1);
-                const double gy = double(rh.hit.v) * (g.height - 1);
-                const int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
-                pick = (gx - ci) + (gy - cj) <= 1 ? 0 : 1;
+                const GridCell c = gridCell(rh);
+                pick = c.fx + c.fy <= 1 ? 0 : 1;
             } else {
                 pick = int(rh.hit.primID % 2);
             }
@@ -122,14 +132,8 @@ struct TruthSurface::Impl {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return s;
         s.hit = true;
         if (geometry == TruthGeometry::Grid) {
-            // Embree 3.13 reports a grid hit's u, v over the whole grid primitive (0..1 across
-            // its width x height vertices), not over the cell that was hit: the cell is found
-            // here, and (u, v) made local to it.
-            const RTCGrid& g = grids[rh.hit.primID];
-            const int i0 = gridStart[rh.hit.primID].first, j0 = gridStart[rh.hit.primID].second;
-            double gx = double(rh.hit.u) * (g.width - 1), gy = double(rh.hit.v) * (g.height - 1);
-            int ci = std::min(int(gx), g.width - 2), cj = std::min(int(gy), g.height - 2);
-            s.uv = cellUv(i0 + ci, j0 + cj, gx - ci, gy - cj);
+            const GridCell c = gridCell(rh);
+            s.uv = cellUv(c.ci, c.cj, c.fx, c.fy);
         } else if (!base->sheet.triangles.empty()) {
             const uint32_t* t = &base->sheet.triangles[size_t(rh.hit.primID) * 3];
             double u = rh.hit.u, v = rh.hit.v;
