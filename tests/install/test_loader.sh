@@ -12,6 +12,8 @@ module=${3:-}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# A command that fails under set -e says which, rather than ending the test without a word.
+trap 'echo "FAIL: line $LINENO: $BASH_COMMAND (exit $?)" >&2' ERR
 
 for bin in "$pgt" $module; do
   if ldd "$bin" | grep -q 'libOpenImageIO\.so'; then fail "$bin links libOpenImageIO"; fi
@@ -47,29 +49,27 @@ grep -q 'file=[^ ]*lib/pgt/pgt_image\.so' "$tmp/i.loaded" || fail "the image mod
 grep -q 'file=[^ ]*libOpenImageIO\.so' "$tmp/i.loaded" || fail "OpenImageIO was not loaded"
 [ -f "$tmp/i/summary.json" ] || fail "no summary.json"
 
-set +e
+rc=0
 PGT_IMAGE_MODULE=$tmp/missing.so "$pgt" render "$tmp/image.json" --out "$tmp/m" --no-timing \
-  > "$tmp/m.log" 2>&1
-rc=$?
-set -e
+  > "$tmp/m.log" 2>&1 || rc=$?
 [ "$rc" -ne 0 ] || fail "a missing image module was not an error"
 grep -q 'PGT_IMAGE_MODULE' "$tmp/m.log" || fail "the error does not name PGT_IMAGE_MODULE: $(cat "$tmp/m.log")"
 grep -q 'missing.so' "$tmp/m.log" || fail "the error does not name the path: $(cat "$tmp/m.log")"
 [ ! -e "$tmp/m/summary.json" ] || fail "a failed render left summary.json"
 # Modules that are not a whole shared object for this machine: each exit 2 naming the path,
 # within 20 s (a FIFO used to block in open() forever; a truncated ELF, SIGBUS in dlopen).
-libm=$(ldconfig -p | awk '/libm\.so\.6 .*x86-64/ {print $NF; exit}')
-[ -n "$libm" ] || libm=$(find /lib /usr/lib -name 'libm.so.6' | head -n 1)
+# libm as the loader resolves it for pgt (ldconfig lives in /sbin, which root's PATH on a CI
+# machine may lack).
+libm=$(ldd "$pgt" | awk '$1 == "libm.so.6" {print $3; exit}')
+[ -n "$libm" ] && [ -f "$libm" ] || fail "ldd $pgt names no libm.so.6"
 head -c 4096 "$libm" > "$tmp/truncated.so"
 mkfifo "$tmp/fifo.so"
 mkdir "$tmp/dir.so"
 printf 'not an elf' > "$tmp/text.so"
 for bad in "$tmp/truncated.so" "$tmp/fifo.so" "$tmp/dir.so" "$tmp/text.so" /dev/zero; do
-  set +e
+  rc=0
   PGT_IMAGE_MODULE=$bad timeout 20 "$pgt" render "$tmp/image.json" --out "$tmp/bad" \
-    --no-timing > "$tmp/bad.log" 2>&1
-  rc=$?
-  set -e
+    --no-timing > "$tmp/bad.log" 2>&1 || rc=$?
   [ "$rc" -eq 2 ] || fail "PGT_IMAGE_MODULE=$bad: exit $rc (want 2): $(cat "$tmp/bad.log")"
   grep -q "$bad" "$tmp/bad.log" || fail "the error does not name $bad: $(cat "$tmp/bad.log")"
   [ ! -e "$tmp/bad" ] || fail "PGT_IMAGE_MODULE=$bad left its --out"
