@@ -35,9 +35,10 @@ def case_keys(df):
     """The columns that identify a case: KEYS, and the light's angles where a study swept or
     set a light (a study without one has them empty; pandas drops empty keys when grouping)."""
     light = ["light_theta", "light_phi"]
+    keys = list(KEYS)
     if all(c in df.columns for c in light) and df["light_theta"].notna().all():
-        return KEYS + light
-    return list(KEYS)
+        keys += light
+    return keys
 
 
 def _replace_whole(path, write):

@@ -117,6 +117,7 @@ TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
                                                  "depth_signed_mean",
                                                  "light_theta",
                                                  "light_phi",
+                                                 "seed",
                                                  "shadow_compared",
                                                  "shadow_disagree",
                                                  "shadow_disagree_uv_right",

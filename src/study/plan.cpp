@@ -72,7 +72,7 @@ std::string StudyCase::key() const {
     std::string k =
         num(theta) + ";" + num(phi) + ";" + num(scale) + ";" + num(bias) + ";" + num(biasRatio);
     if (std::isfinite(lightTheta)) k += ";light " + num(lightTheta) + ";" + num(lightPhi);
-    return k;
+    return k + ";seed " + num(seed);
 }
 
 namespace {
@@ -81,14 +81,42 @@ namespace {
 // of the light's angles (one NaN each without a light).
 struct StudyAxes {
     std::vector<double> thetas, phis, scales, biases, lightThetas, lightPhis;
-    bool ratios = false;  // `biases` are b / s
+    std::vector<double> seeds;  // the jitter seeds: the replicates of every case
+    bool ratios = false;        // `biases` are b / s
 };
 
 // What a study's axes default to: the scene's own view angles, (s, b) and light.
 struct AxisDefaults {
     double theta = 0, phi = 0, scale = 0, bias = 0;
     std::optional<LightSpec> light;
+    double seed = 1;  // the camera's jitter seed
+    bool jitter = false;
 };
+
+// The replicates of each case: "seed": [values] or "replicates": N (seeds seed .. seed + N - 1,
+// from the camera's seed); by default the camera's seed alone. More than one needs jittered
+// samples: a pixel centre does not depend on the seed.
+std::vector<double> readSeeds(JsonFields& f, const AxisDefaults& d) {
+    if (f.has("seed") && f.has("replicates"))
+        f.fail("replicates", "give either \"seed\" or \"replicates\", not both");
+    std::vector<double> seeds = {d.seed};
+    if (f.has("seed")) {
+        seeds = valueList(f, "seed", 0, 2147483647);
+        for (double v : seeds)
+            if (v != std::floor(v)) f.failValue("seed", Json(v), "a seed is a whole number");
+    } else if (f.has("replicates")) {
+        int n = f.integer("replicates", 1, 1, 1000);
+        if (d.seed + n - 1 > 2147483647)
+            f.failValue("replicates", Json(n), "the seeds would pass 2147483647");
+        seeds.clear();
+        for (int r = 0; r < n; ++r) seeds.push_back(d.seed + r);
+    }
+    const bool jittered = f.has("samples") ? f.raw("samples") == Json("jittered") : d.jitter;
+    if (seeds.size() > 1 && !jittered)
+        f.fail(f.has("seed") ? "seed" : "replicates",
+               "replicates need \"samples\": \"jittered\" (a pixel's centre has no seed)");
+    return seeds;
+}
 
 StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
     StudyAxes a;
@@ -110,6 +138,7 @@ StudyAxes readAxes(JsonFields& f, const AxisDefaults& d) {
     a.lightPhis = f.has("light_phi") ? valueList(f, "light_phi", -360, 360)
                   : d.light          ? std::vector<double>{d.light->phi}
                                      : std::vector<double>{NAN};
+    a.seeds = readSeeds(f, d);
     return a;
 }
 
@@ -294,16 +323,18 @@ std::vector<MethodConfig> expandConfigs(JsonFields& f, const Scene& scene,
     return out;
 }
 
-// The cases in order: grouped by (scale, bias), then theta, phi, the light's theta and phi.
+// The cases in order: grouped by (scale, bias), then theta, phi, the light's theta and phi,
+// the seed.
 std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
     // The case list is allocated whole: bound it before (10,001^3 values would be 10^12).
     double caseCount = double(a.scales.size()) * double(a.biases.size()) * double(a.thetas.size()) *
                        double(a.phis.size()) * double(a.lightThetas.size()) *
-                       double(a.lightPhis.size());
+                       double(a.lightPhis.size()) * double(a.seeds.size());
     if (caseCount > double(kMaxStudyCases))
         throw InputError(file, "sweep", std::to_string(int64_t(caseCount)) + " cases",
                          "a study has at most " + std::to_string(kMaxStudyCases) +
-                             " cases (theta x phi x scale x bias x light); split it into several");
+                             " cases (theta x phi x scale x bias x light x seed); split it into "
+                             "several");
     std::vector<StudyCase> cases;
     int index = 0;
     for (double s : a.scales)
@@ -311,15 +342,17 @@ std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
             for (double th : a.thetas)
                 for (double ph : a.phis)
                     for (double lt : a.lightThetas)
-                        for (double lp : a.lightPhis) {
-                            StudyCase c;
-                            c.index = index++;
-                            c.theta = th, c.phi = ph, c.scale = s;
-                            c.bias = a.ratios ? bv * s : bv;
-                            c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
-                            c.lightTheta = lt, c.lightPhi = lp;
-                            cases.push_back(c);
-                        }
+                        for (double lp : a.lightPhis)
+                            for (double seed : a.seeds) {
+                                StudyCase c;
+                                c.index = index++;
+                                c.theta = th, c.phi = ph, c.scale = s;
+                                c.bias = a.ratios ? bv * s : bv;
+                                c.biasRatio = a.ratios ? bv : (s != 0 ? c.bias / s : NAN);
+                                c.lightTheta = lt, c.lightPhi = lp;
+                                c.seed = seed;
+                                cases.push_back(c);
+                            }
     return cases;
 }
 
@@ -352,8 +385,9 @@ Study parseStudy(const Scene& scene) {
                          "studies sweep the view angle: they need an orthographic camera");
     JsonFields f(scene.sweep, file, "sweep");
     Study st;
-    StudyAxes axes = readAxes(f, {scene.camera.theta, scene.camera.phi, scene.displacement.scale,
-                                  scene.displacement.bias, scene.light});
+    StudyAxes axes = readAxes(
+        f, {scene.camera.theta, scene.camera.phi, scene.displacement.scale, scene.displacement.bias,
+            scene.light, double(scene.camera.jitterSeed), scene.camera.jitter});
     readFrameSettings(f, scene, st);
     ParameterLists lists;
     f.finish(readParameterLists(f, scene, lists));
@@ -383,6 +417,14 @@ std::vector<StudyCase> planCases(const Json& identity, const std::string& file) 
                    number("displacement", "scale"), number("displacement", "bias"), std::nullopt};
     if (scene->contains("light"))
         d.light = LightSpec{number("light", "theta"), number("light", "phi")};
+    // The camera's samples as resolved; its seed as given (the resolved camera names it only
+    // when the camera itself jitters), 1 when not given (scene.cpp).
+    d.jitter = scene->at("camera").value("samples", "centre") == "jittered";
+    if (identity.contains("given") && identity.at("given").contains("camera") &&
+        identity.at("given").at("camera").is_object() &&
+        identity.at("given").at("camera").contains("seed") &&
+        identity.at("given").at("camera").at("seed").is_number_integer())
+        d.seed = identity.at("given").at("camera").at("seed").get<double>();
     JsonFields f(identity.at("sweep"), file, "sweep");
     return makeCases(readAxes(f, d), file);
 }

@@ -20,11 +20,12 @@ struct StudyCase {
     double theta = 0, phi = 0, scale = 0, bias = 0;
     double biasRatio = NAN;                   // b / s when the study gave ratios
     double lightTheta = NAN, lightPhi = NAN;  // the light's angles; NaN: the scene has none
-    std::string key() const;                  // identity of the case in results.csv
+    double seed = 1;  // the pixels' jitter seed: one replicate of the case (an integer)
+    std::string key() const;  // identity of the case in results.csv
 };
 
 struct Study {
-    std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi
+    std::vector<StudyCase> cases;       // grouped by (scale, bias), then theta, phi, seed
     std::vector<MethodConfig> configs;  // methods expanded by the parameter lists
     int width = 0, height = 0;
     bool jitter = false;  // pixel sample positions (docs/studies.md)

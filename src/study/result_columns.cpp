@@ -182,6 +182,7 @@ std::vector<ResultColumn> depthAndShadowColumns() {
              [](const Stats& s) { return s.depthSignedMean; }),
         caseKey("light_theta", &StudyCase::lightTheta),  // nan without a light
         caseKey("light_phi", &StudyCase::lightPhi),
+        caseKey("seed", &StudyCase::seed),  // the replicate: the pixels' jitter seed
         stat("shadow_compared", {"shadow", "compared"},
              [](const Stats& s) { return s.shadow.compared; }),
         shadow("shadow_disagree", "disagree", &C::differ, &C::compared),

@@ -29,6 +29,7 @@ ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
     view.camera.width = study.width;
     view.camera.height = study.height;
     view.camera.jitter = study.jitter;
+    view.camera.jitterSeed = uint32_t(c.seed);
     view.displacement = {c.scale, c.bias};
     if (std::isfinite(c.lightTheta)) view.light = LightSpec{c.lightTheta, c.lightPhi};
     return view;
