@@ -7,7 +7,7 @@ import re
 import sys
 
 ORDER = ["core", "heightfield", "mesh", "methods", "scene", "raster", "compare", "truth",
-         "methods/runtime", "study", "cli", "python"]
+         "methods/runtime", "study", "verdict", "cli", "python"]
 RANK = {u: i for i, u in enumerate(ORDER)}
 SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
 

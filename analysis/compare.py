@@ -1,93 +1,108 @@
 #!/usr/bin/python3
-"""Regression check between two pgt studies: OLD.csv and NEW.csv (results.csv files).
+"""Figures of a `pgt compare` directory (the verdict is pgt's: this script only draws it).
 
-Cases are matched on (theta, phi, scale, bias) and configurations on their label. For every
-label in both, the chosen error statistic is averaged over the matched cases; a label whose
-average grew by more than --tolerance (relative, 0.05 = 5%) and more than --floor texels is
-a regression. Writes DIR/compare.md and DIR/compare_<label>.png (old vs new across theta).
-Exit status: 0 no regression, 1 regression, 2 bad input.
-Usage: /usr/bin/python3 analysis/compare.py OLD.csv NEW.csv --out DIR [--tolerance 0.05]"""
-import argparse
+Reads DIR/compare.csv and DIR/history.csv and writes, under DIR/figures/ as PNG (200 dpi) and
+SVG:
+- ratio_<label>.png: per configuration, NEW / OLD against the view angle with its 95 %
+  interval band, one line per scale, bands judged a regression marked with a filled red
+  triangle, an improvement with an open green one (the last NEW against OLD);
+- history.png: every configuration's error in each study (OLD first), with its 95 % interval
+  over replicate seeds: the regression plot to keep in a paper or a CI dashboard.
+Usage: /usr/bin/python3 analysis/compare.py DIR   (pgt compare runs it)"""
 import os
+import re
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from common import KEYS, case_keys, nice, pd, plt, save_figure, write_text  # noqa: E402
+from common import pd, plt, save_figure  # noqa: E402
+
+DPI = 200
+# Line styles and markers that stay apart in greyscale.
+STYLES = [("-", "o"), ("--", "s"), (":", "^"), ("-.", "D"), ((0, (5, 1, 1, 1)), "v"),
+          ((0, (1, 1)), "P"), ((0, (8, 2)), "X"), ((0, (3, 1, 1, 1, 1, 1)), "*")]
 
 
-def plot_label(grp, label, args, worse, growth):
-    """One configuration's old and new error against view angle."""
-    m_old, m_new = args.metric + "_old", args.metric + "_new"
-    by_theta = grp.groupby("theta")[[m_old, m_new]].mean()
-    fig, ax = plt.subplots(figsize=(6, 4))
-    ax.plot(by_theta.index, by_theta[m_old], marker="o", label="old")
-    ax.plot(by_theta.index, by_theta[m_new], marker="s", label="new")
-    ax.set_yscale("log")
-    ax.set_xlabel("view angle theta [degrees]")
-    ax.set_ylabel(f"{args.metric} UV error [texels]")
-    ax.set_title(f"{label}: {'REGRESSION' if worse else 'ok'} ({growth:+.1%})")
-    ax.legend()
+def file_name(label):
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", label)
+
+
+def save(fig, out, name):
     fig.tight_layout()
-    save_figure(fig, os.path.join(args.out, f"compare_{label}.png"), dpi=100)
+    for ext in ("png", "svg"):
+        save_figure(fig, os.path.join(out, f"{name}.{ext}"), dpi=DPI)
     plt.close(fig)
 
 
+def band_centre(df):
+    return (df["theta_lo"] + df["theta_hi"]) / 2
+
+
+def plot_ratio(cells, label, out):
+    """One configuration: the ratio against theta per scale, its interval shaded."""
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for k, (scale, grp) in enumerate(cells.groupby("scale")):
+        grp = grp.sort_values("theta_lo")
+        x = band_centre(grp)
+        ls, marker = STYLES[k % len(STYLES)]
+        ax.plot(x, grp["ratio"], linestyle=ls, marker=marker, color="0.15", markersize=4,
+                label=f"s {scale:g}")
+        ax.fill_between(x, grp["ratio_lo"], grp["ratio_hi"], color="0.5", alpha=0.18, lw=0)
+        worse, better = grp["change"] == "regression", grp["change"] == "improvement"
+        ax.plot(x[worse], grp["ratio"][worse], "^", color="#c00000", markersize=9, zorder=5,
+                label="regression" if k == 0 and worse.any() else None)
+        ax.plot(x[better], grp["ratio"][better], "v", markerfacecolor="none",
+                markeredgecolor="#007000", markersize=9, zorder=5,
+                label="improvement" if k == 0 and better.any() else None)
+    ax.axhline(1, color="0.4", lw=0.8)
+    ax.set_yscale("log")
+    ax.set_xlabel("view angle θ [degrees] (band centre)")
+    ax.set_ylabel("error ratio NEW / OLD (95 % interval)")
+    old, new = cells["label_old"].iloc[0], cells["label_new"].iloc[0]
+    ax.set_title(label if old == new else f"{old} → {new}", fontsize=10)
+    ax.legend(fontsize=8)
+    save(fig, out, "ratio_" + file_name(label))
+
+
+def plot_history(hist, out):
+    """Every configuration across the studies, OLD first, on one log axis."""
+    fig, ax = plt.subplots(figsize=(7.2, 4.6))
+    names = hist.drop_duplicates("study").sort_values("study")
+    for k, (label, grp) in enumerate(hist.groupby("label", sort=False)):
+        grp = grp.sort_values("study")
+        ls, marker = STYLES[k % len(STYLES)]
+        shade = str(0.1 + 0.5 * (k % 4) / 4)
+        ax.errorbar(grp["study"], grp["mean"],
+                    yerr=[grp["mean"] - grp["lo"], grp["hi"] - grp["mean"]],
+                    linestyle=ls, marker=marker, color=shade, capsize=3, markersize=4,
+                    label=label)
+    ax.set_xticks(names["study"], [os.path.basename(os.path.normpath(d)) or d
+                                   for d in names["dir"]], rotation=20, ha="right", fontsize=8)
+    ax.set_yscale("log")
+    ax.set_ylabel("error [texels] (95 % interval over seeds)")
+    ax.set_title("each configuration across the studies", fontsize=10)
+    ax.legend(fontsize=7, ncol=2)
+    save(fig, out, "history")
+
+
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("old")
-    ap.add_argument("new")
-    ap.add_argument("--out", required=True)
-    ap.add_argument("--tolerance", type=float, default=0.05, help="allowed relative growth")
-    ap.add_argument("--floor", type=float, default=1e-4,
-                    help="growth below this many texels is never a regression (float noise)")
-    ap.add_argument("--metric", default="mean", choices=["mean", "rms", "p50", "p90", "p99", "max"])
-    args = ap.parse_args()
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    directory = sys.argv[1]
     try:
-        old, new = pd.read_csv(args.old), pd.read_csv(args.new)
+        cells = pd.read_csv(os.path.join(directory, "compare.csv"))
+        hist = pd.read_csv(os.path.join(directory, "history.csv"))
     except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as e:
-        print(f"compare.py: cannot read input: {e}", file=sys.stderr)
+        print(f"compare.py: cannot read {directory}: {e}", file=sys.stderr)
         return 2
-    for name, df in (("OLD", old), ("NEW", new)):
-        missing = [c for c in KEYS + ["label", args.metric] if c not in df.columns]
-        if missing:
-            print(f"compare.py: {name} lacks columns {missing}", file=sys.stderr)
-            return 2
-    os.makedirs(args.out, exist_ok=True)
-    keys = case_keys(old) if case_keys(old) == case_keys(new) else KEYS
-    merged = old.merge(new, on=keys + ["label"], suffixes=("_old", "_new"))
-    if merged.empty:
-        print("compare.py: OLD and NEW share no (case, label) rows", file=sys.stderr)
-        return 2
-    m_old, m_new = args.metric + "_old", args.metric + "_new"
-    rows, regressions = [], []
-    for label, grp in merged.groupby("label"):
-        a, b = grp[m_old].mean(), grp[m_new].mean()
-        growth = (b - a) / a if a > 0 else (0.0 if b <= a else float("inf"))
-        worse = b - a > args.floor and b > a * (1 + args.tolerance)
-        rows.append((label, len(grp), a, b, growth, worse))
-        if worse:
-            regressions.append(label)
-        plot_label(grp, label, args, worse, growth)
-    only_old = sorted(set(old["label"]) - set(new["label"]))
-    only_new = sorted(set(new["label"]) - set(old["label"]))
-    lines = ["# pgt comparison", "", f"OLD `{args.old}`, NEW `{args.new}`, metric `{args.metric}`, "
-             f"tolerance {args.tolerance:g} (relative), floor {args.floor:g} texels.", "",
-             "| configuration | cases | old | new | change | verdict |", "|---|---|---|---|---|---|"]
-    for label, n, a, b, g, worse in rows:
-        lines.append(f"| {label} | {n} | {nice(a)} | {nice(b)} | {g:+.1%} | "
-                     f"{'REGRESSION' if worse else 'ok'} |")
-        print(f"{label:24s} {n:5d} cases  old {nice(a):>10s}  new {nice(b):>10s}  {g:+8.1%}  "
-              f"{'REGRESSION' if worse else 'ok'}")
-    if only_old:
-        lines += ["", "Only in OLD: " + ", ".join(only_old)]
-        print("only in OLD: " + ", ".join(only_old))
-    if only_new:
-        lines += ["", "Only in NEW: " + ", ".join(only_new)]
-    write_text(os.path.join(args.out, "compare.md"), "\n".join(lines) + "\n")
-    if regressions:
-        print(f"regression: {', '.join(regressions)}")
-        return 1
-    print("no regression")
+    out = os.path.join(directory, "figures")
+    os.makedirs(out, exist_ok=True)
+    if not cells.empty:
+        last = cells[cells["study"] == cells["study"].iloc[-1]]
+        for label, grp in last.groupby("label_old", sort=False):
+            plot_ratio(grp, label, out)
+    if not hist.empty:
+        plot_history(hist, out)
     return 0
 
 

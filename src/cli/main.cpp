@@ -20,6 +20,7 @@
 #include "study/staged_files.h"
 #include "study/stress.h"
 #include "study/sweep.h"
+#include "verdict/study_compare.h"
 
 namespace {
 
@@ -138,6 +139,25 @@ void mergeCommand(const std::vector<std::string>& dirs, const std::string& outDi
         std::printf("report: %s\n", m.reportPath.c_str());
 }
 
+// `pgt compare`: the verdict printed per configuration; exit 1 on a regression.
+int compareCommand(const pgt::CompareOptions& opt, bool noFigures) {
+    pgt::CompareSummary sum =
+        pgt::compareStudies(opt, noFigures ? pgt::CompareFigures{} : pgt::writeCompareFigures);
+    for (const auto& note : sum.notes) std::fprintf(stderr, "pgt: note: %s\n", note.c_str());
+    for (const auto& v : sum.last.configs) {
+        int changed = 0;
+        for (size_t i : v.cells) changed += sum.last.cells[i].change != pgt::Change::Unchanged;
+        std::printf("%-24s %-12s %d of %zu bands changed", v.labelOld.c_str(), toString(v.change),
+                    changed, v.cells.size());
+        for (const auto& c : v.changed) std::printf("; %s", c.c_str());
+        std::printf("\n");
+    }
+    if (!sum.figuresWhy.empty() && !noFigures) std::printf("figures not drawn: %s\n", sum.figuresWhy.c_str());
+    std::printf("%s: %s\n", sum.last.regressed() ? "REGRESSION" : "no regression",
+                sum.markdownPath.c_str());
+    return sum.last.regressed() ? 1 : 0;
+}
+
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
 void fitCommand(const std::string& scenePath, const std::string& outDir) {
     pgt::Scene scene = pgt::loadScene(scenePath);
@@ -182,10 +202,42 @@ struct CommandLine {
     std::vector<std::string> mergeDirs;
     std::vector<std::string> stressPaths;
     pgt::StressOptions stressOpt;
+    pgt::CompareOptions compareOpt;
+    std::vector<std::string> comparePairs;
+    std::string compareBands;
     uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
     CLI::App *render = nullptr, *sweep = nullptr, *fit = nullptr, *stress = nullptr,
-             *merge = nullptr;
+             *merge = nullptr, *compare = nullptr;
 };
+
+// `pgt compare` and its options (docs/studies.md "Gating a shader change").
+void defineCompare(CLI::App& app, CommandLine& c) {
+    pgt::CompareOptions& o = c.compareOpt;
+    c.compare = app.add_subcommand(
+        "compare", "Regression verdict: NEW studies against OLD, per angle band, with noise");
+    c.compare->add_option("dirs", o.dirs, "Study directories: OLD, then NEW (or a history)")
+        ->required()
+        ->expected(2, 1000);
+    c.compare->add_option("--out", o.outDir, "Output directory for compare.md and figures")
+        ->required();
+    c.compare->add_option("--metric", o.metric, "results.csv column compared")
+        ->check(CLI::IsMember({"mean", "rms", "p50", "p90", "p99", "max"}))
+        ->default_val(o.metric);
+    c.compare->add_option("--bands", c.compareBands,
+                          "Band edges in degrees, e.g. 0,30,60,90 (default: each theta)");
+    c.compare->add_option("--pair", c.comparePairs, "Pair renamed labels: OLD_LABEL=NEW_LABEL");
+    c.compare->add_option("--alpha", o.verdict.alpha, "False-alarm level over all bands (Benjamini-Hochberg)")
+        ->check(CLI::Range(1e-9, 0.5))
+        ->default_val(o.verdict.alpha);
+    c.compare->add_option("--min-effect", o.verdict.minEffect, "Smallest relative change judged")
+        ->check(CLI::Range(0.0, 10.0))
+        ->default_val(o.verdict.minEffect);
+    c.compare->add_option("--floor", o.verdict.floor, "Texels added to every mean before a ratio")
+        ->check(CLI::Range(0.0, 1e3))
+        ->default_val(o.verdict.floor);
+    c.compare->add_flag("--any-scene", o.anyScene, "Compare studies of different scenes");
+    c.compare->add_flag("--no-figures", c.noReport, "Do not run analysis/compare.py");
+}
 
 // `pgt render` and its options.
 void defineRender(CLI::App& app, CommandLine& c) {
@@ -238,6 +290,8 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.merge->add_option("--out", c.outDir, "Output directory for the whole study")->required();
     c.merge->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
 
+    defineCompare(app, c);
+
     c.fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     c.fit->add_option("scene", c.scenePath, "Scene file (JSON), optional \"fit\" block")
         ->required();
@@ -278,6 +332,12 @@ int runCommand(const CommandLine& c) {
             sweepCommand(c.scenePath, opt, c.noReport);
         } else if (*c.merge) {
             mergeCommand(c.mergeDirs, c.outDir, c.noReport);
+        } else if (*c.compare) {
+            pgt::CompareOptions opt = c.compareOpt;
+            for (const auto& p : c.comparePairs) opt.pairs.push_back(pgt::parseLabelPair(p));
+            if (!c.compareBands.empty())
+                opt.verdict.bandEdges = pgt::parseBandEdges(c.compareBands);
+            return compareCommand(opt, c.noReport);
         } else if (*c.stress) {
             int n = pgt::runStress(c.stressPaths, c.stressOpt);
             std::printf("%d scenes: %s/stress.csv\n", n, c.stressOpt.outDir.c_str());

@@ -27,6 +27,7 @@
 #include "study/render.h"
 #include "study/staged_files.h"
 #include "study/sweep.h"
+#include "verdict/study_compare.h"
 
 namespace py = pybind11;
 
@@ -202,6 +203,27 @@ py::dict sweep(const std::string& file, const std::string& text, const std::stri
     return d;
 }
 
+// `pgt compare`: the verdict (compare.json's) as a dict; figures when `figures`.
+py::dict compare(const std::vector<std::string>& dirs, const std::string& out,
+                 const std::string& metric, const std::vector<double>& bands,
+                 const std::vector<std::pair<std::string, std::string>>& pairs, double alpha,
+                 double minEffect, double floor, bool anyScene, bool figures) {
+    for (const auto& d : dirs) checkPath(d, "dirs");
+    checkPath(out, "out");
+    pgt::CompareOptions o;
+    o.dirs = dirs, o.outDir = out, o.metric = metric, o.pairs = pairs, o.anyScene = anyScene;
+    o.verdict = {bands, alpha, minEffect, floor};
+    const pgt::CompareSummary sum = interruptible([&] {
+        return pgt::compareStudies(o, figures ? pgt::writeCompareFigures : pgt::CompareFigures{});
+    });
+    py::dict d;
+    d["regression"] = sum.last.regressed();
+    d["markdown"] = sum.markdownPath;
+    d["figures_not_drawn"] = sum.figuresWhy;
+    d["notes"] = sum.notes;
+    return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_pgt, m) {
@@ -221,5 +243,8 @@ PYBIND11_MODULE(_pgt, m) {
           py::arg("timing_repeats"), py::arg("timing_fragments"), py::arg("gl_timing_fragments"));
     m.def("sweep", &sweep, py::arg("file"), py::arg("text"), py::arg("out"), py::arg("fresh"),
           py::arg("report"), py::arg("images"), py::arg("progress"));
+    m.def("compare", &compare, py::arg("dirs"), py::arg("out"), py::arg("metric"),
+          py::arg("bands"), py::arg("pairs"), py::arg("alpha"), py::arg("min_effect"),
+          py::arg("floor"), py::arg("any_scene"), py::arg("figures"));
     m.def("set_memory_limit_mb", &pgt::setMemoryLimitMb, py::arg("mb"));
 }

@@ -199,6 +199,29 @@ def test_sweep_returns_results_csv(scenes, tmp_path):
     assert again.attrs["pgt"]["resumed"] == 4 and again.attrs["pgt"]["run"] == 0
 
 
+def test_compare_gives_the_clis_verdict(pgt_cli, scenes, tmp_path):
+    scene = small_scene(scenes)
+    scene["camera"]["samples"] = "jittered"
+    scene["sweep"]["replicates"] = 2
+    pgt.sweep(scene, tmp_path / "old", report=False)
+    pgt.sweep(scene, tmp_path / "new", report=False)
+    verdict = pgt.compare(tmp_path / "old", tmp_path / "new", out=tmp_path / "cmp", figures=False)
+    assert verdict["regression"] is False
+    assert all(c["verdict"] == "unchanged" for c in verdict["configurations"])
+    assert set(verdict["cells"]["ratio"]) == {1.0}  # the same seeds: every ratio exactly 1
+    cli = subprocess.run([pgt_cli, "compare", tmp_path / "old", tmp_path / "new", "--out",
+                          tmp_path / "cli"], capture_output=True, text=True)
+    assert cli.returncode == 0, cli.stderr
+    with open(tmp_path / "cli" / "compare.json") as f:
+        assert json.load(f)["configurations"] == verdict["configurations"]
+    with pytest.raises(pgt.InputError, match="--bands"):
+        pgt.compare(tmp_path / "old", tmp_path / "new", out=tmp_path / "bad", bands=[30, 10])
+    with pytest.raises(pgt.InputError, match="replicates"):
+        one = dict(scene, sweep=dict(scene["sweep"], replicates=1))
+        pgt.sweep(one, tmp_path / "one", report=False)
+        pgt.compare(tmp_path / "one", tmp_path / "new", out=tmp_path / "bad")
+
+
 def test_a_dicts_relative_paths_start_at_base_dir(scenes, tmp_path):
     with open(os.path.join(scenes, "stones_pinhole.json")) as f:
         scene = json.load(f)

@@ -5,6 +5,7 @@
     err = frame["pom.err"]                              # float32 H x W, texels (NaN: none)
     frame.summary["methods"][0]["error"]["mean"]        # summary.json as a dict
     results = pgt.sweep("scenes/default.json", "out/study")   # results.csv as a DataFrame
+    verdict = pgt.compare("old/study", "new/study", out="cmp")   # pgt compare's verdict
 
 Each call does what the CLI's command does (same scene format, same numbers, same files
 when it writes any) with the GIL released while pgt works. Bad input raises pgt.InputError
@@ -18,7 +19,7 @@ import os
 from ._pgt import InputError, OutputError  # noqa: F401
 from . import _pgt
 
-__all__ = ["Frame", "render", "sweep", "InputError", "OutputError", "set_memory_limit_mb"]
+__all__ = ["Frame", "render", "sweep", "compare", "InputError", "OutputError", "set_memory_limit_mb"]
 
 
 class Frame:
@@ -92,6 +93,29 @@ def sweep(scene, out, *, base_dir=None, fresh=False, report=True, images=False,
     results = pandas.read_csv(os.path.join(os.fspath(out), "results.csv"))
     results.attrs["pgt"] = summary
     return results
+
+
+def compare(old, *new, out, metric="mean", bands=None, pairs=None, alpha=0.01,
+            min_effect=0.05, floor=1e-4, any_scene=False, figures=True):
+    """Judge NEW studies against OLD (`pgt compare OLD NEW... --out DIR`, docs/studies.md).
+
+    bands: band edges in degrees ([0, 30, 60, 90]); default each theta its own band.
+    pairs: {OLD_LABEL: NEW_LABEL} for renamed configurations.
+    Returns compare.json as a dict (its "regression" is what the CLI's exit status says),
+    with "cells": compare.csv as a pandas DataFrame."""
+    import pandas
+
+    if not new:
+        raise TypeError("compare() needs OLD and at least one NEW study directory")
+    dirs = [os.fspath(d) for d in (old, *new)]
+    pair_list = list((pairs or {}).items())
+    run = _pgt.compare(dirs, os.fspath(out), metric, list(bands or []), pair_list, alpha,
+                       min_effect, floor, any_scene, figures)
+    with open(os.path.join(os.fspath(out), "compare.json")) as f:
+        verdict = json.load(f)
+    verdict["cells"] = pandas.read_csv(os.path.join(os.fspath(out), "compare.csv"))
+    verdict["figures_not_drawn"] = run["figures_not_drawn"]
+    return verdict
 
 
 def set_memory_limit_mb(mb):
