@@ -35,6 +35,38 @@ def compare(pgt, old, new, out):
         return list(csv.DictReader(f))
 
 
+def calibrate(args, identity, rows, seeds, label, size):
+    """False alarms and power with `size` seeds a side: a row of the table, or None."""
+    groups = [seeds[size * g:size * g + size] for g in range(len(seeds) // size)]
+    every = [(a, b) for a in range(len(groups)) for b in range(a + 1, len(groups))]
+    pairs = random.Random(size).sample(every, min(args.pairs, len(every)))
+    if not pairs:
+        return None
+    alarms, cells, flagged = 0, 0, {f: 0 for f in FACTORS}
+    for a, b in pairs:
+        old = os.path.join(args.out, f"r{size}_g{a}")
+        new = os.path.join(args.out, f"r{size}_g{b}")
+        for g, path in ((a, old), (b, new)):
+            if not os.path.exists(path):
+                write_study(path, identity, rows, groups[g])
+        got = compare(args.pgt, old, new, os.path.join(args.out, "cmp"))
+        alarms += any(c["change"] != "unchanged" for c in got)
+        for f in FACTORS:
+            worse = os.path.join(args.out, f"r{size}_g{b}_x{f}")
+            if not os.path.exists(worse):
+                write_study(worse, identity, scaled(rows, lambda x: f if (
+                    x["label"] == label and x["theta"] == args.theta) else 1), groups[b])
+            got = compare(args.pgt, old, worse, os.path.join(args.out, "cmp"))
+            band = [c for c in got if c["label_old"] == label and c["theta_lo"] == args.theta]
+            flagged[f] += sum(c["change"] == "regression" for c in band)
+            cells = len(band)
+    row = {"replicates": size, "pairs": len(pairs), "false_alarm_rate": alarms / len(pairs)}
+    for f in FACTORS:
+        row[f"detected_x{f:g}"] = flagged[f] / (cells * len(pairs))
+    print(row, flush=True)
+    return row
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -65,36 +97,8 @@ def main():
     label = args.label or rows[0]["label"]
     if label not in {x["label"] for x in rows}:
         sys.exit(f"compare_calibration.py: --label {label}: not a configuration of the study")
-    table = []
-    for size in (2, 3, 5, 10):
-        groups = [seeds[size * g:size * g + size] for g in range(len(seeds) // size)]
-        every = [(a, b) for a in range(len(groups)) for b in range(a + 1, len(groups))]
-        pairs = random.Random(size).sample(every, min(args.pairs, len(every)))
-        if not pairs:
-            continue
-        alarms, cells, flagged = 0, 0, {f: 0 for f in FACTORS}
-        for a, b in pairs:
-            old = os.path.join(args.out, f"r{size}_g{a}")
-            new = os.path.join(args.out, f"r{size}_g{b}")
-            for g, path in ((a, old), (b, new)):
-                if not os.path.exists(path):
-                    write_study(path, identity, rows, groups[g])
-            got = compare(args.pgt, old, new, os.path.join(args.out, "cmp"))
-            alarms += any(c["change"] != "unchanged" for c in got)
-            for f in FACTORS:
-                worse = os.path.join(args.out, f"r{size}_g{b}_x{f}")
-                if not os.path.exists(worse):
-                    write_study(worse, identity, scaled(rows, lambda x: f if (
-                        x["label"] == label and x["theta"] == args.theta) else 1), groups[b])
-                got = compare(args.pgt, old, worse, os.path.join(args.out, "cmp"))
-                band = [c for c in got if c["label_old"] == label and c["theta_lo"] == args.theta]
-                flagged[f] += sum(c["change"] == "regression" for c in band)
-                cells = len(band)
-        row = {"replicates": size, "pairs": len(pairs), "false_alarm_rate": alarms / len(pairs)}
-        for f in FACTORS:
-            row[f"detected_x{f:g}"] = flagged[f] / (cells * len(pairs))
-        table.append(row)
-        print(row, flush=True)
+    table = [row for size in (2, 3, 5, 10)
+             if (row := calibrate(args, identity, rows, seeds, label, size)) is not None]
     with open(os.path.join(args.out, "calibration.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(table[0].keys()))
         w.writeheader()

@@ -9,6 +9,7 @@ import argparse
 import ctypes
 import multiprocessing
 import math
+import json
 import os
 import signal
 import sys
@@ -170,8 +171,33 @@ def base_lines(base):
     return []
 
 
-def header_lines(df, study):
-    """The report's title, the study's scene, cases and the units."""
+def provenance_lines(directory):
+    """What made the study (DIR/provenance.json, one entry per sweep or merge): pgt's version
+    and commit, the machine, the Embree kernel, the GL, the date and the command."""
+    path = os.path.join(directory, "provenance.json")
+    try:
+        with open(path) as f:
+            runs = json.load(f)["runs"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return ["Provenance: none recorded (no provenance.json: a study of an older pgt).", ""]
+    lines = [f"Made by {len(runs)} run(s) (provenance.json):", ""]
+    for r in runs[-8:]:
+        p, m = r.get("pgt", {}), r.get("machine", {})
+        gl = r.get("gl")
+        lines.append(
+            f"- {r.get('date', '?')}: pgt {p.get('version', '?')} commit {p.get('commit', '?')} "
+            f"({p.get('build_type', '?')}, {p.get('compiler', '?')}); {m.get('cpu', '?')}, "
+            f"{m.get('cores', '?')} cores, Embree kernel {m.get('embree_kernel', '?')}"
+            + (f"; GL {gl.get('renderer', '?')} ({gl.get('version', '?')})" if gl else "")
+            + (f"; {r['cases_run']} cases" if "cases_run" in r else "; did not finish")
+            + f"; `{r.get('command', '?')}`")
+    if len(runs) > 8:
+        lines.append(f"- and {len(runs) - 8} earlier runs")
+    return lines + [""]
+
+
+def header_lines(df, study, directory):
+    """The report's title, the study's scene and provenance, cases and the units."""
     cases = df[case_keys(df)].drop_duplicates()
     lines = ["# pgt study report", ""]
     if study:
@@ -180,6 +206,7 @@ def header_lines(df, study):
                      f"address `{study['scene']['address']}`, resolution "
                      f"{study['resolution'][0]}x{study['resolution'][1]}.")
         lines += base_lines(study["scene"].get("base", {}))
+    lines += [""] + provenance_lines(directory)
     lines += [
         f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
         f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "
@@ -366,7 +393,7 @@ def main():
     pool.close()
     pool.join()
 
-    lines = (header_lines(df, study) + ranking_note(n_common, n_total, flagged, renamed)
+    lines = (header_lines(df, study, args.dir) + ranking_note(n_common, n_total, flagged, renamed)
              + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
                              flagged)
              + defaults_lines(table, table80, heat)

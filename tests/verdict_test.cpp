@@ -1,7 +1,7 @@
 // The regression verdict (verdict/regression.h) against closed forms (Student's t,
-// Benjamini-Hochberg) and against seeded synthetic studies whose seed noise is shared by every case of
-// a replicate, as a jitter seed's is (docs/studies.md "Gating a shader change"). The same
-// checks on real studies: tests/analysis/test_compare.py.
+// Benjamini-Hochberg) and against seeded synthetic studies whose seed noise is shared by every case
+// of a replicate, as a jitter seed's is (docs/studies.md "Gating a shader change"). The same checks
+// on real studies: tests/analysis/test_compare.py.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -174,8 +174,9 @@ TEST(Verdict, OneSeedIsRefusedWithTheWayOut) {
 }
 
 TEST(Verdict, ParameterChangesAreNamed) {
-    const auto c = parameterChanges(R"({"method":"pom","params":{"min_layers":8,"max_layers":32}})",
-                                    R"({"method":"pom","params":{"min_layers":2,"max_layers":32}})");
+    const auto c =
+        parameterChanges(R"({"method":"pom","params":{"min_layers":8,"max_layers":32}})",
+                         R"({"method":"pom","params":{"min_layers":2,"max_layers":32}})");
     ASSERT_EQ(c.size(), 1u);
     EXPECT_EQ(c[0], "params.min_layers 8 → 2");
     EXPECT_TRUE(parameterChanges("{}", "{}").empty());

@@ -16,6 +16,7 @@
 #include "study/fit.h"
 #include "study/merge.h"
 #include "study/outputs.h"
+#include "study/provenance.h"
 #include "study/render.h"
 #include "study/staged_files.h"
 #include "study/stress.h"
@@ -152,7 +153,8 @@ int compareCommand(const pgt::CompareOptions& opt, bool noFigures) {
         for (const auto& c : v.changed) std::printf("; %s", c.c_str());
         std::printf("\n");
     }
-    if (!sum.figuresWhy.empty() && !noFigures) std::printf("figures not drawn: %s\n", sum.figuresWhy.c_str());
+    if (!sum.figuresWhy.empty() && !noFigures)
+        std::printf("figures not drawn: %s\n", sum.figuresWhy.c_str());
     std::printf("%s: %s\n", sum.last.regressed() ? "REGRESSION" : "no regression",
                 sum.markdownPath.c_str());
     return sum.last.regressed() ? 1 : 0;
@@ -226,7 +228,9 @@ void defineCompare(CLI::App& app, CommandLine& c) {
     c.compare->add_option("--bands", c.compareBands,
                           "Band edges in degrees, e.g. 0,30,60,90 (default: each theta)");
     c.compare->add_option("--pair", c.comparePairs, "Pair renamed labels: OLD_LABEL=NEW_LABEL");
-    c.compare->add_option("--alpha", o.verdict.alpha, "False-alarm level over all bands (Benjamini-Hochberg)")
+    c.compare
+        ->add_option("--alpha", o.verdict.alpha,
+                     "False-alarm level over all bands (Benjamini-Hochberg)")
         ->check(CLI::Range(1e-9, 0.5))
         ->default_val(o.verdict.alpha);
     c.compare->add_option("--min-effect", o.verdict.minEffect, "Smallest relative change judged")
@@ -362,6 +366,8 @@ int runCommand(const CommandLine& c) {
 int main(int argc, char** argv) {
     pgt::installSignalCleanup();  // Ctrl-C and kill leave no temporaries or created --out
     CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
+    app.set_version_flag("--version", pgt::versionText());
+    pgt::setCommandLine(std::vector<std::string>(argv, argv + argc));
     CommandLine commandLine;
     defineCommands(app, commandLine);
     try {
@@ -369,6 +375,8 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // Command-line mistakes are bad input like any other: exit 2, one line.

@@ -24,6 +24,7 @@
 #include "core/memory.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
+#include "study/provenance.h"
 #include "study/render.h"
 #include "study/staged_files.h"
 #include "study/sweep.h"
@@ -156,6 +157,7 @@ py::tuple renderToPython(const std::string& file, const std::string& text, const
                          int64_t repeats, int64_t fragments, int64_t glFragments) {
     checkPath(file, "scene");
     checkPath(out, "out");
+    pgt::setCommandLine("python: pgt.render(" + file + (out.empty() ? "" : ", out=" + out) + ")");
     checkRange(repeats, 1, 100, "timing_repeats");
     checkRange(fragments, 0, int64_t(1) << 26, "timing_fragments");
     checkRange(glFragments, 1, int64_t(1) << 23, "gl_timing_fragments");
@@ -180,6 +182,7 @@ py::dict sweep(const std::string& file, const std::string& text, const std::stri
                bool report, bool images, bool progress) {
     checkPath(file, "scene");
     checkPath(out, "out");
+    pgt::setCommandLine("python: pgt.sweep(" + file + ", " + out + ")");
     const pgt::SweepSummary sum = interruptible([&] {
         const pgt::Scene scene = readScene(file, text);
         const pgt::Study study = pgt::parseStudy(scene);
@@ -210,6 +213,9 @@ py::dict compare(const std::vector<std::string>& dirs, const std::string& out,
                  double minEffect, double floor, bool anyScene, bool figures) {
     for (const auto& d : dirs) checkPath(d, "dirs");
     checkPath(out, "out");
+    std::string shown;
+    for (const auto& d : dirs) shown += d + ", ";
+    pgt::setCommandLine("python: pgt.compare(" + shown + "out=" + out + ")");
     pgt::CompareOptions o;
     o.dirs = dirs, o.outDir = out, o.metric = metric, o.pairs = pairs, o.anyScene = anyScene;
     o.verdict = {bands, alpha, minEffect, floor};
@@ -243,8 +249,8 @@ PYBIND11_MODULE(_pgt, m) {
           py::arg("timing_repeats"), py::arg("timing_fragments"), py::arg("gl_timing_fragments"));
     m.def("sweep", &sweep, py::arg("file"), py::arg("text"), py::arg("out"), py::arg("fresh"),
           py::arg("report"), py::arg("images"), py::arg("progress"));
-    m.def("compare", &compare, py::arg("dirs"), py::arg("out"), py::arg("metric"),
-          py::arg("bands"), py::arg("pairs"), py::arg("alpha"), py::arg("min_effect"),
-          py::arg("floor"), py::arg("any_scene"), py::arg("figures"));
+    m.def("compare", &compare, py::arg("dirs"), py::arg("out"), py::arg("metric"), py::arg("bands"),
+          py::arg("pairs"), py::arg("alpha"), py::arg("min_effect"), py::arg("floor"),
+          py::arg("any_scene"), py::arg("figures"));
     m.def("set_memory_limit_mb", &pgt::setMemoryLimitMb, py::arg("mb"));
 }

@@ -11,6 +11,7 @@
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_spec.h"
+#include "study/provenance.h"
 #include "study/render.h"
 
 namespace pgt {
@@ -58,7 +59,11 @@ nlohmann::json FitReport::toJson() const {
                       {"p90_texels", m.bestP90},
                       {"as_listed_objective_texels", m.nativeObjective},
                       {"candidates", m.candidates}});
-    return {{"objective", objective}, {"theta", thetas}, {"phi", phis}, {"methods", ms}};
+    return {{"objective", objective},
+            {"theta", thetas},
+            {"phi", phis},
+            {"methods", ms},
+            {"provenance", pgt::provenance(sceneSha1)}};
 }
 
 namespace {
@@ -201,6 +206,7 @@ FitReport runFit(const Scene& scene, bool progress) {
         throw InputError(scene.file, "camera.type", toString(scene.camera.type),
                          "fitting sweeps the view angle: it needs an orthographic camera");
     FitReport rep;
+    rep.sceneSha1 = pgt::sceneSha1(scene);
     const FitPlan plan = readFitPlan(scene, rep);
     // Presets are fixed configurations (fit the built-in they stand for instead); a GLSL/HLSL
     // method is fitted where s and b reach it (a uniform bound to them, or a call), at each

@@ -26,6 +26,7 @@ struct FitReport {
     std::string objective;  // "mean" or "p90"
     std::vector<double> thetas, phis;
     std::vector<FitResult> methods;
+    std::string sceneSha1;  // the scene fitted (study/provenance.h)
     nlohmann::json toJson() const;
 };
 

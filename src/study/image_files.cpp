@@ -7,6 +7,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfThreading.h>
 #include <ft2build.h>
 #include <png.h>
@@ -69,7 +70,8 @@ struct ExrWriter::Impl {
 };
 
 ExrWriter::ExrWriter(StagedStream& out, const std::string& name, int width, int height,
-                     const std::vector<std::string>& channels, const std::string& compression)
+                     const std::vector<std::string>& channels, const std::string& compression,
+                     const std::map<std::string, std::string>& attributes)
     : impl_(new Impl{out, name, width, channels, StagedOStream(out, name), nullptr}) {
     // The encoder compresses a call's chunks on OpenEXR's threads, one a core.
     static std::once_flag threads;
@@ -79,6 +81,7 @@ ExrWriter::ExrWriter(StagedStream& out, const std::string& name, int width, int 
     Imf::Header header(width, height);
     header.compression() = exrCompression(compression);
     for (const std::string& c : channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
     try {
         impl_->file = std::make_unique<Imf::OutputFile>(impl_->stream, header);
     } catch (const std::exception& e) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -16,9 +17,11 @@ namespace pgt {
 // A float EXR written row band by row band into a staged stream.
 class ExrWriter {
   public:
-    // `compression`: "piz", "zip" or "none". Throws OutputError naming `name`.
+    // `compression`: "piz", "zip" or "none"; `attributes`: string attributes of the header
+    // (provenance). Throws OutputError naming `name`.
     ExrWriter(StagedStream& out, const std::string& name, int width, int height,
-              const std::vector<std::string>& channels, const std::string& compression);
+              const std::vector<std::string>& channels, const std::string& compression,
+              const std::map<std::string, std::string>& attributes = {});
     ~ExrWriter();
     ExrWriter(const ExrWriter&) = delete;
     ExrWriter& operator=(const ExrWriter&) = delete;

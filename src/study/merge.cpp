@@ -15,6 +15,7 @@
 #include "core/memory.h"
 #include "study/csv_table.h"
 #include "study/plan.h"
+#include "study/provenance.h"
 #include "study/result_columns.h"
 #include "study/row_check.h"
 #include "study/staged_files.h"
@@ -128,6 +129,17 @@ void checkNotAnInput(const std::vector<Shard>& shards, const std::string& outDir
     }
 }
 
+// The merged study's provenance.json: each shard's runs, then the merge's own.
+Json mergedRuns(const std::vector<Shard>& shards, const std::vector<std::string>& dirs) {
+    Json runs = Json::array();
+    for (const Shard& s : shards)
+        for (Json r : studyRuns(s.dir)) runs.push_back(std::move(r));
+    Json merged = provenance();
+    merged["merged_shards"] = dirs;
+    runs.push_back(merged);
+    return {{"runs", runs}};
+}
+
 }  // namespace
 
 MergeSummary mergeShards(const std::vector<std::string>& dirs, const std::string& outDir,
@@ -181,6 +193,7 @@ MergeSummary mergeShards(const std::vector<std::string>& dirs, const std::string
     StagedFiles files(outDir);
     files.add("study.json", first.identity.dump(2) + "\n");
     files.add("results.csv", csv);
+    files.add("provenance.json", mergedRuns(shards, dirs).dump(2) + "\n");
     files.commit();
     out.keep();
     sum.shards = int(shards.size());

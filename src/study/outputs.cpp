@@ -18,6 +18,7 @@
 #include "core/json_fields.h"
 #include "methods/config.h"
 #include "study/image_files.h"
+#include "study/provenance.h"
 #include "study/result_columns.h"
 #include "study/staged_files.h"
 
@@ -133,6 +134,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
               {"triangles_drawn", r.raster.trianglesDrawn},
               {"triangles_culled", r.raster.trianglesCulled}}},
             {"methods", methods},
+            {"provenance", provenance(sceneSha1(scene))},
             {"timings_ms", r.timingsMs},
             {"units",
              {{"error", "texels of the height map (docs/model.md §7)"},
@@ -363,7 +365,16 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     // 1.2 s against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB); "none"
     // writes 252 MB and saves the encoder's CPU (docs/outputs.md).
     exrFile_ = &files_->stream("frame.exr");
-    exr_ = std::make_unique<ExrWriter>(*exrFile_, "frame.exr", width, height, kept, exrCompression);
+    // Its provenance as known when the file is begun (the GL, once it ran, is in summary.json).
+    const Json prov = provenance(sceneSha1(scene_));
+    exr_ = std::make_unique<ExrWriter>(
+        *exrFile_, "frame.exr", width, height, kept, exrCompression,
+        std::map<std::string, std::string>{{"pgt:version", prov["pgt"]["version"]},
+                                           {"pgt:commit", prov["pgt"]["commit"]},
+                                           {"pgt:command", prov["command"]},
+                                           {"pgt:date", prov["date"]},
+                                           {"pgt:scene_sha1", prov["scene_sha1"]},
+                                           {"pgt:provenance", prov.dump()}});
 }
 
 // A writer dropped before its files were committed (a full disk, a cancelled study) takes

@@ -20,7 +20,7 @@ struct StudyCase {
     double theta = 0, phi = 0, scale = 0, bias = 0;
     double biasRatio = NAN;                   // b / s when the study gave ratios
     double lightTheta = NAN, lightPhi = NAN;  // the light's angles; NaN: the scene has none
-    double seed = 1;  // the pixels' jitter seed: one replicate of the case (an integer)
+    double seed = 1;          // the pixels' jitter seed: one replicate of the case (an integer)
     std::string key() const;  // identity of the case in results.csv
 };
 

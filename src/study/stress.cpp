@@ -12,6 +12,7 @@
 #include "scene/scene.h"
 #include "study/csv_table.h"
 #include "study/outputs.h"
+#include "study/provenance.h"
 #include "study/render.h"
 #include "study/staged_files.h"
 
@@ -142,6 +143,7 @@ int runStress(const std::vector<std::string>& paths, const StressOptions& opt) {
             std::fprintf(stderr, "stress: %zu/%zu %s\n", i + 1, scenes.size(), name.c_str());
     }
     writeTextFile((fs::path(opt.outDir) / "stress.csv").string(), csv);
+    writeTextFile((fs::path(opt.outDir) / "provenance.json").string(), provenance().dump(2) + "\n");
     out.keep();
     return int(scenes.size());
 }

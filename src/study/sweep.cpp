@@ -33,6 +33,7 @@
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
 #include "study/outputs.h"
+#include "study/provenance.h"
 #include "study/staged_files.h"
 #include "study/study_cases.h"
 #include "study/study_dir.h"
@@ -131,6 +132,24 @@ class SweepProgress {
 
 }  // namespace
 
+namespace {
+
+// This run's entry in DIR/provenance.json (a shard's names it): its index there.
+int beginSweepRun(const Scene& scene, const SweepOptions& opt) {
+    Json entry = provenance(sceneSha1(scene));
+    if (opt.shardCount > 1) entry["shard"] = {{"index", opt.shardIndex}, {"count", opt.shardCount}};
+    return beginRun(opt.outDir, entry, opt.fresh);
+}
+
+// What the run did, added to its entry; the GL, once it ran.
+void endSweepRun(const std::string& dir, int run, const SweepSummary& sum) {
+    Json ended = {{"cases_run", sum.done}, {"wall_seconds", sum.wallSeconds}};
+    if (const auto gl = provenance(); gl.contains("gl")) ended["gl"] = gl["gl"];
+    endRun(dir, run, ended);
+}
+
+}  // namespace
+
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& opt) {
     auto start = Clock::now();
     // Every shader compiles before anything of this study is written, DIR included.
@@ -146,6 +165,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     std::set<std::string> finished = openStudyDir(study, identity, opt.fresh, csvPath, studyPath);
     int fd = ::open(csvPath.c_str(), O_WRONLY | O_APPEND);
     if (fd < 0) throw OutputError("cannot open " + csvPath + " for appending");
+    const int run = beginSweepRun(scene, opt);
 
     SweepSummary sum;
     std::vector<const StudyCase*> todo;
@@ -183,6 +203,7 @@ SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions
     if (!todo.empty()) progress.show(true);
     warned.counts(todo.size());
     sum.wallSeconds = std::chrono::duration<double>(Clock::now() - start).count();
+    endSweepRun(opt.outDir, run, sum);
     if (sum.finished && opt.report && !sharded) {  // under the lock: the rows cannot change
         sum.reportPath = opt.report(opt.outDir, &sum.reportWhy);
         sum.reportTried = true;

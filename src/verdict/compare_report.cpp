@@ -2,13 +2,14 @@
 // cases every study shares, compare.md last so that it links only the figures that exist.
 #include "verdict/compare_report.h"
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
 #include "core/format.h"
 #include "study/csv_table.h"
+#include "study/provenance.h"
 #include "study/staged_files.h"
 
 namespace pgt {
@@ -94,7 +95,8 @@ std::vector<HistoryRow> history(const std::vector<LoadedStudy>& studies,
             for (auto it = keys.begin(); it != keys.end();) {
                 bool keep = cases.count(*it) > 0;
                 if (keep)
-                    for (const auto& [seed, v] : cases.at(*it).bySeed) keep = keep && std::isfinite(v);
+                    for (const auto& [seed, v] : cases.at(*it).bySeed)
+                        keep = keep && std::isfinite(v);
                 it = keep ? std::next(it) : keys.erase(it);
             }
         }
@@ -145,17 +147,39 @@ std::string bandText(const VerdictCell& c) {
            "° s " + num(c.scale);
 }
 
+// Who made the comparison and each study (its last run's provenance.json entry).
+std::string provenanceText(const std::vector<LoadedStudy>& studies) {
+    const Json now = provenance();
+    std::string text = "Compared by pgt " + now["pgt"]["version"].get<std::string>() + " (commit " +
+                       now["pgt"]["commit"].get<std::string>() + ") on " +
+                       now["date"].get<std::string>() + ".";
+    for (const LoadedStudy& s : studies) {
+        const Json runs = studyRuns(s.dir);
+        if (runs.empty()) {
+            text += " `" + s.dir + "`: no provenance.json.";
+            continue;
+        }
+        const Json& last = runs.back();
+        text += " `" + s.dir + "`: pgt commit " +
+                last.value("/pgt/commit"_json_pointer, std::string("?")) + ", " +
+                last.value("date", std::string("?")) + ", " +
+                last.value("/machine/cpu"_json_pointer, std::string("?")) + ".";
+    }
+    return text + "\n";
+}
+
 std::string markdown(const std::vector<LoadedStudy>& studies, const CompareOptions& opt,
                      const CompareSummary& sum, const std::vector<std::string>& figureFiles) {
     const Comparison& c = sum.last;
     std::ostringstream md;
-    md << "# pgt compare\n\nOLD `" << studies.front().dir << "`, NEW `" << studies.back().dir
-       << "`" << (studies.size() > 2 ? " (and " + std::to_string(studies.size() - 2) +
-                                           " between them, in history.csv)"
-                                     : "")
+    md << "# pgt compare\n\nOLD `" << studies.front().dir << "`, NEW `" << studies.back().dir << "`"
+       << (studies.size() > 2
+               ? " (and " + std::to_string(studies.size() - 2) + " between them, in history.csv)"
+               : "")
        << ". Metric: results.csv's `" << opt.metric << "` (texels).\n\n"
-       << "**Verdict: " << (c.regressed() ? "REGRESSION" : "no regression")
-       << "** (exit status " << (c.regressed() ? 1 : 0) << ").\n\n"
+       << provenanceText(studies) << "\n"
+       << "**Verdict: " << (c.regressed() ? "REGRESSION" : "no regression") << "** (exit status "
+       << (c.regressed() ? 1 : 0) << ").\n\n"
        << "How: per configuration, per band of view angles at each scale, the metric is "
           "averaged over the band's cases for each replicate seed; the ratio NEW / OLD is the "
           "ratio of the geometric means over seeds of (mean + "
@@ -164,10 +188,11 @@ std::string markdown(const std::vector<LoadedStudy>& studies, const CompareOptio
           "when both studies ran the same seeds, two samples otherwise, with each band's seed "
           "variance moderated toward its configuration's (Smyth's empirical Bayes t). A band "
           "changed when its q-value (Benjamini-Hochberg over all "
-       << c.cells.size() << " bands: with nothing changed, the chance of any false alarm is at "
+       << c.cells.size()
+       << " bands: with nothing changed, the chance of any false alarm is at "
           "most alpha) is at most "
-       << num(opt.verdict.alpha)
-       << " and the ratio is at least " << num(1 + opt.verdict.minEffect) << " (regression) or "
+       << num(opt.verdict.alpha) << " and the ratio is at least " << num(1 + opt.verdict.minEffect)
+       << " (regression) or "
        << "at most " << num(1 / (1 + opt.verdict.minEffect)) << " (improvement).\n\n"
        << "| configuration | verdict | changed | bands changed: ratio [95 % interval] |\n"
        << "|---|---|---|---|\n";
@@ -183,10 +208,9 @@ std::string markdown(const std::vector<LoadedStudy>& studies, const CompareOptio
                              (cell.change == Change::Improvement ? " (better)" : ""),
                          "; ");
         }
-        md << "| " << v.labelOld << (v.labelNew != v.labelOld ? " → " + v.labelNew : "")
-           << " | " << (v.change == Change::Regression ? "**regression**" : toString(v.change))
-           << " | " << (changed.empty() ? "—" : changed) << " | " << (bands.empty() ? "—" : bands)
-           << " |\n";
+        md << "| " << v.labelOld << (v.labelNew != v.labelOld ? " → " + v.labelNew : "") << " | "
+           << (v.change == Change::Regression ? "**regression**" : toString(v.change)) << " | "
+           << (changed.empty() ? "—" : changed) << " | " << (bands.empty() ? "—" : bands) << " |\n";
     }
     if (!sum.notes.empty()) {
         md << "\n## Notes\n\n";
@@ -226,7 +250,8 @@ void writeCompareFiles(const std::vector<LoadedStudy>& studies,
                           {"bands", opt.verdict.bandEdges},
                           {"regression", sum.last.regressed()},
                           {"configurations", verdictJson(sum.last)},
-                          {"notes", sum.notes}};
+                          {"notes", sum.notes},
+                          {"provenance", provenance()}};
     {
         StagedFiles files(opt.outDir);
         files.add("compare.csv", cells);
@@ -235,8 +260,10 @@ void writeCompareFiles(const std::vector<LoadedStudy>& studies,
         files.commit();
     }
     std::vector<std::string> drawn;
-    if (figures) drawn = figures(opt.outDir, &sum.figuresWhy);
-    else sum.figuresWhy = "not asked for (--no-figures)";
+    if (figures)
+        drawn = figures(opt.outDir, &sum.figuresWhy);
+    else
+        sum.figuresWhy = "not asked for (--no-figures)";
     StagedFiles md(opt.outDir);
     md.add("compare.md", markdown(studies, opt, sum, drawn));
     md.commit();

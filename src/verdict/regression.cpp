@@ -138,9 +138,8 @@ NoisePrior fitPrior(const std::vector<CellFit>& fits) {
     const double em = mean(e);
     const double ev = variance(e) - mean(tri);
     p.d0 = ev > 0 ? 2 * trigammaInverse(ev) : kInfiniteDf;
-    p.s0 = std::sqrt(std::exp(em + (p.d0 < kInfiniteDf
-                                        ? boost::math::digamma(p.d0 / 2) - std::log(p.d0 / 2)
-                                        : 0.0)));
+    p.s0 = std::sqrt(std::exp(
+        em + (p.d0 < kInfiniteDf ? boost::math::digamma(p.d0 / 2) - std::log(p.d0 / 2) : 0.0)));
     return p;
 }
 
@@ -189,6 +188,39 @@ struct CellKey {
     }
 };
 
+// A cell's cases, OLD's and NEW's in pairs: those finite at every seed of both kept, the
+// per-seed means fitted (into `fits`); false when none is left. InputError when a side has
+// fewer than two seeds.
+bool measureCell(const std::vector<const VerdictRows::Case*>& oldCases,
+                 const std::vector<const VerdictRows::Case*>& newCases, double floor,
+                 const std::string& what, VerdictCell& cell, std::vector<CellFit>& fits) {
+    const std::set<double> so = commonSeeds(oldCases), sn = commonSeeds(newCases);
+    std::vector<const VerdictRows::Case*> o, n;
+    for (size_t i = 0; i < oldCases.size(); ++i) {
+        if (finiteAt(*oldCases[i], so) && finiteAt(*newCases[i], sn))
+            o.push_back(oldCases[i]), n.push_back(newCases[i]);
+        else
+            ++cell.leftOut;
+    }
+    cell.cases = int(o.size());
+    cell.seedsOld = int(so.size()), cell.seedsNew = int(sn.size());
+    if (so.size() < 2 || sn.size() < 2)
+        throw InputError(what, "seed", std::to_string(std::min(so.size(), sn.size())),
+                         "\"" + cell.labelOld + "\" at theta " + formatNumber(cell.thetaLo, 6) +
+                             ", scale " + formatNumber(cell.scale, 6) + " has " +
+                             std::to_string(so.size()) + " seed(s) in OLD and " +
+                             std::to_string(sn.size()) +
+                             " in NEW: a verdict needs the spread of at least 2 replicates "
+                             "on each side; add \"replicates\": 3 to each study's sweep "
+                             "block and run it (docs/studies.md, \"Replicates\")");
+    if (o.empty()) return false;  // nothing finite to compare
+    cell.paired = so == sn;
+    const std::vector<double> om = seedMeans(o, so), nm = seedMeans(n, sn);
+    cell.oldMean = mean(om), cell.newMean = mean(nm);
+    fits.push_back(fitCell(om, nm, floor, cell.paired));
+    return true;
+}
+
 // One pair's cells: the common cases grouped by (band, scale), each tested.
 void judgePair(const VerdictRows& old, const VerdictRows& neu, const ConfigPair& pair,
                const VerdictOptions& opt, const std::string& what, Comparison& out) {
@@ -205,10 +237,10 @@ void judgePair(const VerdictRows& old, const VerdictRows& neu, const ConfigPair&
         groups;
     for (const auto& [key, c] : oc) {
         if (!nc.count(key)) continue;
-        const int band = opt.bandEdges.empty()
-                             ? int(std::lower_bound(thetas.begin(), thetas.end(), c.theta) -
-                                   thetas.begin())
-                             : bandOf(c.theta, opt.bandEdges);
+        const int band =
+            opt.bandEdges.empty()
+                ? int(std::lower_bound(thetas.begin(), thetas.end(), c.theta) - thetas.begin())
+                : bandOf(c.theta, opt.bandEdges);
         if (band < 0) continue;
         groups[{band, c.scale}].first.push_back(&c);
         groups[{band, c.scale}].second.push_back(&nc.at(key));
@@ -221,30 +253,7 @@ void judgePair(const VerdictRows& old, const VerdictRows& neu, const ConfigPair&
         cell.scale = key.scale;
         cell.thetaLo = opt.bandEdges.empty() ? thetas[key.band] : opt.bandEdges[key.band];
         cell.thetaHi = opt.bandEdges.empty() ? thetas[key.band] : opt.bandEdges[key.band + 1];
-        const std::set<double> so = commonSeeds(group.first), sn = commonSeeds(group.second);
-        std::vector<const VerdictRows::Case*> o, n;
-        for (size_t i = 0; i < group.first.size(); ++i) {
-            if (finiteAt(*group.first[i], so) && finiteAt(*group.second[i], sn))
-                o.push_back(group.first[i]), n.push_back(group.second[i]);
-            else
-                ++cell.leftOut;
-        }
-        cell.cases = int(o.size());
-        cell.seedsOld = int(so.size()), cell.seedsNew = int(sn.size());
-        if (so.size() < 2 || sn.size() < 2)
-            throw InputError(what, "seed", std::to_string(std::min(so.size(), sn.size())),
-                             "\"" + pair.labelOld + "\" at theta " + formatNumber(cell.thetaLo, 6) +
-                                 ", scale " + formatNumber(cell.scale, 6) + " has " +
-                                 std::to_string(so.size()) + " seed(s) in OLD and " +
-                                 std::to_string(sn.size()) +
-                                 " in NEW: a verdict needs the spread of at least 2 replicates "
-                                 "on each side; add \"replicates\": 3 to each study's sweep "
-                                 "block and run it (docs/studies.md, \"Replicates\")");
-        if (o.empty()) continue;  // nothing finite to compare
-        cell.paired = so == sn;
-        const std::vector<double> om = seedMeans(o, so), nm = seedMeans(n, sn);
-        cell.oldMean = mean(om), cell.newMean = mean(nm);
-        fits.push_back(fitCell(om, nm, opt.floor, cell.paired));
+        if (!measureCell(group.first, group.second, opt.floor, what, cell, fits)) continue;
         verdict.cells.push_back(out.cells.size());
         out.cells.push_back(cell);
     }
@@ -258,9 +267,12 @@ void judgePair(const VerdictRows& old, const VerdictRows& neu, const ConfigPair&
 
 const char* toString(Change c) {
     switch (c) {
-        case Change::Regression: return "regression";
-        case Change::Improvement: return "improvement";
-        case Change::Unchanged: break;
+        case Change::Regression:
+            return "regression";
+        case Change::Improvement:
+            return "improvement";
+        case Change::Unchanged:
+            break;
     }
     return "unchanged";
 }
@@ -302,7 +314,8 @@ MeanInterval meanInterval(const std::vector<double>& values) {
 std::vector<std::string> parameterChanges(const std::string& oldParams,
                                           const std::string& newParams) {
     if (oldParams == newParams) return {};
-    const Json a = Json::parse(oldParams, nullptr, false), b = Json::parse(newParams, nullptr, false);
+    const Json a = Json::parse(oldParams, nullptr, false),
+               b = Json::parse(newParams, nullptr, false);
     if (a.is_discarded() || b.is_discarded()) return {oldParams + " → " + newParams};
     const Json fa = a.flatten(), fb = b.flatten();
     std::vector<std::string> out;

@@ -2,10 +2,10 @@
 // shader change"): each configuration judged per cell (a band of view angles at one scale),
 // its error ratio NEW / OLD paired over the cases and given a 95 % interval from the spread of
 // the replicate seeds; a cell changed when that ratio is significant after Benjamini and
-// Hochberg's correction over every cell of the comparison and passes the minimum effect. Each cell's variance is
-// moderated toward its configuration's (Smyth's empirical Bayes t): a few replicates then
-// borrow strength from the other cells without trusting any one cell's few seeds. Pure: no
-// files.
+// Hochberg's correction over every cell of the comparison and passes the minimum effect. Each
+// cell's variance is moderated toward its configuration's (Smyth's empirical Bayes t): a few
+// replicates then borrow strength from the other cells without trusting any one cell's few seeds.
+// Pure: no files.
 #pragma once
 
 #include <map>
@@ -41,11 +41,11 @@ struct VerdictCell {
     std::string labelOld, labelNew;
     double thetaLo = 0, thetaHi = 0;  // the band [lo, hi] of the cases' theta
     double scale = 0;
-    int cases = 0;           // the cases compared (finite in both studies at every seed)
-    int leftOut = 0;         // cases left out: a non-finite value, or a seed missing
+    int cases = 0;    // the cases compared (finite in both studies at every seed)
+    int leftOut = 0;  // cases left out: a non-finite value, or a seed missing
     int seedsOld = 0, seedsNew = 0;
-    bool paired = false;     // both studies ran the same seeds: ratios paired per seed
-    double oldMean = 0, newMean = 0;  // the metric's mean over cases and seeds
+    bool paired = false;               // both studies ran the same seeds: ratios paired per seed
+    double oldMean = 0, newMean = 0;   // the metric's mean over cases and seeds
     double ratio = 1, lo = 1, hi = 1;  // (new + floor) / (old + floor), its 95 % interval
     double p = 1, pAdjusted = 1;       // two-sided, and its q-value (Benjamini-Hochberg)
     double df = 0;                     // the moderated t's degrees of freedom
@@ -62,7 +62,7 @@ struct NoisePrior {
 
 struct ConfigVerdict {
     std::string labelOld, labelNew;
-    std::vector<std::string> changed;  // "min_layers 8 → 4": what differs in its parameters
+    std::vector<std::string> changed;   // "min_layers 8 → 4": what differs in its parameters
     Change change = Change::Unchanged;  // Regression when any cell regressed
     std::vector<size_t> cells;          // its cells in Comparison::cells
     NoisePrior prior;

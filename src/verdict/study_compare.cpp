@@ -43,11 +43,12 @@ LoadedStudy readStudy(const std::string& dir, const std::string& metric) {
     if (!s.identity.is_object() || !s.identity.contains("scene"))
         throw InputError(jsonPath, "scene", "", "not a study's study.json (made by pgt sweep)");
     const std::string text = readTextFile(csvPath, dir, "results.csv", "results.csv", 1ull << 34);
-    const ResultHeader head(csvPath, text, "it was written by another version of pgt: run it again");
+    const ResultHeader head(csvPath, text,
+                            "it was written by another version of pgt: run it again");
     bool torn = false;
     const auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
     s.torn = torn;
-    const std::vector<std::string> keyColumns = {"theta",     "phi",         "scale",    "bias",
+    const std::vector<std::string> keyColumns = {"theta",      "phi",         "scale",    "bias",
                                                  "bias_ratio", "light_theta", "light_phi"};
     for (size_t r = 0; r < records.size(); ++r) {
         const auto& row = records[r];
@@ -64,10 +65,10 @@ LoadedStudy readStudy(const std::string& dir, const std::string& metric) {
         c.scale = number(head.field(row, "scale"));
         c.bySeed[seed] = number(head.field(row, metric));
         if (!s.params.count(label)) {
-            s.params[label] = Json{{"method", head.field(row, "method")},
-                                   {"params", Json::parse(head.field(row, "params"), nullptr,
-                                                          false)}}
-                                  .dump();
+            s.params[label] =
+                Json{{"method", head.field(row, "method")},
+                     {"params", Json::parse(head.field(row, "params"), nullptr, false)}}
+                    .dump();
             s.labels.push_back(label);
         }
         ++s.rowCount;
@@ -116,8 +117,8 @@ std::vector<ConfigPair> pairLabels(const LoadedStudy& old, const LoadedStudy& ne
     }
     for (const auto& label : old.labels)
         if (!usedOld.count(label) && neu.params.count(label) && !usedNew.count(label)) {
-            pairs.push_back({label, label, parameterChanges(old.params.at(label),
-                                                            neu.params.at(label))});
+            pairs.push_back(
+                {label, label, parameterChanges(old.params.at(label), neu.params.at(label))});
             usedOld.insert(label), usedNew.insert(label);
         }
     std::vector<std::string> onlyOld, onlyNew;
@@ -133,9 +134,10 @@ std::vector<ConfigPair> pairLabels(const LoadedStudy& old, const LoadedStudy& ne
     if (!onlyOld.empty() && !onlyNew.empty())
         throw InputError("command line", "--pair", "",
                          old.dir + " has " + list(onlyOld) + " and " + neu.dir + " has " +
-                             list(onlyNew) + ", with no label in common: pair what was renamed "
-                             "with --pair OLD_LABEL=NEW_LABEL (e.g. --pair " + onlyOld[0] + "=" +
-                             onlyNew[0] + ")");
+                             list(onlyNew) +
+                             ", with no label in common: pair what was renamed "
+                             "with --pair OLD_LABEL=NEW_LABEL (e.g. --pair " +
+                             onlyOld[0] + "=" + onlyNew[0] + ")");
     if (!onlyOld.empty()) notes.push_back("only in " + old.dir + ": " + list(onlyOld));
     if (!onlyNew.empty()) notes.push_back("only in " + neu.dir + ": " + list(onlyNew));
     return pairs;
@@ -151,15 +153,18 @@ void checkOptions(const CompareOptions& o, const std::string& bandsShown) {
     if (e.size() == 1)
         throw InputError("command line", "--bands", bandsShown, "needs at least two edges");
     if (!(o.verdict.alpha > 0 && o.verdict.alpha <= 0.5))
-        throw InputError("command line", "--alpha", formatNumber(o.verdict.alpha), "not in (0, 0.5]");
+        throw InputError("command line", "--alpha", formatNumber(o.verdict.alpha),
+                         "not in (0, 0.5]");
     if (!(o.verdict.minEffect >= 0 && o.verdict.minEffect <= 10))
         throw InputError("command line", "--min-effect", formatNumber(o.verdict.minEffect),
                          "not in [0, 10]");
     if (!(o.verdict.floor >= 0 && o.verdict.floor <= 1e3))
-        throw InputError("command line", "--floor", formatNumber(o.verdict.floor), "not in [0, 1000]");
+        throw InputError("command line", "--floor", formatNumber(o.verdict.floor),
+                         "not in [0, 1000]");
     const std::set<std::string> metrics = {"mean", "rms", "p50", "p90", "p99", "max"};
     if (!metrics.count(o.metric))
-        throw InputError("command line", "--metric", o.metric, "one of mean, rms, p50, p90, p99, max");
+        throw InputError("command line", "--metric", o.metric,
+                         "one of mean, rms, p50, p90, p99, max");
 }
 
 }  // namespace

@@ -28,8 +28,8 @@ using CompareFigures =
     std::function<std::vector<std::string>(const std::string& outDir, std::string* why)>;
 
 struct CompareSummary {
-    Comparison last;                  // the last NEW against OLD: what the exit status says
-    std::vector<std::string> notes;   // labels only on one side, incomplete studies
+    Comparison last;                 // the last NEW against OLD: what the exit status says
+    std::vector<std::string> notes;  // labels only on one side, incomplete studies
     std::string markdownPath, figuresWhy;
 };
 

@@ -2,7 +2,7 @@
 """ctest: golden files. `pgt sweep tests/golden/study.json --images` must reproduce
 tests/golden/results.csv and tests/golden/case_00000_summary.json on every CPU: strings
 equal, every number within its field's tolerance of tests/golden/tolerance.json; measured
-times (ns_per_px, timings_ms, build and tessellate ms) and paths are left out.
+times (ns_per_px, timings_ms, build and tessellate ms), paths and the provenance are left out.
 
 What varies between machines is Embree's kernel: it picks SSE2, SSE4.2, AVX, AVX2 or AVX-512
 code by the CPU, and their float hits differ in the last bits (a truth UV a float ulp or two
@@ -34,7 +34,8 @@ FACTOR = 4
 PRINTED = 1e-8
 sys.path.insert(0, os.path.join(SRC, "analysis"))
 from columns import MEASURED_COLUMNS  # noqa: E402
-SKIP_KEYS = set(MEASURED_COLUMNS) | {"timings_ms", "tessellate_ms", "build_ms", "scene_file", "glsl"}
+SKIP_KEYS = set(MEASURED_COLUMNS) | {"timings_ms", "tessellate_ms", "build_ms", "scene_file", "glsl",
+                                     "provenance"}  # what made it: the machine, the date
 
 
 def cpu_flags():

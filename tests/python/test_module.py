@@ -44,12 +44,12 @@ def read_exr(path):
 
 
 def without_timing(value):
-    """summary.json without what differs between two runs of one scene: times and where
-    the scene came from."""
+    """summary.json without what differs between two runs of one scene: times, where the
+    scene came from and what made the output (the command, the date)."""
     if isinstance(value, dict):
         return {k: without_timing(v) for k, v in value.items()
                 if not (k.endswith("_ms") or "ns_per" in k or "timing" in k
-                        or k == "scene_file")}
+                        or k in ("scene_file", "provenance"))}
     if isinstance(value, list):
         return [without_timing(v) for v in value]
     return value

@@ -7,6 +7,7 @@
 #include <deque>
 #include <exception>
 #include <future>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -208,6 +209,12 @@ void setGlDevice(const std::string& device) {
     if (gTried && device != gDevice)
         throw std::runtime_error("the GL device is chosen before the first GL method runs");
     gDevice = device;
+}
+
+std::optional<GlInfo> glContextIfMade() {
+    std::lock_guard<std::mutex> lock(gMutex);
+    if (!gTried || gInfo.renderer.empty()) return std::nullopt;
+    return gInfo;
 }
 
 const GlInfo& glContext(const std::string& device) {

@@ -6,6 +6,7 @@
 
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -33,6 +34,9 @@ struct GlInfo {
 // device (a hardware GPU when one is present). Throws std::runtime_error when no GL 4.3+
 // context can be made, with what was tried.
 const GlInfo& glContext(const std::string& device = "");
+// The context's renderer when GLSL methods made one in this process, none otherwise
+// (provenance: an output records the GL only when GL ran).
+std::optional<GlInfo> glContextIfMade();
 // Selects the device before the first use (CLI --gl-device).
 void setGlDevice(const std::string& device);
 

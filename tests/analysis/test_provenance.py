@@ -1,0 +1,98 @@
+#!/usr/bin/python3
+"""ctest: every output says what made it (docs/outputs.md "Provenance"): `pgt --version`;
+summary.json's provenance block and frame.exr's pgt:* header attributes (the same commit and
+scene hash); a study's provenance.json, one entry per run (a resume adds one, --fresh starts
+again), stated in report.md's header; fit.json; the GL's renderer when a GLSL method ran; the
+Embree kernel PGT_EMBREE_ISA forces. Arguments: PGT_BINARY SOURCE_DIR."""
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+PGT, SRC = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(name, ok, detail=""):
+    print(("ok   " if ok else "FAIL ") + name + ("" if ok else ": " + str(detail)[-1500:]))
+    if not ok:
+        failures.append(name)
+
+
+def run(*args, env=None):
+    return subprocess.run([PGT, *args], capture_output=True, text=True, timeout=300,
+                          env=dict(os.environ, **(env or {})))
+
+
+def complete(p):
+    return (re.fullmatch(r"\d+\.\d+\.\d+", p["pgt"]["version"]) and p["pgt"]["commit"]
+            and p["pgt"]["build_type"] and p["pgt"]["compiler"] and p["machine"]["cpu"]
+            and p["machine"]["embree_kernel"] and p["machine"]["os"]
+            and re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", p["date"])
+            and set(p["libraries"]) == {"embree", "opensubdiv", "openimageio", "openexr",
+                                        "onetbb"})
+
+
+r = run("--version")
+check("--version: exit 0, version, commit and Embree", r.returncode == 0 and
+      re.match(r"pgt \d+\.\d+\.\d+ \(commit ", r.stdout) and "embree 3." in r.stdout, r)
+
+with tempfile.TemporaryDirectory() as d:
+    scene = json.load(open(os.path.join(SRC, "scenes", "default.json")))
+    scene["camera"]["resolution"] = [24, 24]
+    scene["methods"] = ["parallax", {"preset": "godot"}]
+    scene["sweep"] = {"theta": [0, 60], "scale": [0.05], "bias_ratio": [-0.5],
+                      "timing": {"repeats": 0}}
+    scene.pop("fit", None)
+    path = os.path.join(d, "scene.json")
+    json.dump(scene, open(path, "w"))
+    out = os.path.join(d, "render")
+    r = run("render", path, "--out", out, "--no-timing", env={"PGT_EMBREE_ISA": "sse2"})
+    check("render", r.returncode == 0, r.stderr)
+    prov = json.load(open(os.path.join(out, "summary.json")))["provenance"]
+    check("summary.json: a whole provenance block", complete(prov), prov)
+    check("the command as given", prov["command"].endswith(f"render {path} --out {out} --no-timing"),
+          prov["command"])
+    check("the kernel PGT_EMBREE_ISA forced", prov["machine"]["embree_kernel"] ==
+          "sse2 (PGT_EMBREE_ISA)", prov["machine"])
+    check("the GL that ran the GLSL preset", "renderer" in prov.get("gl", {}), prov)
+    check("a 40-digit scene hash", re.fullmatch(r"[0-9A-F]{40}", prov["scene_sha1"]), prov)
+    try:
+        import OpenImageIO as oiio
+        spec = oiio.ImageInput.open(os.path.join(out, "frame.exr")).spec()
+        check("frame.exr: the same commit and scene hash",
+              spec.getattribute("pgt:commit") == prov["pgt"]["commit"] and
+              spec.getattribute("pgt:scene_sha1") == prov["scene_sha1"] and
+              json.loads(spec.getattribute("pgt:provenance"))["pgt"] == prov["pgt"],
+              [spec.getattribute("pgt:commit"), spec.getattribute("pgt:scene_sha1")])
+    except ImportError:
+        print("skip frame.exr's header: no python3-openimageio")
+
+    study = os.path.join(d, "study")
+    r = run("sweep", path, "--out", study, "--max-cases", "1", "--no-report")
+    r = run("sweep", path, "--out", study)
+    runs = json.load(open(os.path.join(study, "provenance.json")))["runs"]
+    check("a resumed study: two runs, each with its cases", len(runs) == 2 and
+          [x["cases_run"] for x in runs] == [1, 1] and all(complete(x) for x in runs), runs)
+    report = os.path.join(study, "report.md")
+    if os.path.exists(report):
+        text = open(report).read()
+        check("report.md states the runs", "Made by 2 run(s)" in text and
+              runs[-1]["pgt"]["commit"] in text, text[:1500])
+    r = run("sweep", path, "--out", study, "--fresh", "--no-report")
+    runs = json.load(open(os.path.join(study, "provenance.json")))["runs"]
+    check("--fresh starts the runs again", len(runs) == 1 and runs[0]["cases_run"] == 2, runs)
+
+    scene["fit"] = {"theta": [30], "steps": [8], "scale_factors": [1], "bias_ratios": [-0.5],
+                    "refine": 0, "resolution": [16, 16], "methods": ["pom"]}
+    json.dump(scene, open(path, "w"))
+    r = run("fit", path, "--out", os.path.join(d, "fit"))
+    fit = json.load(open(os.path.join(d, "fit", "fit.json"))) if r.returncode == 0 else {}
+    check("fit.json: provenance", complete(fit.get("provenance", {})), r.stderr)
+
+if failures:
+    print(f"{len(failures)} failed: {', '.join(failures)}")
+    sys.exit(1)
+print("all passed")
