@@ -165,22 +165,63 @@ def fig_error_vs_theta(df, figdir):
     return out
 
 
-def angle_table_lines(df):
-    """Mean error (texels) per view angle for every configuration, over the cases each angle
-    has (every scale, bias ratio and azimuth): the angle figures' numbers, as a table."""
+# Student's t at 0.975 for 1-30 degrees of freedom (beyond: the normal's 1.96).
+_T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
+         2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+         2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def _angle_cells(df, order, thetas):
+    """Per configuration and theta: the mean text, "m ± h" (95 % over seeds) with replicates."""
+    seeds = df["seed"].nunique() if "seed" in df.columns else 1
+    per_seed = (df.groupby(["label", "theta", "seed"])["mean"].mean() if seeds > 1 else None)
+    means = df.groupby(["label", "theta"])["mean"].mean().unstack("theta")
+    rows = {}
+    for label in order:
+        cells = []
+        for t in thetas:
+            m = means.loc[label].get(t, float("nan"))
+            if per_seed is not None and (label, t) in per_seed.index.droplevel(2):
+                x = per_seed.loc[(label, t)].to_numpy()
+                h = (_T975[min(len(x) - 2, 29)] * x.std(ddof=1) / len(x) ** 0.5
+                     if len(x) > 1 else float("nan"))
+                cells.append(f"{nice(x.mean())} ± {h:.2g}")
+            else:
+                cells.append(nice(m))
+        rows[label] = cells
+    return means, rows, seeds
+
+
+def _angle_table(df, caption):
     means = df.groupby(["label", "theta"])["mean"].mean().unstack("theta")
     thetas = list(means.columns)
     order = [l for labels in families(df).values() for l in labels if l in means.index]
     same = _duplicates([(l, means.loc[l].values) for l in order])
-    lines = ["Mean error in texels per view angle θ, over every scale, bias ratio and azimuth "
-             "of the study; `(= X)`: the same numbers as X.", "",
-             "| configuration | " + " | ".join(f"θ {t:g}" for t in thetas) + " |",
+    _, rows, _ = _angle_cells(df, order, thetas)
+    lines = [caption, "", "| configuration | " + " | ".join(f"θ {t:g}" for t in thetas) + " |",
              "|---|" + "---|" * len(thetas)]
     for label in order:
         name = label + (f" (= {same[label]})" if label in same else "")
-        lines.append(f"| {name} | " + " | ".join(nice(v) for v in means.loc[label].values)
-                     + " |")
+        lines.append(f"| {name} | " + " | ".join(rows[label]) + " |")
     return lines + [""]
+
+
+def angle_table_lines(df):
+    """Mean error (texels) per view angle for every configuration: over every scale, then at
+    each scale; with replicate seeds each mean with its 95 % interval over the seeds."""
+    seeds = df["seed"].nunique() if "seed" in df.columns else 1
+    how = (f"each mean ± the half-width of its 95 % interval over the {seeds} replicate seeds "
+           "(the cases averaged per seed, then Student's t over the seeds)" if seeds > 1 else
+           "one replicate per case, so no interval is available (give the sweep block "
+           "\"replicates\": N for one)")
+    lines = _angle_table(df, "Mean error in texels per view angle θ, over every scale, bias "
+                         f"ratio and azimuth of the study; {how}; `(= X)`: the same numbers "
+                         "as X.")
+    scales = sorted(df["scale"].unique())
+    if len(scales) > 1:
+        for sc in scales:
+            lines += _angle_table(df[df["scale"] == sc], f"At scale s = {sc:g} only:")
+    return lines
 
 
 def _heat_grid(sub):

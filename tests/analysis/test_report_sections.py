@@ -2,7 +2,8 @@
 """ctest: the report's per-preset and depth/shadow sections on synthetic results with known
 answers: the surface a preset fits (the bias ratio of its lowest mean), its worst view angle,
 its largest defect (non-finite pixels first, then texels moved head-on, then the growth with
-the angle), the depth table's ranking and the shadow shares. Arguments: PGT_BINARY SOURCE_DIR."""
+the angle), the depth table's ranking and the shadow shares, the per-angle tables' intervals
+over replicate seeds. Arguments: PGT_BINARY SOURCE_DIR."""
 import json
 import os
 import sys
@@ -17,7 +18,7 @@ except ImportError:
 
 sys.path.insert(0, os.path.join(sys.argv[2], "analysis"))
 from report_depth import depth_shadow_lines  # noqa: E402
-from report_configs import own_surface  # noqa: E402
+from report_configs import angle_table_lines, own_surface  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
 
@@ -90,6 +91,17 @@ with tempfile.TemporaryDirectory() as figdir:
     dark = df.drop(columns=[c for c in df.columns if c.startswith("depth")])
     check(depth_shadow_lines(dark, figdir) == [], "no depth columns: no section")
 
+# The per-angle table with replicates: 1, 2, 3 texels over three seeds give 2 ± t(0.975, 2)
+# / sqrt(3) = 2.484; one seed says that no interval is available; a table per scale.
+reps = pd.DataFrame([{"label": "pom", "method": "pom", "theta": 40, "scale": s, "seed": seed,
+                      "mean": float(seed), "params": "{}"}
+                     for seed in (1, 2, 3) for s in (0.05, 0.1)])
+text = "\n".join(angle_table_lines(reps))
+check("| pom | 2 ± 2.5 |" in text and "95 % interval over the 3 replicate seeds" in text,
+      f"intervals over replicates: {text}")
+check("At scale s = 0.05 only:" in text and "At scale s = 0.1 only:" in text, text)
+one = "\n".join(angle_table_lines(reps[reps["seed"] == 1]))
+check("no interval is available" in one and "±" not in one, one)
 for f in failures:
     print("FAIL:", f)
 print(f"{'ok' if not failures else 'failed'}: {len(failures)} failures")
