@@ -11,6 +11,8 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/memory.h"
+#include "methods/presets/presets.h"
+#include "methods/registry.h"
 #include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
 #include "study/fit.h"
@@ -160,6 +162,20 @@ int compareCommand(const pgt::CompareOptions& opt, bool noFigures) {
     return sum.last.regressed() ? 1 : 0;
 }
 
+// `pgt methods`: every built-in with its parameters, every preset with what its engine ships.
+void methodsCommand() {
+    std::printf("built-in methods: \"methods\": [NAME] or [{\"name\": NAME, PARAMETER: N}]\n");
+    for (const pgt::MethodKindInfo& k : pgt::methodKinds()) {
+        std::printf("  %-16s", k.name);
+        for (const pgt::IntParameter& p : k.parameters)
+            if (p.written) std::printf(" %s %d-%d", p.key, p.lo, p.hi);
+        std::printf("\n");
+    }
+    std::printf("presets: \"methods\": [{\"preset\": NAME}] (docs/methods.md \"Engine presets\")\n");
+    for (const pgt::MethodPreset& p : pgt::methodPresets())
+        std::printf("  %-26s %s\n", p.name.c_str(), p.source.c_str());
+}
+
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.
 void fitCommand(const std::string& scenePath, const std::string& outDir) {
     pgt::Scene scene = pgt::loadScene(scenePath);
@@ -209,7 +225,7 @@ struct CommandLine {
     std::string compareBands;
     uint64_t memoryLimitMb = pgt::defaultMemoryLimitMb();
     CLI::App *render = nullptr, *sweep = nullptr, *fit = nullptr, *stress = nullptr,
-             *merge = nullptr, *compare = nullptr;
+             *merge = nullptr, *compare = nullptr, *methods = nullptr;
 };
 
 // `pgt compare` and its options (docs/studies.md "Gating a shader change").
@@ -295,6 +311,7 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.merge->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
 
     defineCompare(app, c);
+    c.methods = app.add_subcommand("methods", "List every built-in method and engine preset");
 
     c.fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     c.fit->add_option("scene", c.scenePath, "Scene file (JSON), optional \"fit\" block")
@@ -347,6 +364,8 @@ int runCommand(const CommandLine& c) {
             std::printf("%d scenes: %s/stress.csv\n", n, c.stressOpt.outDir.c_str());
         } else if (*c.fit) {
             fitCommand(c.scenePath, c.outDir);
+        } else if (*c.methods) {
+            methodsCommand();
         }
     } catch (const pgt::InputError& e) {
         std::cerr << "pgt: error: " << e.what() << "\n";

@@ -3,7 +3,7 @@
 summary.json's provenance block and frame.exr's pgt:* header attributes (the same commit and
 scene hash); a study's provenance.json, one entry per run (a resume adds one, --fresh starts
 again), stated in report.md's header; fit.json; the GL's renderer when a GLSL method ran; the
-Embree kernel PGT_EMBREE_ISA forces. Arguments: PGT_BINARY SOURCE_DIR."""
+Embree kernel PGT_EMBREE_ISA forces; `pgt methods` lists what pgt can measure. Arguments: PGT_BINARY SOURCE_DIR."""
 import json
 import os
 import re
@@ -34,6 +34,13 @@ def complete(p):
             and set(p["libraries"]) == {"embree", "opensubdiv", "openimageio", "openexr",
                                         "onetbb"})
 
+
+r = run("methods")
+presets = r.stdout.split("presets:")[-1].splitlines()[1:]
+check("pgt methods: every built-in and each preset with its source", r.returncode == 0 and
+      "  pom              min_layers 1-4096" in r.stdout and "  relaxed_cone" in r.stdout and
+      len(presets) >= 29 and any(l.split()[0] == "godot" and "Godot 4" in l for l in presets),
+      r.stdout)
 
 r = run("--version")
 check("--version: exit 0, version, commit and Embree", r.returncode == 0 and
