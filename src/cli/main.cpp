@@ -171,7 +171,8 @@ void methodsCommand() {
             if (p.written) std::printf(" %s %d-%d", p.key, p.lo, p.hi);
         std::printf("\n");
     }
-    std::printf("presets: \"methods\": [{\"preset\": NAME}] (docs/methods.md \"Engine presets\")\n");
+    std::printf(
+        "presets: \"methods\": [{\"preset\": NAME}] (docs/methods.md \"Engine presets\")\n");
     for (const pgt::MethodPreset& p : pgt::methodPresets())
         std::printf("  %-26s %s\n", p.name.c_str(), p.source.c_str());
 }
