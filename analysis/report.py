@@ -18,6 +18,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, save_figure, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
+from report_paper import fig_paper  # noqa: E402
 from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
@@ -247,10 +248,12 @@ def ranking_note(n_common, n_total, flagged, renamed):
     return lines + [""]
 
 
-def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged):
+def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged, paper=None):
     """Error against view angle (figures and a table) and against run time, with the Pareto
     fronts and the table."""
     lines = ["## Error against view angle", ""]
+    if paper:
+        lines += [f"![all configurations against theta](figures/{paper[0]})", "", paper[1], ""]
     for scale, ratio, fname in theta_figs:
         lines += [f"![error vs theta, s = {scale:g}](figures/{fname})", ""]
     lines += angle_table
@@ -390,12 +393,13 @@ def main():
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
     heat = heat_job.get()
     theta_figs = theta_job.get()
+    paper = fig_paper(common, figdir)
     pool.close()
     pool.join()
 
     lines = (header_lines(df, study, args.dir) + ranking_note(n_common, n_total, flagged, renamed)
              + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
-                             flagged)
+                             flagged, paper)
              + defaults_lines(table, table80, heat)
              + engine_lines(df, figdir)
              + storage_lines(common)

@@ -40,7 +40,13 @@ with tempfile.TemporaryDirectory() as d:
     text = open(report).read() if os.path.exists(report) else ""
     figures = [l.split("(")[1].rstrip(")") for l in text.splitlines() if l.startswith("![")]
     want = {"figures/error_vs_theta_s0.03.png", "figures/error_vs_theta_s0.06.png",
-            "figures/pareto_ns.png", "figures/pareto_fetches.png"}
+            "figures/pareto_ns.png", "figures/pareto_fetches.png",
+            "figures/paper_error_vs_theta.png"}
+    # The paper figure: every configuration on one axis per scale, as vectors too.
+    if not os.path.getsize(os.path.join(out, "figures", "paper_error_vs_theta.svg")) > 0:
+        failures.append("no paper_error_vs_theta.svg")
+    if "for every configuration, one panel per scale" not in text:
+        failures.append("the paper figure's caption is missing")
     if not want <= set(figures):
         failures.append(f"report.md lacks figures: {sorted(want - set(figures))}")
     for f in figures:
