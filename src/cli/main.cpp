@@ -240,7 +240,7 @@ void defineCompare(CLI::App& app, CommandLine& c) {
     c.compare->add_option("--out", o.outDir, "Output directory for compare.md and figures")
         ->required();
     c.compare->add_option("--metric", o.metric, "results.csv column compared")
-        ->check(CLI::IsMember({"mean", "rms", "p50", "p90", "p99", "max"}))
+        ->check(CLI::IsMember(pgt::compareMetrics()))
         ->default_val(o.metric);
     c.compare->add_option("--bands", c.compareBands,
                           "Band edges in degrees, e.g. 0,30,60,90 (default: each theta)");

@@ -69,6 +69,15 @@ std::string operatingSystem() {
     return std::string(u.sysname) + " " + u.release + " " + u.machine;
 }
 
+// The machine's facts, read once (every summary.json of a study with images asks).
+const Json& machine() {
+    static const Json facts = {{"cpu", cpuModel()},
+                               {"cores", std::thread::hardware_concurrency()},
+                               {"os", operatingSystem()},
+                               {"embree_kernel", embreeKernel()}};
+    return facts;
+}
+
 // Now, in UTC, ISO 8601.
 std::string utcNow() {
     const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
@@ -132,11 +141,7 @@ Json provenance(const std::string& sceneSha1) {
                 {"build_type", PGT_BUILD_TYPE},
                 {"compiler", compiler()}}},
               {"libraries", libraries()},
-              {"machine",
-               {{"cpu", cpuModel()},
-                {"cores", std::thread::hardware_concurrency()},
-                {"os", operatingSystem()},
-                {"embree_kernel", embreeKernel()}}},
+              {"machine", machine()},
               {"date", utcNow()}};
     {
         std::lock_guard<std::mutex> lock(gCommandMutex);

@@ -48,22 +48,22 @@ LoadedStudy readStudy(const std::string& dir, const std::string& metric) {
     bool torn = false;
     const auto records = splitCsvRecords(text, head.rowsFrom(), &torn);
     s.torn = torn;
-    const std::vector<std::string> keyColumns = {"theta",      "phi",         "scale",    "bias",
-                                                 "bias_ratio", "light_theta", "light_phi"};
     for (size_t r = 0; r < records.size(); ++r) {
         const auto& row = records[r];
         if (row.size() != head.size()) continue;  // a torn last line
-        std::string key;
-        for (const auto& k : keyColumns) key += head.field(row, k) + ";";
+        StudyCase sc;
+        if (!head.readCase(row, &sc))
+            throw InputError(csvPath, "line " + std::to_string(r + 2), "",
+                             "a case column is not a number");
+        std::string key;  // the case's key columns as written, its seed aside: its replicates
+        for (const ResultColumn& col : resultSchema())
+            if (col.caseField && col.caseField != &StudyCase::seed)
+                key += head.field(row, col.name) + ";";
         const std::string& label = head.field(row, "label");
-        const double seed = number(head.field(row, "seed"));
-        if (!std::isfinite(seed))
-            throw InputError(csvPath, "line " + std::to_string(r + 2) + ": seed",
-                             head.field(row, "seed"), "not a number");
         auto& c = s.rows.byLabel[label][key];
-        c.theta = number(head.field(row, "theta"));
-        c.scale = number(head.field(row, "scale"));
-        c.bySeed[seed] = number(head.field(row, metric));
+        c.theta = sc.theta;
+        c.scale = sc.scale;
+        c.bySeed[sc.seed] = number(head.field(row, metric));
         if (!s.params.count(label)) {
             s.params[label] =
                 Json{{"method", head.field(row, "method")},
@@ -161,13 +161,22 @@ void checkOptions(const CompareOptions& o, const std::string& bandsShown) {
     if (!(o.verdict.floor >= 0 && o.verdict.floor <= 1e3))
         throw InputError("command line", "--floor", formatNumber(o.verdict.floor),
                          "not in [0, 1000]");
-    const std::set<std::string> metrics = {"mean", "rms", "p50", "p90", "p99", "max"};
-    if (!metrics.count(o.metric))
-        throw InputError("command line", "--metric", o.metric,
-                         "one of mean, rms, p50, p90, p99, max");
+    const std::vector<std::string> metrics = compareMetrics();
+    if (std::find(metrics.begin(), metrics.end(), o.metric) == metrics.end()) {
+        std::string list;
+        for (const auto& m : metrics) appendListed(list, m, ", ");
+        throw InputError("command line", "--metric", o.metric, "one of " + list);
+    }
 }
 
 }  // namespace
+
+std::vector<std::string> compareMetrics() {
+    std::vector<std::string> out;  // the columns summary.json says under "error_texels"
+    for (const ResultColumn& col : resultSchema())
+        if (col.jsonKey.size() == 2 && col.jsonKey[0] == "error_texels") out.push_back(col.name);
+    return out;
+}
 
 std::pair<std::string, std::string> parseLabelPair(const std::string& text) {
     const auto eq = text.find('=');

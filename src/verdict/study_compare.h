@@ -16,7 +16,7 @@ namespace pgt {
 struct CompareOptions {
     std::vector<std::string> dirs;  // OLD, then one or more NEW (a history, oldest first)
     std::string outDir;
-    std::string metric = "mean";  // a results.csv error column: mean, rms, p50, p90, p99, max
+    std::string metric = "mean";  // a results.csv error column (compareMetrics())
     VerdictOptions verdict;
     std::vector<std::pair<std::string, std::string>> pairs;  // --pair OLD_LABEL=NEW_LABEL
     bool anyScene = false;  // compare studies of different scenes (the differences noted)
@@ -37,6 +37,10 @@ struct CompareSummary {
 // anyScene, labels on both sides with no match and no --pair, a cell with fewer than two
 // seeds; OutputError when DIR cannot be written.
 CompareSummary compareStudies(const CompareOptions& options, const CompareFigures& figures = {});
+
+// The results.csv columns a comparison can judge: the error statistics in texels (mean,
+// rms, p50, ...), from results.csv's schema.
+std::vector<std::string> compareMetrics();
 
 // "OLD=NEW" as a pair; InputError naming --pair otherwise.
 std::pair<std::string, std::string> parseLabelPair(const std::string& text);
