@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "methods/config.h"
+#include "study/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -121,6 +123,46 @@ TEST(Fit, OnlyWhatReachesTheShaderIsFitted) {
     // Each bias ratio of the grid gives the scale-only method the same score: only the
     // scale factors (and the refinement's) are candidates.
     EXPECT_LT(r.methods[0].candidates, r.methods[1].candidates);
+}
+
+// The objective is what a render shows: the fitted configuration rendered by `pgt render`'s
+// path (renderFrame, a whole scene per view) at the fit's jittered samples and seed scores,
+// averaged over the views, the fit's own best mean; at pixel centres (the old default) the
+// fit scores another number, and says which samples it used.
+TEST(Fit, ObjectiveIsAJitteredRenderAtTheFittedPoint) {
+    const char* map = R"({"procedural": "sine", "size": [32, 32], "frequency": [2, 3]})";
+    const char* block = R"({"theta": [30, 60], "resolution": [24, 24], "steps": [8],
+                            "scale_factors": [0.75, 1.25], "bias_ratios": [-0.75, -0.25],
+                            "refine": 1, "seed": 7, %s
+                            "methods": [{"name": "pom", "layers": 8}]})";
+    auto blockWith = [&](const char* samples) {
+        char text[512];
+        std::snprintf(text, sizeof text, block, samples);
+        return std::string(text);
+    };
+    Scene s = fitScene(map, blockWith(""));
+    FitReport r = runFit(s, false);
+    ASSERT_EQ(r.methods.size(), 1u);
+    EXPECT_EQ(r.samples, "jittered");
+    EXPECT_EQ(r.toJson()["seed"], 7);
+    const FitResult& fr = r.methods[0];
+    double sum = 0;
+    for (double theta : r.thetas) {
+        Scene view = s;
+        view.methods = parseMethods(nlohmann::json::array({fr.best}), s.file, "methods",
+                                    s.worldPerUv());
+        view.camera.theta = theta;
+        view.camera.width = view.camera.height = 24;
+        view.camera.jitter = true, view.camera.jitterSeed = 7;
+        sum += renderFrame(view).methods.at(0).stats.error.mean;
+    }
+    EXPECT_NEAR(fr.bestMean, sum / double(r.thetas.size()), 1e-9 * (1 + fr.bestMean));
+    // The same search at pixel centres scores another objective, and records its samples.
+    FitReport centre = runFit(fitScene(map, blockWith(R"("samples": "centre",)")), false);
+    EXPECT_EQ(centre.samples, "centre");
+    EXPECT_FALSE(centre.toJson().contains("seed"));
+    EXPECT_GT(std::abs(centre.methods[0].nativeObjective - fr.nativeObjective),
+              1e-3 * fr.nativeObjective);
 }
 
 TEST(Fit, BadFitBlockNamesTheField) {

@@ -204,9 +204,12 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
                     m.nativeObjective);
     }
     std::printf(
-        "objective: %s UV error in texels averaged over %zu view angles; "
+        "objective: %s UV error in texels averaged over %zu view angles, at %s; "
         "'as listed' = the scene's own (s, b)\n",
-        rep.objective.c_str(), rep.thetas.size() * rep.phis.size());
+        rep.objective.c_str(), rep.thetas.size() * rep.phis.size(),
+        rep.samples == "jittered"
+            ? ("jittered samples (seed " + std::to_string(rep.seed) + ")").c_str()
+            : "pixel centres");
     std::printf("wrote %s/fit.json\n", outDir.c_str());
 }
 

@@ -59,11 +59,14 @@ nlohmann::json FitReport::toJson() const {
                       {"p90_texels", m.bestP90},
                       {"as_listed_objective_texels", m.nativeObjective},
                       {"candidates", m.candidates}});
-    return {{"objective", objective},
-            {"theta", thetas},
-            {"phi", phis},
-            {"methods", ms},
-            {"provenance", pgt::provenance(sceneSha1)}};
+    Json out = {{"objective", objective},
+                {"samples", samples},
+                {"theta", thetas},
+                {"phi", phis},
+                {"methods", ms},
+                {"provenance", pgt::provenance(sceneSha1)}};
+    if (samples == "jittered") out["seed"] = seed;
+    return out;
 }
 
 namespace {
@@ -73,6 +76,10 @@ struct FitPlan {
     std::vector<double> factors, ratios, steps;
     int refine = 4;
     int width = 128, height = 128;
+    // The pixels' sample positions: jittered (the default, as a study samples) with one seed for
+    // every candidate, so two candidates are scored on the same samples; or the pixel centres.
+    bool jitter = true;
+    uint32_t seed = 1;
     std::vector<MethodConfig> methods;
 };
 
@@ -87,6 +94,10 @@ FitPlan readFitPlan(const Scene& scene, FitReport& rep) {
     plan.ratios = listOr(f, "bias_ratios", range(-1.25, 0.25, 0.25), -10, 10);
     plan.steps = listOr(f, "steps", {8, 16, 32, 64}, 1, 4096);
     plan.refine = f.integer("refine", 4, 0, 12);
+    plan.jitter = f.choice("samples", {"centre", "jittered"}, "jittered") == "jittered";
+    plan.seed = uint32_t(f.integer("seed", int(scene.camera.jitterSeed), 0, 2147483647));
+    rep.samples = plan.jitter ? "jittered" : "centre";
+    rep.seed = plan.seed;
     if (f.has("resolution")) {
         std::vector<int> res = f.integers("resolution", 2, 1, 4096);
         plan.width = res[0], plan.height = res[1];
@@ -110,6 +121,7 @@ class FitScorer {
                 ViewSpec v = scene.view();
                 v.camera.theta = th, v.camera.phi = ph;
                 v.camera.width = plan.width, v.camera.height = plan.height;
+                v.camera.jitter = plan.jitter, v.camera.jitterSeed = plan.seed;
                 views_.push_back(prepareView(scene, v, truths));
                 if (views_.back().raster.covered == 0)  // every candidate would score nothing
                     throw InputError(scene.file, "fit.theta", formatNumber(th, 9),

@@ -3,6 +3,7 @@
 // steps always help, so each count gets its own best (s, b) and the cost stays visible).
 #pragma once
 
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -24,6 +25,8 @@ struct FitResult {
 
 struct FitReport {
     std::string objective;  // "mean" or "p90"
+    std::string samples;    // "jittered" (one seed for every candidate) or "centre"
+    uint32_t seed = 1;      // the jitter seed
     std::vector<double> thetas, phis;
     std::vector<FitResult> methods;
     std::string sceneSha1;  // the scene fitted (study/provenance.h)
