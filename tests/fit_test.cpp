@@ -149,8 +149,8 @@ TEST(Fit, ObjectiveIsAJitteredRenderAtTheFittedPoint) {
     double sum = 0;
     for (double theta : r.thetas) {
         Scene view = s;
-        view.methods = parseMethods(nlohmann::json::array({fr.best}), s.file, "methods",
-                                    s.worldPerUv());
+        view.methods =
+            parseMethods(nlohmann::json::array({fr.best}), s.file, "methods", s.worldPerUv());
         view.camera.theta = theta;
         view.camera.width = view.camera.height = 24;
         view.camera.jitter = true, view.camera.jitterSeed = 7;
