@@ -59,12 +59,9 @@ nlohmann::json FitReport::toJson() const {
                       {"p90_texels", m.bestP90},
                       {"as_listed_objective_texels", m.nativeObjective},
                       {"candidates", m.candidates}});
-    Json out = {{"objective", objective},
-                {"samples", samples},
-                {"theta", thetas},
-                {"phi", phis},
-                {"methods", ms},
-                {"provenance", pgt::provenance(sceneSha1)}};
+    Json out = {{"objective", objective}, {"samples", samples},
+                {"theta", thetas},        {"phi", phis},
+                {"methods", ms},          {"provenance", pgt::provenance(sceneSha1)}};
     if (samples == "jittered") out["seed"] = seed;
     return out;
 }
