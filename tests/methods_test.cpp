@@ -1,8 +1,12 @@
 // Methods on closed forms: constant height, head-on view, loop bounds, precision option.
 #include <gtest/gtest.h>
 
+#include <sstream>
+
+#include "core/json_read.h"
 #include "methods/builtin/layered.h"
 #include "methods/config.h"
+#include "methods/presets/presets.h"
 #include "methods/registry.h"
 #include "study/render.h"
 #include "test_util.h"
@@ -17,7 +21,7 @@ const char* kAllMethods[] = {
     R"({"name":"none"})",      R"({"name":"parallax"})",      R"({"name":"offset_limited"})",
     R"({"name":"steep"})",     R"({"name":"pom"})",           R"({"name":"relief"})",
     R"({"name":"iterative"})", R"({"name":"tangent_plane"})", R"({"name":"secant"})",
-    R"({"name":"contact"})",   R"({"name":"maxmip"})"};
+    R"({"name":"contact"})",   R"({"name":"maxmip"})",        R"({"name":"iterative_slope"})"};
 
 struct MethodRun {
     Vec2f uv;
@@ -87,6 +91,45 @@ TEST(Methods, ExactOnConstantHeight) {
         near(R"({"name":"iterative"})", Vec2f(limited), 2e-6f);
         // tangent plane on a flat map: n = +z, dot(n, V) = V.z: the exact offset.
         near(R"({"name":"tangent_plane"})", expectedF, 2e-6f);
+        // iterative_slope on a flat map: n_z = 1, so z_k = H (1 - (1 - V.z)^k), H = s c + b,
+        // and the offset is V.xy z_k / V.z (Premecz's damped steps toward the exact offset).
+        const double zk = (s * c + b) * (1 - std::pow(1 - v.z, 4));
+        near(R"({"name":"iterative_slope"})", Vec2f(uv0 + Vec2d(v.x, v.y) / v.z * zk), 2e-6f);
+    }
+}
+
+// iterative_slope on a ramp h = a + k u (the derived normal's central differences exact inside
+// the map: m = (-s k, 0, 1) / sqrt(1 + (s k)^2)): the ray parameter t (p = (uv0, 0) + t V)
+// obeys t' = t (1 - m_z D) + m_z A with A = s (a + k u0) + b and D = V.z - s k V.x, so
+// t_n = t* (1 - (1 - m_z D)^n), t* = A / D the exact crossing: each step shrinks the error by
+// the factor 1 - m_z D = 1 - dot(m, V), and 64 steps land on the crossing.
+TEST(Methods, IterativeSlopeClosedFormOnARamp) {
+    const double a = 0.2, k = 0.6, s = 0.1, b = -0.07;
+    const Texture ramp = makeTexture(
+        32, 32, [&](int i, int) { return a + k * (i + 0.5) / 32; }, Address::Clamp);
+    MethodTextures tex = makeMethodTextures(ramp, s, b, 1.0, true);
+    const double mz = 1 / std::sqrt(1 + s * k * s * k);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    for (int c = 0; c < 200; ++c) {
+        // Inside the texel centres whose neighbours are interior (the normal is exact there).
+        const Vec2d uv0(0.3 + 0.4 * uni(rng), 0.2 + 0.6 * uni(rng));
+        const Vec3d v = viewFromAngles(75 * uni(rng), 360 * uni(rng));
+        const double A = s * (a + k * uv0.x) + b, D = v.z - s * k * v.x, exact = A / D;
+        for (int n : {1, 2, 4, 64}) {
+            const double t = exact * (1 - std::pow(1 - mz * D, n));
+            const Vec2d want = uv0 + Vec2d(v.x, v.y) * t;
+            const MethodConfig cfg =
+                method(R"({"name":"iterative_slope","iterations":)" + std::to_string(n) + "}");
+            const MethodRun r = runFloat(cfg, tex, Vec2f(uv0), Vec3f(v));
+            EXPECT_NEAR(r.uv.x, want.x, 2e-6) << "iterations " << n << " case " << c;
+            EXPECT_NEAR(r.uv.y, want.y, 2e-6) << "iterations " << n << " case " << c;
+            EXPECT_EQ(r.ctx.fetches, 2 * n);  // the normal and the height at each step
+            EXPECT_NEAR(r.ctx.foundHeight, t * v.z, 2e-6);
+            if (n == 64) {
+                EXPECT_NEAR(t, exact, 1e-6 * std::abs(exact) + 1e-9);
+            }
+        }
     }
 }
 
@@ -190,6 +233,28 @@ TEST(Registry, StepCountSetsTheFitsParameter) {
 }
 
 // The built-in presets are the documents' settings (docs/methods.md "Engine presets"), written out.
+// Every source key pgt prints (`pgt methods`: each built-in kind's, each preset's) is defined
+// in docs/references.md as a row "| `key` |", and every kind but none and every preset cites
+// at least one.
+TEST(Sources, EveryKeyIsDefinedInTheReferences) {
+    const std::string references = test::testSourceDir() + "/../docs/references.md";
+    const std::string text = readTextFile(references, references, "", "the references", 1 << 20);
+    auto check = [&](const std::string& owner, const std::string& keys) {
+        std::istringstream in(keys);
+        std::string key;
+        int n = 0;
+        while (in >> key) {
+            ++n;
+            EXPECT_NE(text.find("| `" + key + "` |"), std::string::npos) << owner << ": " << key;
+        }
+        EXPECT_GT(n, 0) << owner << " cites no source";
+    };
+    for (const MethodKindInfo& kind : methodKinds())
+        if (kind.kind != MethodKind::None) check(kind.name, kind.cite);
+    for (const MethodPreset& p : methodPresets()) check(p.name, presetCite(p.name));
+    EXPECT_EQ(sourceKeys(method(R"({"name":"pom"})")), "tatarchuk2006 devries2020");
+}
+
 TEST(Presets, BuiltInPresetsAreTheDocumentsSettings) {
     auto same = [](const char* preset, const char* entry) {
         nlohmann::json shipped = nlohmann::json::parse(preset);

@@ -164,17 +164,25 @@ int compareCommand(const pgt::CompareOptions& opt, bool noFigures) {
 
 // `pgt methods`: every built-in with its parameters, every preset with what its engine ships.
 void methodsCommand() {
-    std::printf("built-in methods: \"methods\": [NAME] or [{\"name\": NAME, PARAMETER: N}]\n");
+    // [keys]: the sources in docs/references.md.
+    auto cite = [](const std::string& keys) { return keys.empty() ? "" : " [" + keys + "]"; };
+    std::printf(
+        "built-in methods: \"methods\": [NAME] or [{\"name\": NAME, PARAMETER: N}]; "
+        "[keys]: docs/references.md\n");
     for (const pgt::MethodKindInfo& k : pgt::methodKinds()) {
-        std::printf("  %-16s", k.name);
+        std::printf("  %-16s %s%s\n", k.name, k.summary, cite(k.cite).c_str());
+        std::string parameters;
         for (const pgt::IntParameter& p : k.parameters)
-            if (p.written) std::printf(" %s %d-%d", p.key, p.lo, p.hi);
-        std::printf("\n");
+            if (p.written)
+                parameters += " " + std::string(p.key) + " " + std::to_string(p.lo) + "-" +
+                              std::to_string(p.hi);
+        if (!parameters.empty()) std::printf("  %-16s%s\n", "", parameters.c_str());
     }
     std::printf(
         "presets: \"methods\": [{\"preset\": NAME}] (docs/methods.md \"Engine presets\")\n");
     for (const pgt::MethodPreset& p : pgt::methodPresets())
-        std::printf("  %-26s %s\n", p.name.c_str(), p.source.c_str());
+        std::printf("  %-26s %s%s\n", p.name.c_str(), p.source.c_str(),
+                    cite(pgt::presetCite(p.name)).c_str());
 }
 
 // `pgt fit`: each method's own scale, bias and steps, written to fit.json and printed.

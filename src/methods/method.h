@@ -32,7 +32,8 @@ enum class MethodKind {
     Contact,
     MaxMip,
     Cone,
-    RelaxedCone
+    RelaxedCone,
+    IterativeSlope
 };
 
 struct GlslSpec;  // methods/shader/glsl_spec.h: a user's shader function run in OpenGL
@@ -49,9 +50,9 @@ struct BuiltinMethod {
     int maxSteps =
         0;  // steep, pom: 0 = unbounded (LearnOpenGL); the deferred-renderer blog uses 100
     int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
-    int iterations = 4;                     // iterative (Lengyel FGED 2 Listing 7.9)
-    int secantSteps = 3;                    // secant (Risser et al. 2007)
-    int maxIterations = 4096;               // maxmip: nodes visited at most (a safety bound)
+    int iterations = 4;   // iterative (Lengyel FGED 2 Listing 7.9), iterative_slope (Premecz 2006)
+    int secantSteps = 3;  // secant (Risser et al. 2007)
+    int maxIterations = 4096;  // maxmip: nodes visited at most (a safety bound)
     int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     bool gpu8Filter = false;       // "filter": "gpu8": bilinear weights of 8 fractional bits

@@ -47,6 +47,8 @@ struct GlslTwin {
 struct MethodKindInfo {
     const char* name;
     MethodKind kind;
+    const char* summary = "";  // one line: what it computes (`pgt methods`)
+    const char* cite = "";     // its sources' keys in docs/references.md, space-separated
     std::vector<IntParameter> parameters = {};
     const char* stepKey = nullptr;  // the key of `parameters` a fit varies, or null
     // The parameters shown in a generated label ("8_32" for pom), "" when there are none.

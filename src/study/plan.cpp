@@ -10,6 +10,7 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "methods/config.h"
+#include "methods/presets/presets.h"
 #include "study/render.h"
 
 namespace pgt {
@@ -360,8 +361,11 @@ std::vector<StudyCase> makeCases(const StudyAxes& a, const std::string& file) {
 // description, not the fit block) beside the resolved scene, which adds the content hashes
 // of its files.
 Json studyIdentity(const Scene& scene, const Study& st) {
-    Json cfgs = Json::array();
-    for (const auto& c : st.configs) cfgs.push_back(toJson(c));
+    Json cfgs = Json::array(), sources = Json::object();
+    for (const auto& c : st.configs) {
+        cfgs.push_back(toJson(c));
+        sources[c.label] = sourceKeys(c);  // docs/references.md's keys, for the report
+    }
     Json given = scene.json;
     given.erase("description");
     given.erase("fit");
@@ -369,6 +373,7 @@ Json studyIdentity(const Scene& scene, const Study& st) {
             {"given", given},
             {"sweep", scene.sweep},
             {"configurations", cfgs},
+            {"sources", sources},
             {"cases", st.cases.size()},
             {"resolution", {st.width, st.height}},
             {"samples", st.jitter ? "jittered" : "centre"}};

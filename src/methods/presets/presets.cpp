@@ -38,6 +38,24 @@ MethodConfig softShadowed(MethodConfig c) {
     return c;
 }
 
+// A preset's source by the first word of its name (docs/references.md's keys).
+constexpr std::pair<const char*, const char*> kPresetCites[] = {
+    {"welsh", "welsh2004"},
+    {"learnopengl", "devries2020"},
+    {"deferred", "deferredblog2025"},
+    {"tatarchuk", "tatarchuk2006"},
+    {"godot", "godot4"},
+    {"bevy", "bevy"},
+    {"unity", "unityhdrp"},
+    {"jme", "jme3"},
+    {"playcanvas", "playcanvas"},
+    {"ogre", "ogre"},
+    {"o3de", "o3de"},
+    {"darkplaces", "darkplaces"},
+    {"babylon", "babylonjs"},
+    {"threejs", "threejs"},
+};
+
 MethodPreset builtinPreset(const char* name, const char* source, MethodConfig config) {
     MethodPreset p;
     p.name = name, p.source = source, p.config = std::move(config);
@@ -399,5 +417,18 @@ MethodConfig presetConfig(const MethodPreset& preset, const std::string& label,
 }
 
 std::string shaderDir() { return dataSubdir("shaders", "PGT_SHADER_DIR"); }
+
+std::string presetCite(const std::string& preset) {
+    const std::string first = preset.substr(0, preset.find('_'));
+    for (const auto& [word, key] : kPresetCites)
+        if (first == word) return key;
+    return "";
+}
+
+std::string sourceKeys(const MethodConfig& config) {
+    if (!config.preset.empty()) return presetCite(config.preset);
+    if (const BuiltinMethod* b = config.builtin()) return kindInfo(b->kind).cite;
+    return "";
+}
 
 }  // namespace pgt

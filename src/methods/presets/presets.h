@@ -45,6 +45,12 @@ struct MethodPreset {
 };
 const std::vector<MethodPreset>& methodPresets();
 
+// The keys of a preset's sources in docs/references.md (space-separated): its engine's, or the
+// document whose settings it is, by the name's first word ("godot_deep": "godot4").
+std::string presetCite(const std::string& preset);
+// A configuration's source keys: its preset's, else its built-in kind's; "" for a user's shader.
+std::string sourceKeys(const MethodConfig& config);
+
 // What a preset's amplitude is: the scene's surface (default: its engine's parameters mapped
 // from the scene's, or the method's own, (s, b)), or the values its engine ships
 // ("amplitude": "shipped").
