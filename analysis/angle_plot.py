@@ -55,7 +55,7 @@ def main():
     ax.set_title(os.path.basename(args.scene))
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=110)
+    fig.savefig(args.out, dpi=200, bbox_inches="tight")
     print(args.out)
 
 

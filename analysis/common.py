@@ -30,6 +30,43 @@ DOCUMENT_BIAS_RATIO = {
 
 KEYS = ["theta", "phi", "scale", "bias"]
 
+# Student's t at 0.975 for 1-30 degrees of freedom (beyond: the normal's 1.96).
+T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
+        2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
+        2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def t975(n):
+    """Student's t at 0.975 for a mean of n values (n - 1 degrees of freedom); NaN below 2."""
+    return (T975[n - 2] if n - 2 < len(T975) else 1.96) if n > 1 else float("nan")
+
+
+def seed_interval(rows, column="mean"):
+    """The mean of `column` over `rows` and the half-width of its 95 % interval over the
+    replicate seeds: the rows averaged per seed (each seed has the same cases), then Student's
+    t over the seeds' means. The half-width is NaN with one seed (no interval available)."""
+    if "seed" not in rows.columns:
+        rows = rows.assign(seed=1)
+    per = rows.groupby("seed")[column].mean().dropna().to_numpy()
+    if len(per) == 0:
+        return float("nan"), float("nan")
+    half = t975(len(per)) * per.std(ddof=1) / math.sqrt(len(per)) if len(per) > 1 else math.nan
+    return float(per.mean()), float(half)
+
+
+def seed_count(df):
+    """How many replicate seeds the study ran (1 for a study without the column)."""
+    return int(df["seed"].nunique()) if "seed" in df.columns else 1
+
+
+def interval_note(seeds):
+    """How the report's intervals were made, or that none is available."""
+    if seeds > 1:
+        return (f"± is the half-width of the 95 % interval over the {seeds} replicate seeds "
+                "(each seed's cases averaged, then Student's t over the seeds)")
+    return ("one replicate per case, so no interval is available (give the sweep block "
+            "\"replicates\": N for one)")
+
 
 def case_keys(df):
     """The columns that identify a case: KEYS, and the light's angles where a study swept or
@@ -54,9 +91,16 @@ def _replace_whole(path, write):
             os.remove(tmp)
 
 
+# Every figure the reports write: 200 dots per inch, the canvas grown to whatever it holds
+# (a title, a colour bar or a legend outside the axes is never clipped).
+FIGURE_DPI = 200
+
+
 def save_figure(fig, path, **kwargs):
-    """fig.savefig(path) written whole or not at all (its format from the path's ending)."""
+    """fig.savefig(path) written whole or not at all (its format from the path's ending), at
+    FIGURE_DPI with nothing clipped unless `kwargs` says otherwise."""
     fmt = os.path.splitext(path)[1].lstrip(".") or "png"
+    kwargs = {"dpi": FIGURE_DPI, "bbox_inches": "tight", "pad_inches": 0.05, **kwargs}
     _replace_whole(path, lambda tmp: fig.savefig(tmp, format=fmt, **kwargs))
 
 

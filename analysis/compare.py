@@ -16,7 +16,6 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import pd, plt, save_figure  # noqa: E402
 
-DPI = 200
 # Line styles and markers that stay apart in greyscale.
 STYLES = [("-", "o"), ("--", "s"), (":", "^"), ("-.", "D"), ((0, (5, 1, 1, 1)), "v"),
           ((0, (1, 1)), "P"), ((0, (8, 2)), "X"), ((0, (3, 1, 1, 1, 1, 1)), "*")]
@@ -29,7 +28,7 @@ def file_name(label):
 def save(fig, out, name):
     fig.tight_layout()
     for ext in ("png", "svg"):
-        save_figure(fig, os.path.join(out, f"{name}.{ext}"), dpi=DPI)
+        save_figure(fig, os.path.join(out, f"{name}.{ext}"))
     plt.close(fig)
 
 

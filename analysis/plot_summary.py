@@ -65,7 +65,7 @@ def main():
     cost.set_ylabel("mean UV error [texels]")
     cost.set_title("error against run time", fontsize=9)
     fig.tight_layout()
-    fig.savefig(args.out, dpi=110)
+    fig.savefig(args.out, dpi=200, bbox_inches="tight")
     print(f"wrote {args.out}")
 
 

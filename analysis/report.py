@@ -16,7 +16,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
-from common import case_keys, save_figure, write_text  # noqa: E402
+from common import case_keys, interval_note, save_figure, seed_count, seed_interval  # noqa: E402
+from common import write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
 from report_paper import fig_paper  # noqa: E402
 from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
@@ -62,20 +63,52 @@ def place_labels(ax, items, fontsize=7, color="k"):
                     arrowprops=dict(arrowstyle="-", color="0.6", lw=0.4) if dy < 0 else None)
 
 
+def configuration_table(df):
+    """Per configuration: its mean and p90 error over the cases with the half-widths of their
+    95 % intervals over the replicate seeds (common.seed_interval), its run time as the median
+    over the cases of each case's median over its repeats (results.csv's ns_per_px) with the
+    quartiles over the cases, its fetches, backend and precompute time."""
+    agg = df.groupby(["label", "method"]).agg(
+        mean=("mean", "mean"), p90=("p90", "mean"), ns=("ns_per_px", "median"),
+        ns_q25=("ns_per_px", lambda x: x.quantile(0.25)),
+        ns_q75=("ns_per_px", lambda x: x.quantile(0.75)),
+        fetches=("fetches_mean", "mean"), backend=("timing_backend", "first"),
+        precompute=("precompute_ms", "max"), cases=("case", "nunique")).reset_index()
+    half = {}
+    for label, rows in df.groupby("label"):
+        half[label] = (seed_interval(rows, "mean")[1], seed_interval(rows, "p90")[1])
+    agg["mean_h"] = agg["label"].map(lambda l: half[l][0])
+    agg["p90_h"] = agg["label"].map(lambda l: half[l][1])
+    return agg
+
+
+def plus_minus(value, half, digits=4):
+    """"m ± h" (h to 2 significant digits), or "m" where no interval is available."""
+    return nice(value, digits) + (f" ± {half:.2g}" if np.isfinite(half) else "")
+
+
+def repeat_spread(df):
+    """The repeats' own spread: the median over the timed rows of (p75 - p25) / median of a
+    case's repeats (results.csv's ns_per_px_p25/p75), or NaN."""
+    if not {"ns_per_px_p25", "ns_per_px_p75"} <= set(df.columns):
+        return float("nan")
+    rel = (df["ns_per_px_p75"] - df["ns_per_px_p25"]) / df["ns_per_px"]
+    rel = rel[np.isfinite(rel)]
+    return float(rel.median()) if len(rel) else float("nan")
+
+
 def fig_pareto(df, figdir):
     if "timing_backend" not in df.columns:  # studies written before GLSL methods existed
         df = df.assign(timing_backend="cpu")
     if "precompute_ms" not in df.columns:  # studies written before precomputed methods
         df = df.assign(precompute_ms=0.0)
-    agg = df.groupby(["label", "method"]).agg(
-        mean=("mean", "mean"), p90=("p90", "mean"), ns=("ns_per_px", "mean"),
-        fetches=("fetches_mean", "mean"), backend=("timing_backend", "first"),
-        precompute=("precompute_ms", "max"), cases=("case", "nunique")).reset_index()
+    agg = configuration_table(df)
     gl = agg["backend"].astype(str) != "cpu"
     files = {}
     fronts = {}
     timed = np.isfinite(agg["ns"]).any()  # not in an accuracy-only study ("repeats": 0)
-    for xkey, xlabel in [("ns", "method time [ns per pixel]: C++ single thread (o), GL (x)"),
+    for xkey, xlabel in [("ns", "method time [ns per pixel, median over the cases]: C++ single "
+                                "thread (o), GL (x)"),
                          ("fetches", "height-map fetches per pixel")][0 if timed else 1:]:
         pts = [(x, y) for x, y in zip(agg[xkey], agg["mean"])]
         # GL times (another clock, all cores of a software GL or a GPU) are not on the same
@@ -111,12 +144,13 @@ def fig_pareto(df, figdir):
                           agg["label"][agg["label"].isin(fronts["gl"])])]
         place_labels(ax, named)
         ax.set_xlabel(xlabel)
-        ax.set_ylabel("mean UV error over all cases [texels]")
+        ax.set_ylabel("mean UV error over the cases [texels]")
         ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches"))
         ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()
         name = f"pareto_{xkey}.png"
-        save_figure(fig, os.path.join(figdir, name), dpi=110)
+        save_figure(fig, os.path.join(figdir, name))
+        save_figure(fig, os.path.join(figdir, f"pareto_{xkey}.svg"))
         plt.close(fig)
         files[xkey] = name
         fronts[xkey] = [agg["label"].iloc[i] for i in front]
@@ -143,12 +177,27 @@ def defaults_table(df):
                 near = s.index[np.argmin(np.abs(s.index - doc[0]))]
                 doc_err = s.loc[near, "mean"] if abs(near - doc[0]) < 1e-9 else float("nan")
             spread = (s["mean"].max() - s["mean"].min()) / s["mean"].min() if s["mean"].min() > 0 else float("nan")
+            at = sub[sub["scale"] == scale]
+
+            def half(ratio, column):  # the 95 % interval's half-width over the seeds
+                if not np.isfinite(ratio):
+                    return float("nan")
+                return seed_interval(at[np.isclose(at["bias_ratio"], ratio)], column)[1]
             rows.append({"method": name, "label": label, "scale": scale, "spread": spread,
                          "ratio_mean": best_mean, "mean_at_best": s.loc[best_mean, "mean"],
+                         "mean_at_best_h": half(best_mean, "mean"),
                          "ratio_p90": best_p90, "p90_at_best": s.loc[best_p90, "p90"],
+                         "p90_at_best_h": half(best_p90, "p90"),
                          "doc_ratio": doc[0] if doc else float("nan"),
-                         "doc_source": doc[1] if doc else "", "mean_at_doc": doc_err})
+                         "doc_source": doc[1] if doc else "", "mean_at_doc": doc_err,
+                         "mean_at_doc_h": half(doc[0], "mean") if np.isfinite(doc_err) else
+                         float("nan")})
     return pd.DataFrame(rows)
+
+
+def no_figures(*_):
+    """A drawing job with nothing to draw (a pool's task must be a named function)."""
+    return []
 
 
 def die_with_parent():
@@ -197,6 +246,30 @@ def provenance_lines(directory):
     return lines + [""]
 
 
+def source_lines(df, study):
+    """Each family's sources by their keys in docs/references.md (study.json's "sources", by
+    configuration label); nothing for a study of an older pgt, which did not record them."""
+    sources = (study or {}).get("sources")
+    if not isinstance(sources, dict):
+        return []
+    cited = {}
+    rows = df.drop_duplicates("label")
+    for method, label, params in zip(rows["method"], rows["label"],
+                                     rows.get("params", [None] * len(rows))):
+        try:  # a preset is its own entry (its family is the built-in it stands for)
+            method = json.loads(params).get("preset", method)
+        except (TypeError, ValueError, AttributeError):
+            pass
+        for key in str(sources.get(label, "")).split():
+            cited.setdefault(method, [])
+            if key not in cited[method]:
+                cited[method].append(key)
+    if not cited:
+        return []
+    return ["Sources (keys of docs/references.md): "
+            + "; ".join(f"`{m}` {', '.join(keys)}" for m, keys in cited.items()) + ".", ""]
+
+
 def header_lines(df, study, directory):
     """The report's title, the study's scene and provenance, cases and the units."""
     cases = df[case_keys(df)].drop_duplicates()
@@ -207,7 +280,7 @@ def header_lines(df, study, directory):
                      f"address `{study['scene']['address']}`, resolution "
                      f"{study['resolution'][0]}x{study['resolution'][1]}.")
         lines += base_lines(study["scene"].get("base", {}))
-    lines += [""] + provenance_lines(directory)
+    lines += [""] + provenance_lines(directory) + source_lines(df, study)
     lines += [
         f"{len(cases)} cases (theta {', '.join(f'{t:g}' for t in sorted(df['theta'].unique()))}; "
         f"phi {', '.join(f'{p:g}' for p in sorted(df['phi'].unique()))}; "
@@ -248,7 +321,32 @@ def ranking_note(n_common, n_total, flagged, renamed):
     return lines + [""]
 
 
-def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged, paper=None):
+def ranking_table_lines(agg, flagged, seeds, spread):
+    """The ranking by mean error: each mean with its interval, each time a median with its
+    quartiles over the cases."""
+    lines = [f"Ranked by mean error; {interval_note(seeds)}. ns/px is the median over the cases "
+             "of each case's median over its timing repeats (results.csv's ns_per_px), in "
+             "brackets the quartiles over the cases; the fronts above use the same medians, so "
+             "one slow case moves no configuration"
+             + (f" (a case's repeats themselves spread by a median {spread:.1%} of their median, "
+                "p25 to p75)" if np.isfinite(spread) else "") + ".", "",
+             "| rank | configuration | cases | mean error | p90 | ns/px [q25, q75] | "
+             "fetches/px | precompute ms |",
+             "|---|---|---|---|---|---|---|---|"]
+    for rank, (_, r) in enumerate(agg.sort_values("mean").iterrows(), 1):
+        gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
+        pre = nice(r["precompute"], 3) if r["precompute"] > 0 else "—"
+        flag = " ⚠" if r["label"] in flagged else ""
+        ns = (f"{nice(r['ns'], 3)} [{nice(r['ns_q25'], 3)}, {nice(r['ns_q75'], 3)}]"
+              if np.isfinite(r["ns"]) else "—")
+        lines.append(f"| {rank} | {r['label']}{flag} | {int(r['cases'])} | "
+                     f"{plus_minus(r['mean'], r['mean_h'])} | {plus_minus(r['p90'], r['p90_h'])} "
+                     f"| {ns}{gl_mark} | {nice(r['fetches'], 3)} | {pre} |")
+    return lines
+
+
+def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged, paper=None,
+                  ranking=()):
     """Error against view angle (figures and a table) and against run time, with the Pareto
     fronts and the table."""
     lines = ["## Error against view angle", ""]
@@ -265,7 +363,7 @@ def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged, p
                   "against fetches only.", ""]
     lines += [f"![error vs fetches](figures/{pareto_files['fetches']})", ""]
     if "ns" in fronts:
-        lines += ["Pareto front (mean error over all cases against ns/px): "
+        lines += ["Pareto front (mean error over the cases against the median ns/px): "
                   + ", ".join(f"`{l}`" for l in fronts["ns"]) + ".", ""]
     if "gl" in fronts:
         backends = sorted({str(b) for b in agg["backend"] if str(b) != "cpu"})
@@ -274,34 +372,27 @@ def runtime_lines(theta_figs, angle_table, agg, pareto_files, fronts, flagged, p
                   + ", ".join(f"`{l}`" for l in fronts["gl"]) + ".", ""]
     lines += ["Circled points are precomputed methods: their ns/px leaves out the build of "
               "their maps, made once per height map (precompute ms in the table). The fronts' "
-              "points are named in the figures; every configuration is in the table.", "",
-              "| rank | configuration | cases | mean error | p90 | ns/px | fetches/px | "
-              "precompute ms |",
-              "|---|---|---|---|---|---|---|---|"]
-    for rank, (_, r) in enumerate(agg.sort_values("mean").iterrows(), 1):
-        gl_mark = "" if str(r["backend"]) == "cpu" else " (GL)"
-        pre = nice(r["precompute"], 3) if r["precompute"] > 0 else "—"
-        flag = " ⚠" if r["label"] in flagged else ""
-        lines.append(f"| {rank} | {r['label']}{flag} | {int(r['cases'])} | {nice(r['mean'])} | "
-                     f"{nice(r['p90'])} | {nice(r['ns'], 3)}{gl_mark} | {nice(r['fetches'], 3)} "
-                     f"| {pre} |")
-    return lines
+              "points are named in the figures; every configuration is in the table.", ""]
+    return lines + list(ranking)
 
 
-def defaults_lines(table, table80, heat):
+def defaults_lines(table, table80, heat, seeds=1):
     """The scale and bias defaults, over all angles and up to 80 degrees, and the heat maps."""
     lines = ["", "## Scale and bias defaults", "",
              "For each configuration and scale: the bias ratio b/s with the lowest error "
              "averaged over the study's view angles, by mean and by p90, beside the ratio the "
-             "source documents use for its method (— where none does).", "",
+             f"source documents use for its method (— where none does); {interval_note(seeds)}. "
+             "Where the best ratio's interval overlaps another's, the study cannot tell them "
+             "apart.", "",
              "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
              "documents' b/s | mean there | spread of the mean over b/s |",
              "|---|---|---|---|---|---|---|---|---|"]
     for _, r in table.iterrows():
         doc = f"{nice(r['doc_ratio'])} ({r['doc_source']})" if r["doc_source"] else "—"
+        at_doc = plus_minus(r['mean_at_doc'], r['mean_at_doc_h']) if r['doc_source'] else '—'
         lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
-                     f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} | "
-                     f"{doc} | {nice(r['mean_at_doc']) if r['doc_source'] else '—'} | "
+                     f"{plus_minus(r['mean_at_best'], r['mean_at_best_h'])} | {r['ratio_p90']:g} | "
+                     f"{plus_minus(r['p90_at_best'], r['p90_at_best_h'])} | {doc} | {at_doc} | "
                      f"{r['spread']:.1%} |")
     if table.empty:
         lines += ["(No configuration was run at two or more bias ratios: nothing to choose.)"]
@@ -314,7 +405,8 @@ def defaults_lines(table, table80, heat):
                   "|---|---|---|---|---|---|"]
         for _, r in table80.iterrows():
             lines.append(f"| {r['label']} | {r['scale']:g} | {r['ratio_mean']:g} | "
-                         f"{nice(r['mean_at_best'])} | {r['ratio_p90']:g} | {nice(r['p90_at_best'])} |")
+                         f"{plus_minus(r['mean_at_best'], r['mean_at_best_h'])} | "
+                         f"{r['ratio_p90']:g} | {plus_minus(r['p90_at_best'], r['p90_at_best_h'])} |")
     lines += [""]
     for fname in heat:
         lines += [f"![{fname}](figures/{fname})", ""]
@@ -383,7 +475,9 @@ def main():
     # draws the rest (matplotlib drawing is most of the report's time).
     pool = multiprocessing.get_context("fork").Pool(2, initializer=die_with_parent)
     heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
-    theta_job = pool.apply_async(fig_error_vs_theta, (common, figdir))
+    # One view angle draws no curve against it (a panel of single points): the tables say it.
+    curves = common["theta"].nunique() > 1
+    theta_job = pool.apply_async(fig_error_vs_theta if curves else no_figures, (common, figdir))
     agg, pareto_files, fronts = fig_pareto(common, figdir)
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
@@ -393,14 +487,16 @@ def main():
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
     heat = heat_job.get()
     theta_figs = theta_job.get()
-    paper = fig_paper(common, figdir)
+    paper = fig_paper(common, figdir) if curves else None
     pool.close()
     pool.join()
 
     lines = (header_lines(df, study, args.dir) + ranking_note(n_common, n_total, flagged, renamed)
              + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
-                             flagged, paper)
-             + defaults_lines(table, table80, heat)
+                             flagged, paper,
+                             ranking_table_lines(agg, flagged, seed_count(common),
+                                                 repeat_spread(common)))
+             + defaults_lines(table, table80, heat, seed_count(common))
              + engine_lines(df, figdir)
              + storage_lines(common)
              + depth_shadow_lines(common, figdir)

@@ -7,7 +7,7 @@ import json
 import math
 import os
 
-from common import case_keys, nice, np, plt, save_figure
+from common import case_keys, interval_note, nice, np, plt, save_figure, seed_count, t975
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
 STYLES = ["-", "--", "-.", ":"]
@@ -159,16 +159,10 @@ def fig_error_vs_theta(df, figdir):
         fig.subplots_adjust(left=0.07, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
                             hspace=0.3, wspace=0.08)
         name = f"error_vs_theta_s{scale:g}.png"
-        save_figure(fig, os.path.join(figdir, name), dpi=90)
+        save_figure(fig, os.path.join(figdir, name))
         plt.close(fig)
         out.append((scale, ratio, name))
     return out
-
-
-# Student's t at 0.975 for 1-30 degrees of freedom (beyond: the normal's 1.96).
-_T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
-         2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
-         2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
 
 
 def _angle_cells(df, order, thetas):
@@ -183,8 +177,7 @@ def _angle_cells(df, order, thetas):
             m = means.loc[label].get(t, float("nan"))
             if per_seed is not None and (label, t) in per_seed.index.droplevel(2):
                 x = per_seed.loc[(label, t)].to_numpy()
-                h = (_T975[min(len(x) - 2, 29)] * x.std(ddof=1) / len(x) ** 0.5
-                     if len(x) > 1 else float("nan"))
+                h = t975(len(x)) * x.std(ddof=1) / len(x) ** 0.5 if len(x) > 1 else float("nan")
                 cells.append(f"{nice(x.mean())} ± {h:.2g}")
             else:
                 cells.append(nice(m))
@@ -209,11 +202,7 @@ def _angle_table(df, caption):
 def angle_table_lines(df):
     """Mean error (texels) per view angle for every configuration: over every scale, then at
     each scale; with replicate seeds each mean with its 95 % interval over the seeds."""
-    seeds = df["seed"].nunique() if "seed" in df.columns else 1
-    how = (f"each mean ± the half-width of its 95 % interval over the {seeds} replicate seeds "
-           "(the cases averaged per seed, then Student's t over the seeds)" if seeds > 1 else
-           "one replicate per case, so no interval is available (give the sweep block "
-           "\"replicates\": N for one)")
+    how = interval_note(seed_count(df))
     lines = _angle_table(df, "Mean error in texels per view angle θ, over every scale, bias "
                          f"ratio and azimuth of the study; {how}; `(= X)`: the same numbers "
                          "as X.")
@@ -253,8 +242,8 @@ def fig_heatmaps(df, figdir):
     files = []
     for family, labels in families(df).items():
         subs = [(l, df[df["label"] == l]) for l in labels]
-        subs = [(l, s) for l, s in subs if not s["bias_ratio"].isna().all()
-                and s["scale"].nunique() * s["bias_ratio"].nunique() >= 2]
+        # A heat map chooses a bias: one bias ratio is one column, nothing to choose.
+        subs = [(l, s) for l, s in subs if s["bias_ratio"].nunique() >= 2]
         if not subs:
             continue
         # One colour scale for the family's panels.
@@ -277,7 +266,7 @@ def fig_heatmaps(df, figdir):
         fig.suptitle(f"{family}: mean error over view angles (star: minimum per scale)",
                      fontsize=9, y=1 - 0.15 / height)
         fname = f"heatmap_{family}.png"
-        save_figure(fig, os.path.join(figdir, fname), dpi=90)
+        save_figure(fig, os.path.join(figdir, fname))
         plt.close(fig)
         files.append(fname)
     return files

@@ -17,7 +17,7 @@ MEASURES = [("depth_mean", "mean depth error [texels]", "depth"),
 def _save(fig, figdir, name):
     """Lays the figure out, writes figures/NAME, closes it; returns NAME."""
     fig.tight_layout()
-    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    save_figure(fig, os.path.join(figdir, name))
     plt.close(fig)
     return name
 
@@ -31,7 +31,7 @@ def _panels(df, column, ylabel, figdir, stem):
     each view angle."""
     fams = {f: ls for f, ls in families(df).items()
             if np.isfinite(df[df["label"].isin(ls)][column]).any()}
-    if not fams:
+    if not fams or df["theta"].nunique() < 2:  # one view angle: a point, not a curve
         return None
     cols = min(3, len(fams))
     rows = (len(fams) + cols - 1) // cols
@@ -75,11 +75,18 @@ def _against_light(df, figdir):
 
 
 def _against_cost(agg, figdir):
-    """Depth error and shadow disagreement against each configuration's time (C++ methods,
-    the only ones that report depth)."""
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+    """Depth error and shadow disagreement against each configuration's median time (C++
+    methods, the only ones that report depth); a measure the study has no value of (no light:
+    no shadow) gets no panel."""
+    measures = [m for m in MEASURES
+                if (np.isfinite(agg[m[0]]) & np.isfinite(agg["ns"])).any()]
+    if not measures:
+        return None
+    fig, axes = plt.subplots(1, len(measures), figsize=(5.5 * len(measures), 4.5),
+                             squeeze=False)
+    axes = axes[0]
     colours = plt.get_cmap("tab20")
-    for ax, (key, ylabel, _) in zip(axes, MEASURES):
+    for ax, (key, ylabel, _) in zip(axes, measures):
         for k, (method, grp) in enumerate(agg.groupby("method")):
             ok = np.isfinite(grp[key]) & np.isfinite(grp["ns"])
             if ok.any():
@@ -88,7 +95,8 @@ def _against_cost(agg, figdir):
         ax.set_xscale("log")
         if key == "depth_mean":
             ax.set_yscale("log")
-        ax.set_xlabel("method time, its shadow march left out [ns per pixel, one C++ thread]")
+        ax.set_xlabel("method time [ns per pixel, one C++ thread, median over the cases;\n"
+                      "its shadow march left out]")
         ax.set_ylabel(ylabel)
         ax.tick_params(labelsize=7)
     axes[0].legend(fontsize=6, ncol=2)
@@ -103,7 +111,7 @@ def depth_shadow_lines(df, figdir):
         mean=("mean", "mean"), depth=("depth_mean", "mean"), depth_p90=("depth_p90", "mean"),
         signed=("depth_signed_mean", "mean"), shadow=("shadow_disagree", "mean"),
         right=("shadow_disagree_uv_right", "mean"), wrong=("shadow_disagree_uv_wrong", "mean"),
-        truth=("truth_shadowed", "mean"), ns=("ns_per_px", "mean")).reset_index()
+        truth=("truth_shadowed", "mean"), ns=("ns_per_px", "median")).reset_index()
     agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
     figs = [_panels(df, col, ylabel, figdir, stem) for col, ylabel, stem in MEASURES]
     cost = _against_cost(agg, figdir)

@@ -75,7 +75,7 @@ def _fig_engines(presets, rows, figdir):
     fig.supylabel("mean UV error on the surface it fits best [texels]", fontsize=9)
     fig.tight_layout()
     name = "presets_vs_theta.png"
-    save_figure(fig, os.path.join(figdir, name), dpi=100)
+    save_figure(fig, os.path.join(figdir, name))
     plt.close(fig)
     return name
 
@@ -97,7 +97,7 @@ def engine_lines(df, figdir=None):
              "where that error is largest, its error head-on, its non-finite pixels, and the "
              "largest of these defects. The figure draws each preset's error against view "
              "angle on the surface it fits best, a panel per engine.", ""]
-    if figdir:
+    if figdir and presets["theta"].nunique() > 1:  # one view angle: the table says it all
         name = _fig_engines(presets, rows, figdir)
         lines += [f"![{name}](figures/{name})", ""]
     lines += ["| preset | runs at b/s | fits b/s | mean there | worst theta | mean there | "

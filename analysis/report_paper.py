@@ -5,10 +5,9 @@ line; distinguishable in greyscale (line style, marker and grey level together);
 200 dpi and SVG."""
 import os
 
-from common import np, plt, save_figure
-from report_configs import _T975, families
+from common import np, plt, save_figure, t975
+from report_configs import families
 
-DPI = 200
 LINES = ["-", "--", ":", "-."]
 MARKS = ["o", "s", "^", "D", "v", "P", "X", "*"]
 
@@ -30,7 +29,7 @@ def _curve(sub):
     mean = per_seed.mean(axis=1)
     logs = np.log(per_seed.clip(lower=1e-9))
     n = per_seed.notna().sum(axis=1)
-    t = np.array([_T975[min(int(k) - 2, 29)] if k > 1 else np.nan for k in n])
+    t = np.array([t975(int(k)) for k in n])
     half = t * logs.std(axis=1, ddof=1) / np.sqrt(n)
     centre = logs.mean(axis=1)
     return mean, np.exp(centre - half), np.exp(centre + half)
@@ -72,7 +71,7 @@ def fig_paper(df, figdir):
     fig.tight_layout()
     name = "paper_error_vs_theta"
     for ext in ("png", "svg"):
-        save_figure(fig, os.path.join(figdir, f"{name}.{ext}"), dpi=DPI)
+        save_figure(fig, os.path.join(figdir, f"{name}.{ext}"))
     plt.close(fig)
     band = (f"band: 95 % interval over the {seeds} replicate seeds (Student's t on the log of "
             "each seed's mean)" if seeds > 1 else
