@@ -43,7 +43,6 @@ inline constexpr std::array<MapKindInfo, kMapKinds> kMapKindTable = {{
     {MapKind::RelaxedCone, "relaxed_cone", "relaxed_cone_sampler", "relaxedConeMap", 7, false, 8,
      1},
 }};
-inline const MapKindInfo& mapKind(MapKind k) { return kMapKindTable[size_t(k)]; }
 
 // A set of map kinds: what a configuration reads.
 class MapSet {
@@ -68,7 +67,7 @@ class MapSet {
 struct MapRefs {
     const Texture* height = nullptr;  // h
     const Texture* normal =
-        nullptr;  // Lengyel FGED 2's unit normal m, RGB (iterative, tangent_plane)
+        nullptr;  // Lengyel FGED 2's unit normal m, RGB (tangent_plane, iterative_slope)
     const Texture* parallax = nullptr;       // m_z * (s*h + b)
     const MinMaxPyramid* pyramid = nullptr;  // maxmip
     const ConeMap* cone = nullptr;           // cone: the map for the sign of s

@@ -135,7 +135,6 @@ struct GlslSpec {
         const std::string name = param == "scale" ? "s" : "b";
         return mentionsIdentifier(call, name) || mentionsIdentifier(body, name);
     }
-    bool takesScale() const { return reaches("scale") || reaches("bias"); }
 };
 
 }  // namespace pgt
