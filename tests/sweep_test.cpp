@@ -6,12 +6,16 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_read.h"
 #include "methods/shader/glsl_spec.h"
 #include "study/csv_table.h"
+#include "study/staged_files.h"
+#include "study/study_dir.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -70,60 +74,26 @@ std::multiset<std::string> rowsWithoutTiming(const std::filesystem::path& p) {
     return out;
 }
 
-// The documented columns (docs/studies.md), in order.
+// The documented columns, in order: docs/outputs.md's results.csv paragraph names each column
+// in backquotes, in the order the schema (study/result_columns.h) writes them.
+std::vector<std::string> documentedColumns() {
+    const std::string path = test::testSourceDir() + "/../docs/outputs.md";
+    const std::string text = readTextFile(path, path, "", "the documentation", 1 << 22);
+    const size_t from = text.find("- **`DIR/results.csv`**");
+    const size_t to = text.find("The timing columns are", from);
+    EXPECT_NE(from, std::string::npos);
+    EXPECT_NE(to, std::string::npos);
+    std::vector<std::string> out;
+    const std::regex column("`([a-z][a-z0-9_]*)`");
+    const std::string paragraph = text.substr(from, to - from);
+    for (auto it = std::sregex_iterator(paragraph.begin(), paragraph.end(), column);
+         it != std::sregex_iterator(); ++it)
+        if ((*it)[1] != "cpu" && (*it)[1] != "nan") out.push_back((*it)[1]);
+    return out;
+}
+
 TEST(Sweep, ResultsHaveTheDocumentedColumnsAndOneRowPerCaseAndConfiguration) {
-    const std::vector<std::string> documented = {"case",
-                                                 "theta",
-                                                 "phi",
-                                                 "scale",
-                                                 "bias",
-                                                 "bias_ratio",
-                                                 "method",
-                                                 "label",
-                                                 "params",
-                                                 "pixels",
-                                                 "mean",
-                                                 "rms",
-                                                 "p50",
-                                                 "p90",
-                                                 "p99",
-                                                 "max",
-                                                 "frac_gt_1texel",
-                                                 "truth_only",
-                                                 "raster_only",
-                                                 "nonfinite",
-                                                 "zero_divide",
-                                                 "step_limit",
-                                                 "fetches_mean",
-                                                 "fetches_max",
-                                                 "ns_per_px",
-                                                 "precompute_ms",
-                                                 "truth_uncertainty_p99",
-                                                 "truth_uncertainty_max",
-                                                 "mean_exact_frame",
-                                                 "p90_exact_frame",
-                                                 "frame_share_of_mean",
-                                                 "timing_backend",
-                                                 "ns_per_px_p25",
-                                                 "ns_per_px_p75",
-                                                 "timing_repeats",
-                                                 "timing_fragments",
-                                                 "timing_case",
-                                                 "warnings",
-                                                 "depth_mean",
-                                                 "depth_p90",
-                                                 "depth_p99",
-                                                 "depth_max",
-                                                 "depth_signed_mean",
-                                                 "light_theta",
-                                                 "light_phi",
-                                                 "seed",
-                                                 "shadow_compared",
-                                                 "shadow_disagree",
-                                                 "shadow_disagree_uv_right",
-                                                 "shadow_disagree_uv_wrong",
-                                                 "truth_shadowed",
-                                                 "method_shadowed"};
+    const std::vector<std::string> documented = documentedColumns();
     EXPECT_EQ(resultColumns(), documented);
     Scene scene = studyScene();
     Study study = parseStudy(scene);
@@ -493,6 +463,25 @@ TEST(Sweep, GlslUniformsAreSweptAndPresetsOverridden) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("uniforms.nosuch"), std::string::npos) << e.what();
     }
+}
+
+}  // namespace
+}  // namespace pgt
+
+namespace pgt {
+namespace {
+
+// A study's sources (the methods' citation keys) are not its identity: a study.json of an
+// older pgt, without them, is the same study and resumes; any other difference is another.
+TEST(Sweep, SourcesAreNotPartOfAStudysIdentity) {
+    const nlohmann::json now = {{"cases", 2}, {"sources", {{"pom", "tatarchuk2006"}}}};
+    EXPECT_TRUE(sameStudy(now, {{"cases", 2}}));
+    EXPECT_FALSE(sameStudy(now, {{"cases", 3}}));
+    const auto dir = test::tempDir("sources_identity");
+    const std::string path = (dir / "study.json").string();
+    writeTextFile(path, nlohmann::json({{"cases", 2}}).dump());
+    EXPECT_TRUE(holdsStudy(path, now));
+    EXPECT_THROW(holdsStudy(path, {{"cases", 3}}), InputError);
 }
 
 }  // namespace

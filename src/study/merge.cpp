@@ -149,8 +149,8 @@ MergeSummary mergeShards(const std::vector<std::string>& dirs, const std::string
     for (const auto& d : dirs) shards.push_back(readShard(d));
     const Shard& first = shards.front();
     for (const Shard& s : shards)
-        if (s.identity != first.identity || s.count != first.count || s.cases != first.cases ||
-            s.labels != first.labels)
+        if (!sameStudy(s.identity, first.identity) || s.count != first.count ||
+            s.cases != first.cases || s.labels != first.labels)
             throw InputError((fs::path(s.dir) / "study.json").string(), "", "",
                              "a shard of another study than " + first.dir);
     // The shards' text, its records and the joined output are held at once: refused before

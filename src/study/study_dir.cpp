@@ -61,10 +61,18 @@ bool holdsStudy(const std::string& studyPath, const Json& identity) {
         old = nullptr;  // unreadable or hostile: not this study
     }
     // A resumed different study would mix incomparable rows; a merge would replace it.
-    if (old != identity)
+    if (!sameStudy(old, identity))
         throw InputError(studyPath, "", "",
                          "this directory holds a different study; use --fresh or another --out");
     return true;
+}
+
+bool sameStudy(const Json& a, const Json& b) {
+    auto comparable = [](Json j) {
+        if (j.is_object()) j.erase("sources");
+        return j;
+    };
+    return comparable(a) == comparable(b);
 }
 
 namespace {

@@ -31,6 +31,10 @@ class StudyLock {
 // is none yet, true when it is this study.
 bool holdsStudy(const std::string& studyPath, const nlohmann::json& identity);
 
+// Two study.json values of one study: equal but for "sources" (the methods' keys in
+// docs/references.md: where a method comes from, not what it computes).
+bool sameStudy(const nlohmann::json& a, const nlohmann::json& b);
+
 // The study directory ready to append to (under its lock): study.json written or checked
 // against `identity` (`fresh` removes both files first), results.csv cut to its complete
 // cases. Returns the keys (StudyCase::key) of the cases already there.
