@@ -37,8 +37,14 @@ T975 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2
 
 
 def t975(n):
-    """Student's t at 0.975 for a mean of n values (n - 1 degrees of freedom); NaN below 2."""
-    return (T975[n - 2] if n - 2 < len(T975) else 1.96) if n > 1 else float("nan")
+    """Student's t at 0.975 for a mean of n values (n - 1 degrees of freedom); NaN below 2.
+    Past the table, the Cornish-Fisher expansion about the normal's 1.96 (within 1e-4 there)."""
+    if n < 2:
+        return float("nan")
+    if n - 2 < len(T975):
+        return T975[n - 2]
+    z, v = 1.959964, n - 1
+    return z + (z ** 3 + z) / (4 * v) + (5 * z ** 5 + 16 * z ** 3 + 3 * z) / (96 * v * v)
 
 
 def seed_interval(rows, column="mean"):
@@ -47,11 +53,16 @@ def seed_interval(rows, column="mean"):
     t over the seeds' means. The half-width is NaN with one seed (no interval available)."""
     if "seed" not in rows.columns:
         rows = rows.assign(seed=1)
-    per = rows.groupby("seed")[column].mean().dropna().to_numpy()
+    per = rows.groupby("seed", dropna=False)[column].mean().dropna().to_numpy()
     if len(per) == 0:
         return float("nan"), float("nan")
     half = t975(len(per)) * per.std(ddof=1) / math.sqrt(len(per)) if len(per) > 1 else math.nan
     return float(per.mean()), float(half)
+
+
+def plus_minus(value, half, digits=4):
+    """"m ± h" (h to 2 significant digits), or "m" where no interval is available."""
+    return nice(value, digits) + (f" ± {half:.2g}" if np.isfinite(half) else "")
 
 
 def seed_count(df):

@@ -17,7 +17,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, interval_note, save_figure, seed_count, seed_interval  # noqa: E402
-from common import write_text  # noqa: E402
+from common import plus_minus, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
 from report_paper import fig_paper  # noqa: E402
 from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
@@ -73,18 +73,16 @@ def configuration_table(df):
         ns_q25=("ns_per_px", lambda x: x.quantile(0.25)),
         ns_q75=("ns_per_px", lambda x: x.quantile(0.75)),
         fetches=("fetches_mean", "mean"), backend=("timing_backend", "first"),
-        precompute=("precompute_ms", "max"), cases=("case", "nunique")).reset_index()
+        precompute=("precompute_ms", "max")).reset_index()
+    # Cases by their keys (a replicate's rows are one case at several seeds).
+    cases = df[["label"] + case_keys(df)].drop_duplicates().groupby("label").size()
+    agg["cases"] = agg["label"].map(cases)
     half = {}
     for label, rows in df.groupby("label"):
         half[label] = (seed_interval(rows, "mean")[1], seed_interval(rows, "p90")[1])
     agg["mean_h"] = agg["label"].map(lambda l: half[l][0])
     agg["p90_h"] = agg["label"].map(lambda l: half[l][1])
     return agg
-
-
-def plus_minus(value, half, digits=4):
-    """"m ± h" (h to 2 significant digits), or "m" where no interval is available."""
-    return nice(value, digits) + (f" ± {half:.2g}" if np.isfinite(half) else "")
 
 
 def repeat_spread(df):
@@ -382,8 +380,10 @@ def defaults_lines(table, table80, heat, seeds=1):
              "For each configuration and scale: the bias ratio b/s with the lowest error "
              "averaged over the study's view angles, by mean and by p90, beside the ratio the "
              f"source documents use for its method (— where none does); {interval_note(seeds)}. "
-             "Where the best ratio's interval overlaps another's, the study cannot tell them "
-             "apart.", "",
+             "Each interval is of its own ratio; the ratios share their seeds, so whether two "
+             "differ is judged seed by seed (`pgt compare`'s paired test), not by whether their "
+             "intervals overlap, and the best ratio's interval is optimistic (the same data "
+             "chose it).", "",
              "| method | scale | best b/s (mean) | mean there | best b/s (p90) | p90 there | "
              "documents' b/s | mean there | spread of the mean over b/s |",
              "|---|---|---|---|---|---|---|---|---|"]
@@ -428,12 +428,15 @@ def frame_and_stiff_lines(df, frames="pgt"):
                   "UV-space direction of the ray, from dS/du, dS/dv and l N (docs/model.md §2), "
                   "so UV shear and unequal scales count. Its error is the method's own (plus, on "
                   "a curved mesh, the bending within its march); the rest is what the per-vertex "
-                  f"frame ({FRAME_NAMES.get(frames, frames)}) adds.", "",
+                  f"frame ({FRAME_NAMES.get(frames, frames)}) adds; "
+                  + interval_note(seed_count(df)) + ".", "",
                   "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
+        rows_of = dict(tuple(df.groupby("label")))
         for label, r in fr.iterrows():
             share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
-            lines.append(f"| {label} | {nice(r['mean'])} | {nice(r['mean_exact_frame'])} | "
-                         f"{share:+.1%} |")
+            half = [seed_interval(rows_of[label], c)[1] for c in ("mean", "mean_exact_frame")]
+            lines.append(f"| {label} | {plus_minus(r['mean'], half[0])} | "
+                         f"{plus_minus(r['mean_exact_frame'], half[1])} | {share:+.1%} |")
         lines.append("")
     bad = df.groupby("label")[["nonfinite", "zero_divide", "step_limit"]].sum()
     bad = bad[(bad > 0).any(axis=1)]

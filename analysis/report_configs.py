@@ -7,7 +7,8 @@ import json
 import math
 import os
 
-from common import case_keys, interval_note, nice, np, plt, save_figure, seed_count, t975
+from common import case_keys, interval_note, nice, np, plt, plus_minus, save_figure, seed_count
+from common import seed_interval
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
 STYLES = ["-", "--", "-.", ":"]
@@ -22,17 +23,22 @@ def families(df):
 
 
 def common_cases(df):
-    """The rows of the cases every configuration finished with a finite mean, the number of
-    those cases and of all cases, and {label: cases with non-finite uv'}."""
+    """The rows of the cases every configuration finished with a finite mean at every replicate
+    seed (so each seed's average is over the same cases), the number of those cases and of all
+    cases, and {label: cases with non-finite uv'}."""
     keys = case_keys(df)
+    seeded = keys + (["seed"] if "seed" in df.columns else [])
     labels = df["label"].nunique()
     finite = df[np.isfinite(df["mean"])]
-    per_case = finite.groupby(keys)["label"].nunique()
+    per_case = finite.groupby(seeded)["label"].nunique()
     good = per_case[per_case == labels].index
-    rows = df.set_index(keys).loc[good].reset_index() if len(good) else df.iloc[0:0]
+    rows = df.set_index(seeded).loc[good].reset_index() if len(good) else df.iloc[0:0]
+    if "seed" in df.columns and len(rows):
+        seeds = df["seed"].nunique()
+        rows = rows[rows.groupby(keys)["seed"].transform("nunique") == seeds]
     total = len(df[keys].drop_duplicates())
     flagged = df[df["nonfinite"] > 0].groupby("label")["case"].nunique().to_dict()
-    return rows, len(good), total, flagged
+    return rows, len(rows[keys].drop_duplicates()), total, flagged
 
 
 def fixed_bias_ratio(params):
@@ -167,21 +173,13 @@ def fig_error_vs_theta(df, figdir):
 
 def _angle_cells(df, order, thetas):
     """Per configuration and theta: the mean text, "m ± h" (95 % over seeds) with replicates."""
-    seeds = df["seed"].nunique() if "seed" in df.columns else 1
-    per_seed = (df.groupby(["label", "theta", "seed"])["mean"].mean() if seeds > 1 else None)
+    seeds = seed_count(df)
     means = df.groupby(["label", "theta"])["mean"].mean().unstack("theta")
-    rows = {}
-    for label in order:
-        cells = []
-        for t in thetas:
-            m = means.loc[label].get(t, float("nan"))
-            if per_seed is not None and (label, t) in per_seed.index.droplevel(2):
-                x = per_seed.loc[(label, t)].to_numpy()
-                h = t975(len(x)) * x.std(ddof=1) / len(x) ** 0.5 if len(x) > 1 else float("nan")
-                cells.append(f"{nice(x.mean())} ± {h:.2g}")
-            else:
-                cells.append(nice(m))
-        rows[label] = cells
+    cells = {(label, t): nice(m) for (label, t), m in means.stack().items()}
+    if seeds > 1:
+        for (label, t), rows in df.groupby(["label", "theta"]):
+            cells[(label, t)] = plus_minus(*seed_interval(rows))
+    rows = {label: [cells.get((label, t), nice(float("nan"))) for t in thetas] for label in order}
     return means, rows, seeds
 
 
@@ -288,7 +286,8 @@ def storage_lines(df):
         return []
     cols = ["case", "method", "pkey"]
     base = keyed[keyed["fmt"] == "float"][cols + ["label", "mean"]]
-    stored = keyed[keyed["fmt"] != "float"][cols + ["label", "fmt", "theta", "mean"]]
+    extra = ["seed"] if "seed" in keyed.columns else []
+    stored = keyed[keyed["fmt"] != "float"][cols + extra + ["label", "fmt", "theta", "mean"]]
     both = stored.merge(base, on=cols, suffixes=("", "_float"))
     if both.empty:
         return []
@@ -298,12 +297,14 @@ def storage_lines(df):
              "The mean error (texels) a stored format adds to the same configuration reading "
              "the float map, per view angle θ over every scale and bias ratio (the float "
              "configuration's own mean error in brackets): where the added error passes the "
-             "method's own, the format costs more than the method.", "",
+             "method's own, the format costs more than the method; "
+             + interval_note(seed_count(df)) + ".", "",
              "| configuration | format | " + " | ".join(f"θ {t:g}" for t in thetas) + " |",
              "|---|---|" + "---|" * len(thetas)]
     for (label, fmt), g in both.groupby(["label", "fmt"], sort=True):
         by = g.groupby("theta")[["added", "mean_float"]].mean()
-        cells = [f"{nice(by.loc[t, 'added'], 2)} ({nice(by.loc[t, 'mean_float'], 2)})"
+        half = {t: seed_interval(rows, "added")[1] for t, rows in g.groupby("theta")}
+        cells = [f"{plus_minus(by.loc[t, 'added'], half[t], 2)} ({nice(by.loc[t, 'mean_float'], 2)})"
                  if t in by.index else "—" for t in thetas]
         lines.append(f"| {label} | {fmt} | " + " | ".join(cells) + " |")
     return lines + [""]

@@ -4,7 +4,8 @@ cost, beside its UV error. Studies without a light (or written before depth exis
 such columns, or only empty ones: the section is left out."""
 import os
 
-from common import nice, np, plt, save_figure
+from common import interval_note, nice, np, plt, plus_minus, save_figure, seed_count
+from common import seed_interval
 from report_configs import families
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
@@ -113,6 +114,10 @@ def depth_shadow_lines(df, figdir):
         right=("shadow_disagree_uv_right", "mean"), wrong=("shadow_disagree_uv_wrong", "mean"),
         truth=("truth_shadowed", "mean"), ns=("ns_per_px", "median")).reset_index()
     agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
+    halves = {label: (seed_interval(rows, "mean")[1], seed_interval(rows, "depth_mean")[1])
+              for label, rows in df.groupby("label")}
+    agg["mean_h"] = agg["label"].map(lambda l: halves[l][0])
+    agg["depth_h"] = agg["label"].map(lambda l: halves[l][1])
     figs = [_panels(df, col, ylabel, figdir, stem) for col, ylabel, stem in MEASURES]
     cost = _against_cost(agg, figdir)
     figs.append(_against_light(df, figdir))
@@ -125,7 +130,8 @@ def depth_shadow_lines(df, figdir):
                                                       " (the study has no light)") + ". "
              "Signed mean > 0: the configuration puts the surface too deep. The shadow "
              "disagreement is split by whether the configuration's uv' was right (<= 1 texel) "
-             "or wrong. GLSL methods report no depth and run no march (blank).", ""]
+             "or wrong. GLSL methods report no depth and run no march (blank). "
+             + "Means: " + interval_note(seed_count(df)) + ".", ""]
     for name in figs + [cost]:
         if name:
             lines += [f"![{name}](figures/{name})", ""]
@@ -135,7 +141,9 @@ def depth_shadow_lines(df, figdir):
     for r in agg.sort_values("depth_mean", na_position="last").itertuples(index=False):
         pct = (lambda x: "" if not np.isfinite(x) else f"{x:.1%}")
         num = (lambda x: "" if not np.isfinite(x) else nice(x))
-        lines.append(f"| {r.label} | {num(r.mean)} | {num(r.depth_mean)} | {num(r.depth_p90)} | "
+        pm = (lambda x, h: "" if not np.isfinite(x) else plus_minus(x, h))
+        lines.append(f"| {r.label} | {pm(r.mean, r.mean_h)} | {pm(r.depth_mean, r.depth_h)} | "
+                     f"{num(r.depth_p90)} | "
                      f"{num(r.signed)} | {pct(r.shadow_disagree)} | {pct(r.right)} | "
                      f"{pct(r.wrong)} | {pct(r.truth)} |")
     lines.append("")

@@ -6,7 +6,8 @@ import json
 import math
 import os
 
-from common import nice, np, plt, save_figure
+from common import interval_note, nice, np, plt, plus_minus, save_figure, seed_count
+from common import seed_interval
 from report_configs import fixed_bias_ratio
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X"]
@@ -39,10 +40,14 @@ def _row(label, g):
     by_theta = fit.groupby("theta")["mean"].mean()
     bad = g[g["nonfinite"] > 0]
     fixed = fixed_bias_ratio(g["params"].iloc[0])
+    worst = by_theta.idxmax()
     return {"label": label, "runs_at": "the case's" if fixed is None else nice(fixed),
             "ratio": ratio, "fit_mean": by_ratio.min(),
-            "worst_theta": by_theta.idxmax(), "worst": by_theta.max(),
+            "fit_mean_h": seed_interval(fit)[1],
+            "worst_theta": worst, "worst": by_theta.max(),
+            "worst_h": seed_interval(fit[fit["theta"] == worst])[1],
             "head_on": by_theta.get(0, float("nan")),
+            "head_on_h": seed_interval(fit[fit["theta"] == 0])[1],
             "nonfinite": int(g["nonfinite"].sum()),
             "nonfinite_thetas": ", ".join(nice(t) for t in sorted(bad["theta"].unique()))}
 
@@ -95,16 +100,19 @@ def engine_lines(df, figdir=None):
              "the b/s it runs at (the case's, or the one its engine can express), the bias "
              "ratio b/s of the surface it fits best and its mean error there, the view angle "
              "where that error is largest, its error head-on, its non-finite pixels, and the "
-             "largest of these defects. The figure draws each preset's error against view "
-             "angle on the surface it fits best, a panel per engine.", ""]
+             "largest of these defects; " + interval_note(seed_count(presets)) + ". The figure "
+             "draws each preset's error against view angle on the surface it fits best, a panel "
+             "per engine.", ""]
     if figdir and presets["theta"].nunique() > 1:  # one view angle: the table says it all
         name = _fig_engines(presets, rows, figdir)
         lines += [f"![{name}](figures/{name})", ""]
     lines += ["| preset | runs at b/s | fits b/s | mean there | worst theta | mean there | "
               "head-on | non-finite px | largest defect |", "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {r['label']} | {r['runs_at']} | {nice(r['ratio'])} | {nice(r['fit_mean'])} | "
-                     f"{nice(r['worst_theta'])} | {nice(r['worst'])} | {nice(r['head_on'])} | "
-                     f"{r['nonfinite']} | {_defect(r)} |")
+        lines.append(f"| {r['label']} | {r['runs_at']} | {nice(r['ratio'])} | "
+                     f"{plus_minus(r['fit_mean'], r['fit_mean_h'])} | {nice(r['worst_theta'])} | "
+                     f"{plus_minus(r['worst'], r['worst_h'])} | "
+                     f"{plus_minus(r['head_on'], r['head_on_h'])} | {r['nonfinite']} | "
+                     f"{_defect(r)} |")
     lines.append("")
     return lines

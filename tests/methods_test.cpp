@@ -1,6 +1,7 @@
 // Methods on closed forms: constant height, head-on view, loop bounds, precision option.
 #include <gtest/gtest.h>
 
+#include <regex>
 #include <sstream>
 
 #include "core/json_read.h"
@@ -16,12 +17,6 @@ namespace {
 
 using test::makeTexture;
 using test::method;
-
-const char* kAllMethods[] = {
-    R"({"name":"none"})",      R"({"name":"parallax"})",      R"({"name":"offset_limited"})",
-    R"({"name":"steep"})",     R"({"name":"pom"})",           R"({"name":"relief"})",
-    R"({"name":"iterative"})", R"({"name":"tangent_plane"})", R"({"name":"secant"})",
-    R"({"name":"contact"})",   R"({"name":"maxmip"})",        R"({"name":"iterative_slope"})"};
 
 struct MethodRun {
     Vec2f uv;
@@ -40,12 +35,12 @@ MethodRun runFloat(const MethodConfig& cfg, const MethodTextures& tex, Vec2f uv0
 // at most 2 ulps of a UV in [0, 1] (2 * 2^-24 < 1.2e-7).
 TEST(Methods, HeadOnViewReturnsBaseUv) {
     Texture t = test::smoothTexture(32, 32);
-    MethodTextures tex = makeMethodTextures(t, 0.07, -0.035, 1.0, true);
-    tex.pyramid = std::make_shared<const MinMaxPyramid>(buildMinMaxPyramid(t));
+    MethodTextureCache cache(t, UvExtent(1.0));
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> uni(0.f, 1.f);
-    for (const char* m : kAllMethods) {
-        MethodConfig cfg = method(m);
+    for (const MethodKindInfo& kind : methodKinds()) {  // every built-in, from the table
+        MethodConfig cfg = method(std::string(R"({"name":")") + kind.name + "\"}");
+        const MethodTextures& tex = cache.get(cfg, Displacement{0.07, -0.035});
         for (int k = 0; k < 200; ++k) {
             Vec2f uv0(uni(rng), uni(rng));
             MethodRun r = runFloat(cfg, tex, uv0, Vec3f(0, 0, 1));
@@ -126,8 +121,10 @@ TEST(Methods, IterativeSlopeClosedFormOnARamp) {
             EXPECT_NEAR(r.uv.y, want.y, 2e-6) << "iterations " << n << " case " << c;
             EXPECT_EQ(r.ctx.fetches, 2 * n);  // the normal and the height at each step
             EXPECT_NEAR(r.ctx.foundHeight, t * v.z, 2e-6);
-            if (n == 64) {
-                EXPECT_NEAR(t, exact, 1e-6 * std::abs(exact) + 1e-9);
+            if (n == 64) {  // on the eye ray's exact crossing with the ramp
+                const Vec2d crossing = uv0 + Vec2d(v.x, v.y) * exact;
+                EXPECT_NEAR(r.uv.x, crossing.x, 3e-6) << "case " << c;
+                EXPECT_NEAR(r.uv.y, crossing.y, 3e-6) << "case " << c;
             }
         }
     }
@@ -252,7 +249,34 @@ TEST(Sources, EveryKeyIsDefinedInTheReferences) {
     for (const MethodKindInfo& kind : methodKinds())
         if (kind.kind != MethodKind::None) check(kind.name, kind.cite);
     for (const MethodPreset& p : methodPresets()) check(p.name, presetCite(p.name));
-    EXPECT_EQ(sourceKeys(method(R"({"name":"pom"})")), "tatarchuk2006 devries2020");
+    EXPECT_EQ(sourceKeys(method(R"({"name":"pom"})")), "brawley2004 tatarchuk2006 devries2020");
+}
+
+// The method table is the one list: README's methods table and docs/methods.md's table of
+// methods and sources each have a row naming every built-in kind.
+TEST(Sources, EveryKindIsInTheReadmeAndMethodsTables) {
+    auto read = [](const std::string& rel) {
+        const std::string path = test::testSourceDir() + "/../" + rel;
+        return readTextFile(path, path, "", "the documentation", 1 << 22);
+    };
+    const std::string readme = read("README.md"), methods = read("docs/methods.md");
+    // A section's first table: from its header row to the first blank line after it.
+    auto table = [](const std::string& text, const std::string& section) {
+        const size_t at = text.find("\n| ", text.find(section));
+        EXPECT_NE(at, std::string::npos) << section;
+        return at == std::string::npos ? std::string()
+                                       : text.substr(at, text.find("\n\n", at) - at);
+    };
+    const std::string readmeRows = table(readme, "## Methods"),
+                      methodsRows = table(methods, "## Methods and their sources");
+    for (const MethodKindInfo& kind : methodKinds()) {
+        const std::string name = std::string("`") + kind.name + "`";
+        // README groups some rows ("| `parallax`, `offset_limited` |"): the name in a first cell.
+        const std::regex readmeRow("\n\\| [^|]*" + name + "[^|]*\\|");
+        EXPECT_TRUE(std::regex_search(readmeRows, readmeRow)) << kind.name << ": README";
+        EXPECT_NE(methodsRows.find("\n| " + name + " |"), std::string::npos)
+            << kind.name << ": docs/methods.md";
+    }
 }
 
 TEST(Presets, BuiltInPresetsAreTheDocumentsSettings) {

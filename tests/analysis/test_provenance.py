@@ -37,10 +37,16 @@ def complete(p):
 
 r = run("methods")
 presets = r.stdout.split("presets:")[-1].splitlines()[1:]
-check("pgt methods: every built-in and each preset with its source", r.returncode == 0 and
-      "  pom              min_layers 1-4096" in r.stdout and "  relaxed_cone" in r.stdout and
-      len(presets) >= 29 and any(l.split()[0] == "godot" and "Godot 4" in l for l in presets),
-      r.stdout)
+builtins = r.stdout.split("presets:")[0]
+check("pgt methods: every built-in and each preset with its summary and source keys",
+      r.returncode == 0 and re.search(r"\n  pom +steep's march.*"
+                                      r"\[brawley2004 tatarchuk2006 devries2020\]\n"
+                                      r" +min_layers 1-4096", builtins) is not None
+      and "  relaxed_cone" in builtins and "[premecz2006 szirmaykalos2008]" in builtins
+      and len(presets) >= 29
+      and all(re.search(r"\[[a-z0-9 ]+\]$", l) for l in presets)
+      and any(l.split()[0] == "godot" and "Godot 4" in l and l.endswith("[godot4]")
+              for l in presets), r.stdout)
 
 r = run("--version")
 check("--version: exit 0, version, commit and Embree", r.returncode == 0 and

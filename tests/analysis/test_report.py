@@ -139,7 +139,9 @@ with tempfile.TemporaryDirectory() as d:
             data = open(os.path.join(figdir, name), "rb").read()
             if name.startswith("."):
                 continue  # a temporary the kill left; hidden, never a figure's name
-            if not (data.startswith(b"\x89PNG") and data.endswith(b"IEND\xaeB`\x82")):
+            whole = (data.rstrip().endswith(b"</svg>") if name.endswith(".svg") else
+                     data.startswith(b"\x89PNG") and data.endswith(b"IEND\xaeB`\x82"))
+            if not whole:
                 failures.append(f"killed at {0.5 + 0.1 * k:.2f} s: {name} is cut "
                                 f"({len(data)} bytes)")
 if failures:
