@@ -193,11 +193,6 @@ def defaults_table(df):
     return pd.DataFrame(rows)
 
 
-def no_figures(*_):
-    """A drawing job with nothing to draw (a pool's task must be a named function)."""
-    return []
-
-
 def die_with_parent():
     """A drawing worker dies with the report (Linux's PR_SET_PDEATHSIG): a report killed
     while it draws leaves no orphan still writing figures."""
@@ -474,13 +469,15 @@ def main():
     common, renamed = own_surface(common)
     flagged = {renamed.get(l, l): n for l, n in flagged.items()}
 
-    # The heat maps and the angle figures draw in two forked workers while this process
-    # draws the rest (matplotlib drawing is most of the report's time).
+    # The angle figures (one job per scale), the heat maps and the depth section draw in two
+    # forked workers while this process draws the rest (drawing is most of the report's time).
     pool = multiprocessing.get_context("fork").Pool(2, initializer=die_with_parent)
-    heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
     # One view angle draws no curve against it (a panel of single points): the tables say it.
     curves = common["theta"].nunique() > 1
-    theta_job = pool.apply_async(fig_error_vs_theta if curves else no_figures, (common, figdir))
+    theta_jobs = [pool.apply_async(fig_error_vs_theta, (common, figdir, [scale]))
+                  for scale in (sorted(common["scale"].unique()) if curves else [])]
+    depth_job = pool.apply_async(depth_shadow_lines, (common, figdir))
+    heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
     agg, pareto_files, fronts = fig_pareto(common, figdir)
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
@@ -488,9 +485,11 @@ def main():
     # over theta <= 80 shows the defaults for the views most frames contain.
     typical = common[common["theta"] <= 80]
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
-    heat = heat_job.get()
-    theta_figs = theta_job.get()
     paper = fig_paper(common, figdir) if curves else None
+    engines = engine_lines(df, figdir)
+    heat = heat_job.get()
+    theta_figs = [fig for job in theta_jobs for fig in job.get()]
+    depth = depth_job.get()
     pool.close()
     pool.join()
 
@@ -500,9 +499,9 @@ def main():
                              ranking_table_lines(agg, flagged, seed_count(common),
                                                  repeat_spread(common)))
              + defaults_lines(table, table80, heat, seed_count(common))
-             + engine_lines(df, figdir)
+             + engines
              + storage_lines(common)
-             + depth_shadow_lines(common, figdir)
+             + depth
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))

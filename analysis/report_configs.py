@@ -126,14 +126,15 @@ def _angle_panel(ax, sub, family, labels, same):
         ax.legend(fontsize=6)
 
 
-def fig_error_vs_theta(df, figdir):
+def fig_error_vs_theta(df, figdir, scales=None):
     """One figure per scale (at the bias ratio nearest -1/2; a preset kept to its own surface
     at that surface's): a panel per family with every configuration of it; mean error, and
-    the p50..p90 band where a panel has few lines."""
+    the p50..p90 band where a panel has few lines. `scales`: only these (the report draws
+    each in a worker of its own)."""
     out = []
     ratios = sorted(df["bias_ratio"].dropna().unique())
     fams = families(df)
-    for scale in sorted(df["scale"].unique()):
+    for scale in sorted(df["scale"].unique()) if scales is None else scales:
         sub = df[df["scale"] == scale]
         ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
         if ratios:

@@ -3,7 +3,8 @@
 answers: the surface a preset fits (the bias ratio of its lowest mean), its worst view angle,
 its largest defect (non-finite pixels first, then texels moved head-on, then the growth with
 the angle), the depth table's ranking and the shadow shares, the per-angle tables' intervals
-over replicate seeds. Arguments: PGT_BINARY SOURCE_DIR."""
+over replicate seeds, the ranking's intervals and median run time, complete seeds only, t past
+its table, and no heat map for one bias ratio. Arguments: PGT_BINARY SOURCE_DIR."""
 import json
 import os
 import sys
@@ -102,6 +103,36 @@ check("| pom | 2 ± 2.5 |" in text and "95 % interval over the 3 replicate seeds
 check("At scale s = 0.05 only:" in text and "At scale s = 0.1 only:" in text, text)
 one = "\n".join(angle_table_lines(reps[reps["seed"] == 1]))
 check("no interval is available" in one and "±" not in one, one)
+# The ranking: each mean with its interval over the seeds, the run time the median over the
+# cases of each case's median (one slow case does not move it), cases counted without seeds.
+from common import seed_interval, t975  # noqa: E402
+from report import configuration_table, ranking_table_lines  # noqa: E402
+from report_configs import common_cases, fig_heatmaps  # noqa: E402
+
+ranked = pd.DataFrame([{"case": 3 * (seed - 1) + k, "theta": 10 * k, "phi": 0, "scale": 0.05,
+                        "bias": -0.025, "label": "a", "method": "a", "seed": seed,
+                        "mean": float(seed), "p90": float(seed), "nonfinite": 0,
+                        "ns_per_px": 100.0 if k == 2 else 10.0, "fetches_mean": 1.0,
+                        "timing_backend": "cpu", "precompute_ms": 0.0}
+                       for seed in (1, 2, 3) for k in range(3)])
+agg = configuration_table(ranked)
+check(agg["ns"].iloc[0] == 10.0 and agg["cases"].iloc[0] == 3,
+      f"median time over cases, cases without seeds: {agg.to_dict('records')}")
+text = "\n".join(ranking_table_lines(agg, {}, 3, float("nan")))
+check("| 1 | a | 3 | 2 ± 2.5 | 2 ± 2.5 | 10 [10, 100] |" in text, text)
+check(abs(t975(32) - 2.0395) < 1e-3 and abs(t975(41) - 2.0211) < 1e-3 and t975(1) != t975(1),
+      "t beyond the table")
+# A case missing at one seed is left out, so every seed averages the same cases.
+torn = ranked[~((ranked["seed"] == 3) & (ranked["theta"] == 20))]
+kept, n, total, _ = common_cases(torn)
+check(n == 2 and total == 3 and set(kept["theta"]) == {0, 10}, f"kept {n} of {total}")
+check(seed_interval(kept)[0] == 2.0, "the mean over complete seeds")
+# One bias ratio: nothing to choose, no heat map.
+with tempfile.TemporaryDirectory() as figdir:
+    one_ratio = ranked.assign(bias_ratio=-0.5)
+    check(fig_heatmaps(one_ratio, figdir) == [], "one bias ratio: no heat map")
+    two = pd.concat([one_ratio, one_ratio.assign(bias_ratio=-1.0, bias=-0.05)])
+    check(fig_heatmaps(two, figdir) == ["heatmap_a.png"], "two bias ratios: a heat map")
 for f in failures:
     print("FAIL:", f)
 print(f"{'ok' if not failures else 'failed'}: {len(failures)} failures")
