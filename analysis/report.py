@@ -119,6 +119,12 @@ def fig_pareto(df, figdir):
             g = gl.loc[grp.index]
             ax.scatter(grp[xkey].clip(lower=1e-2), grp["mean"], label=method, s=22,
                        marker="x" if g.all() else "o", color=colours(k % 20))
+            half = grp["mean_h"].to_numpy()
+            if np.isfinite(half).any():  # the 95 % interval over the seeds, kept above 0
+                y = grp["mean"].to_numpy()
+                ax.errorbar(grp[xkey].clip(lower=1e-2), y,
+                            yerr=[np.minimum(half, 0.999 * y), half], fmt="none", lw=0.7,
+                            color=colours(k % 20))
         fx = [pts[i][0] for i in front]
         fy = [pts[i][1] for i in front]
         ax.step([max(x, 1e-2) for x in fx], fy, where="post", color="k", lw=1,
@@ -143,7 +149,9 @@ def fig_pareto(df, figdir):
         place_labels(ax, named)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("mean UV error over the cases [texels]")
-        ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches"))
+        ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches")
+                     + (" (bars: 95 % interval over the replicate seeds)"
+                        if np.isfinite(agg["mean_h"]).any() else ""))
         ax.legend(fontsize=6, ncol=2)
         fig.tight_layout()
         name = f"pareto_{xkey}.png"

@@ -114,10 +114,12 @@ def depth_shadow_lines(df, figdir):
         right=("shadow_disagree_uv_right", "mean"), wrong=("shadow_disagree_uv_wrong", "mean"),
         truth=("truth_shadowed", "mean"), ns=("ns_per_px", "median")).reset_index()
     agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
-    halves = {label: (seed_interval(rows, "mean")[1], seed_interval(rows, "depth_mean")[1])
+    halves = {label: [seed_interval(rows, c)[1]
+                      for c in ("mean", "depth_mean", "depth_signed_mean")]
               for label, rows in df.groupby("label")}
     agg["mean_h"] = agg["label"].map(lambda l: halves[l][0])
     agg["depth_h"] = agg["label"].map(lambda l: halves[l][1])
+    agg["signed_h"] = agg["label"].map(lambda l: halves[l][2])
     figs = [_panels(df, col, ylabel, figdir, stem) for col, ylabel, stem in MEASURES]
     cost = _against_cost(agg, figdir)
     figs.append(_against_light(df, figdir))
@@ -144,7 +146,7 @@ def depth_shadow_lines(df, figdir):
         pm = (lambda x, h: "" if not np.isfinite(x) else plus_minus(x, h))
         lines.append(f"| {r.label} | {pm(r.mean, r.mean_h)} | {pm(r.depth_mean, r.depth_h)} | "
                      f"{num(r.depth_p90)} | "
-                     f"{num(r.signed)} | {pct(r.shadow_disagree)} | {pct(r.right)} | "
+                     f"{pm(r.signed, r.signed_h)} | {pct(r.shadow_disagree)} | {pct(r.right)} | "
                      f"{pct(r.wrong)} | {pct(r.truth)} |")
     lines.append("")
     return lines
