@@ -1,6 +1,6 @@
 // The engine presets (docs/methods.md "Engine presets"). Oracles: their closed forms on a flat
 // height, the head-on view (a twin's nanHeadOn quirk aside), convergence with their step
-// counts, every GLSL preset against its C++ twin (methods/presets/preset_twins.h; 20,000
+// counts, every GLSL preset against its C++ twin (tests/preset_twins.h; 20,000
 // fragments), the stiff suite.
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <functional>
 
 #include "methods/config.h"
-#include "methods/presets/preset_twins.h"
+#include "preset_twins.h"
 #include "methods/presets/presets.h"
 #include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
@@ -194,7 +194,7 @@ TEST(Gl, EnginePresetsConvergeWithTheirStepCounts) {
     }
 }
 
-// Every GLSL preset's shader against its C++ twin (methods/presets/preset_twins.h) on 20,000
+// Every GLSL preset's shader against its C++ twin (tests/preset_twins.h) on 20,000
 // seeded fragments of the default brick map, views to 85 degrees: at least 99.5% within 1e-3
 // texel (a march may flip a step where a float comparison ties). A GLSL preset without a twin
 // fails here.
@@ -204,7 +204,7 @@ TEST(Gl, EnginePresetsMatchTheirCppTwins) {
     int checked = 0;
     for (const std::string& name : glslPresets()) {
         const PresetTwin* twin = presetTwin(name);
-        ASSERT_TRUE(twin) << name << " has no C++ twin in methods/presets/preset_twins.cpp";
+        ASSERT_TRUE(twin) << name << " has no C++ twin in tests/preset_twins.cpp";
         const GlslRun gl = runPreset(name, bricks, in);
         int over = 0;
         for (size_t k = 0; k < in.uv0.size(); ++k) {

@@ -1,6 +1,6 @@
 // The GLSL presets written again in C++ (methods/presets/preset_twins.h): float, each shader's
 // order of operations, its shipped uniforms.
-#include "methods/presets/preset_twins.h"
+#include "preset_twins.h"
 
 #include <algorithm>
 #include <cmath>
