@@ -11,9 +11,9 @@
 #include <functional>
 
 #include "methods/config.h"
-#include "preset_twins.h"
 #include "methods/presets/presets.h"
 #include "methods/shader/glsl_method.h"
+#include "preset_twins.h"
 #include "scene/scene.h"
 #include "study/render.h"
 #include "test_util.h"
