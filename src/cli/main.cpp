@@ -323,7 +323,9 @@ void defineCommands(CLI::App& app, CommandLine& c) {
     c.merge->add_flag("--no-report", c.noReport, "Do not run analysis/report.py at the end");
 
     defineCompare(app, c);
-    c.methods = app.add_subcommand("methods", "List every built-in method and engine preset");
+    c.methods = app.add_subcommand(
+        "methods",
+        "List every built-in method and engine preset: summary, parameters, source keys");
 
     c.fit = app.add_subcommand("fit", "Fit each method's own scale, bias and steps to the truth");
     c.fit->add_option("scene", c.scenePath, "Scene file (JSON), optional \"fit\" block")
