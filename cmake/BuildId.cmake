@@ -1,12 +1,19 @@
 # Writes OUT (a header) with the source tree's git commit, at build time: the commit pgt was
-# built from, "-dirty" when tracked files differ from it, "unknown" outside a git checkout
-# (a source archive). The file is rewritten only when its text changes, so only
-# study/provenance.cpp is compiled again after a commit.
+# built from, "-dirty" when tracked files differ from it; outside a git checkout, the commit a
+# source archive made by `git archive` wrote into cmake/archive_commit.txt (export-subst in
+# .gitattributes) with "-archive", else "unknown". The file is rewritten only when its text
+# changes, so only study/provenance.cpp is compiled again after a commit.
 execute_process(COMMAND git -C "${SRC}" rev-parse --short=12 HEAD
                 OUTPUT_VARIABLE commit OUTPUT_STRIP_TRAILING_WHITESPACE
                 RESULT_VARIABLE failed ERROR_QUIET)
 if(failed OR commit STREQUAL "")
   set(commit "unknown")
+  if(EXISTS "${SRC}/cmake/archive_commit.txt")
+    file(STRINGS "${SRC}/cmake/archive_commit.txt" archived LIMIT_COUNT 1)
+    if(archived MATCHES "^[0-9a-f]+$")  # substituted: not the "$Format" placeholder
+      set(commit "${archived}-archive")
+    endif()
+  endif()
 else()
   execute_process(COMMAND git -C "${SRC}" status --porcelain --untracked-files=no
                   OUTPUT_VARIABLE changes OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
