@@ -95,6 +95,20 @@ def repeat_spread(df):
     return float(rel.median()) if len(rel) else float("nan")
 
 
+def scatter_families(ax, agg, gl, xkey):
+    """Each family's configurations at (agg[xkey], mean), GL ones as x, with the 95 % interval
+    over the seeds as bars where the study has replicates (kept above 0 on the log axis)."""
+    colours = plt.get_cmap("tab20")
+    for k, (method, grp) in enumerate(agg.groupby("method")):
+        x = grp[xkey].clip(lower=1e-2)
+        ax.scatter(x, grp["mean"], label=method, s=22,
+                   marker="x" if gl.loc[grp.index].all() else "o", color=colours(k % 20))
+        half, y = grp["mean_h"].to_numpy(), grp["mean"].to_numpy()
+        if np.isfinite(half).any():
+            ax.errorbar(x, y, yerr=[np.minimum(half, 0.999 * y), half], fmt="none", lw=0.7,
+                        color=colours(k % 20))
+
+
 def fig_pareto(df, figdir):
     if "timing_backend" not in df.columns:  # studies written before GLSL methods existed
         df = df.assign(timing_backend="cpu")
@@ -114,17 +128,7 @@ def fig_pareto(df, figdir):
         candidates = [i for i in range(len(pts)) if xkey != "ns" or not gl.iloc[i]]
         front = [candidates[i] for i in pareto_front([pts[i] for i in candidates])]
         fig, ax = plt.subplots(figsize=(8, 5.5))
-        colours = plt.get_cmap("tab20")
-        for k, (method, grp) in enumerate(agg.groupby("method")):
-            g = gl.loc[grp.index]
-            ax.scatter(grp[xkey].clip(lower=1e-2), grp["mean"], label=method, s=22,
-                       marker="x" if g.all() else "o", color=colours(k % 20))
-            half = grp["mean_h"].to_numpy()
-            if np.isfinite(half).any():  # the 95 % interval over the seeds, kept above 0
-                y = grp["mean"].to_numpy()
-                ax.errorbar(grp[xkey].clip(lower=1e-2), y,
-                            yerr=[np.minimum(half, 0.999 * y), half], fmt="none", lw=0.7,
-                            color=colours(k % 20))
+        scatter_families(ax, agg, gl, xkey)
         fx = [pts[i][0] for i in front]
         fy = [pts[i][1] for i in front]
         ax.step([max(x, 1e-2) for x in fx], fy, where="post", color="k", lw=1,
