@@ -27,12 +27,14 @@ std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r,
         scene_.base);
 }
 
-void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, PixelRect block) {
+void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, PixelRect block,
+                               const TexelRange* range) {
     PGT_CHECK(!base_ && !fine_);
     const PlaneBase* plane = scene_.plane();
     if (!plane) return;  // windows are cells of a plane's lattice
-    window_ = frameWindow(*plane, scene_.height, disp, camera, block);
-    windowFine_ = frameWindow(*plane, scene_.height, disp, camera, block, 2);
+    const TexelRange r = range ? *range : texelRange(scene_.height);
+    window_ = frameWindow(*plane, scene_.height, disp, camera, block, 1, &r);
+    windowFine_ = frameWindow(*plane, scene_.height, disp, camera, block, 2, &r);
 }
 
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
@@ -78,12 +80,14 @@ double truthVertices(const Scene& scene, const TruthWindow& window, const TruthW
            (scene.truth.uncertainty ? count(2 * scene.truth.rate, fine) : 0.0);
 }
 
-double truthVertices(const Scene& scene, const Camera& camera, PixelRect block) {
+double truthVertices(const Scene& scene, const Camera& camera, PixelRect block,
+                     const TexelRange* range) {
     const PlaneBase* plane = scene.plane();
     if (!plane) return 0;
-    return truthVertices(scene,
-                         frameWindow(*plane, scene.height, scene.displacement, camera, block),
-                         frameWindow(*plane, scene.height, scene.displacement, camera, block, 2));
+    const TexelRange r = range ? *range : texelRange(scene.height);
+    const Displacement& d = scene.displacement;
+    return truthVertices(scene, frameWindow(*plane, scene.height, d, camera, block, 1, &r),
+                         frameWindow(*plane, scene.height, d, camera, block, 2, &r));
 }
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
@@ -93,15 +97,19 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
                         TruthFrames& f) {
     if (!scene.plane()) return false;  // blocks are windows of a plane's lattice
     const int W = camera.width(), H = camera.height();
+    // The map's height range once for every candidate block's windows (each would otherwise
+    // scan the whole map: 7.6 s of a 4096^2 map's 64-block frame, measured).
+    const TexelRange range = texelRange(scene.height);
     for (int n = 2; n <= 16; ++n) {
         std::vector<PixelRect> blocks;
         bool fits = true;
         for (int by = 0; by < n && fits; ++by)
             for (int bx = 0; bx < n && fits; ++bx) {
                 PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
-                TruthWindow w =
-                    viewWindow(*scene.plane(), scene.height, scene.displacement, camera, b);
-                fits = w.limited && (w.empty || truthVertices(scene, camera, b) <= budgetVertices);
+                TruthWindow w = viewWindow(*scene.plane(), scene.height, scene.displacement, camera,
+                                           b, 1, &range);
+                fits = w.limited &&
+                       (w.empty || truthVertices(scene, camera, b, &range) <= budgetVertices);
                 if (w.empty) continue;  // sees no part of the plane: every pixel misses
                 blocks.push_back(b);
             }
@@ -114,7 +122,7 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
                                                     &scene.height);
         for (const PixelRect& b : blocks) {
             TruthBuilder builder(scene, height);
-            builder.limitToView(camera, scene.displacement, b);
+            builder.limitToView(camera, scene.displacement, b, &range);
             TruthPair pair = builder.build(scene.displacement, scene.truth.uncertainty);
             auto t0 = Clock::now();
             pair.truth->traceBlock(camera, f.truth, b);

@@ -28,15 +28,11 @@
 
 namespace pgt {
 
-TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                       const Camera& camera, PixelRect block, double reach) {
-    constexpr double kMarginTexels = 2;
-    if (block.empty()) block = {0, 0, camera.width(), camera.height()};
-    TruthWindow w;
+TexelRange texelRange(const Texture& height) {
     // Over every texel, on every core, polling the cancel flag: a 16384^2 map is a gigabyte
     // (Ctrl-C in Python waited 8 s on this loop, serial).
     using Range = std::pair<float, float>;
-    const auto [hMin, hMax] = tbb::parallel_reduce(
+    const auto [lo, hi] = tbb::parallel_reduce(
         tbb::blocked_range<size_t>(0, height.texels.size(), size_t(1) << 20), Range{1e30f, -1e30f},
         [&](const tbb::blocked_range<size_t>& r, Range acc) {
             throwIfCancelled();
@@ -48,6 +44,17 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
         [](Range a, const Range& b) {
             return Range{std::min(a.first, b.first), std::max(a.second, b.second)};
         });
+    return {lo, hi};
+}
+
+TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
+                       const Camera& camera, PixelRect block, double reach,
+                       const TexelRange* range) {
+    constexpr double kMarginTexels = 2;
+    if (block.empty()) block = {0, 0, camera.width(), camera.height()};
+    TruthWindow w;
+    const TexelRange slab = range ? *range : texelRange(height);
+    const float hMin = slab.lo, hMax = slab.hi;
     const double l = plane.worldPerUv();
     const double z[2] = {plane.center.z + l * (disp.scale * hMin + disp.bias),
                          plane.center.z + l * (disp.scale * hMax + disp.bias)};
@@ -86,8 +93,9 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
 }
 
 TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                        const Camera& camera, PixelRect block, double reach) {
-    TruthWindow w = viewWindow(plane, height, disp, camera, block, reach);
+                        const Camera& camera, PixelRect block, double reach,
+                        const TexelRange* range) {
+    TruthWindow w = viewWindow(plane, height, disp, camera, block, reach, range);
     const double T = plane.tiling;
     const Vec2d extent = w.uvMax - w.uvMin;
     if (w.empty || (block.empty() && w.limited && extent.x * extent.y >= 0.5 * T * T)) return {};
