@@ -60,6 +60,13 @@ def seed_interval(rows, column="mean"):
     return float(per.mean()), float(half)
 
 
+def label_halves(df, columns):
+    """{label: [the half-width of each column's 95 % interval over the seeds]}: seed_interval
+    for every configuration of a study at once."""
+    return {label: [seed_interval(rows, c)[1] for c in columns]
+            for label, rows in df.groupby("label")}
+
+
 def plus_minus(value, half, digits=4):
     """"m ± h" (h to 2 significant digits), or "m" where no interval is available."""
     return nice(value, digits) + (f" ± {half:.2g}" if np.isfinite(half) else "")

@@ -17,7 +17,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, interval_note, save_figure, seed_count, seed_interval  # noqa: E402
-from common import plus_minus, write_text  # noqa: E402
+from common import label_halves, plus_minus, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
 from report_paper import fig_paper  # noqa: E402
 from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
@@ -77,9 +77,7 @@ def configuration_table(df):
     # Cases by their keys (a replicate's rows are one case at several seeds).
     cases = df[["label"] + case_keys(df)].drop_duplicates().groupby("label").size()
     agg["cases"] = agg["label"].map(cases)
-    half = {}
-    for label, rows in df.groupby("label"):
-        half[label] = (seed_interval(rows, "mean")[1], seed_interval(rows, "p90")[1])
+    half = label_halves(df, ("mean", "p90"))
     agg["mean_h"] = agg["label"].map(lambda l: half[l][0])
     agg["p90_h"] = agg["label"].map(lambda l: half[l][1])
     return agg
@@ -438,10 +436,10 @@ def frame_and_stiff_lines(df, frames="pgt"):
                   f"frame ({FRAME_NAMES.get(frames, frames)}) adds; "
                   + interval_note(seed_count(df)) + ".", "",
                   "| configuration | mean error | with exact frame | frame share |", "|---|---|---|---|"]
-        rows_of = dict(tuple(df.groupby("label")))
+        halves = label_halves(df, ("mean", "mean_exact_frame"))
         for label, r in fr.iterrows():
             share = 1 - r["mean_exact_frame"] / r["mean"] if r["mean"] > 0 else float("nan")
-            half = [seed_interval(rows_of[label], c)[1] for c in ("mean", "mean_exact_frame")]
+            half = halves[label]
             lines.append(f"| {label} | {plus_minus(r['mean'], half[0])} | "
                          f"{plus_minus(r['mean_exact_frame'], half[1])} | {share:+.1%} |")
         lines.append("")

@@ -4,8 +4,8 @@ cost, beside its UV error. Studies without a light (or written before depth exis
 such columns, or only empty ones: the section is left out."""
 import os
 
-from common import interval_note, nice, np, plt, plus_minus, save_figure, seed_count
-from common import seed_interval
+from common import interval_note, label_halves, nice, np, plt, plus_minus, save_figure
+from common import seed_count
 from report_configs import families
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
@@ -114,9 +114,7 @@ def depth_shadow_lines(df, figdir):
         right=("shadow_disagree_uv_right", "mean"), wrong=("shadow_disagree_uv_wrong", "mean"),
         truth=("truth_shadowed", "mean"), ns=("ns_per_px", "median")).reset_index()
     agg = agg.rename(columns={"depth": "depth_mean", "shadow": "shadow_disagree"})
-    halves = {label: [seed_interval(rows, c)[1]
-                      for c in ("mean", "depth_mean", "depth_signed_mean")]
-              for label, rows in df.groupby("label")}
+    halves = label_halves(df, ("mean", "depth_mean", "depth_signed_mean"))
     agg["mean_h"] = agg["label"].map(lambda l: halves[l][0])
     agg["depth_h"] = agg["label"].map(lambda l: halves[l][1])
     agg["signed_h"] = agg["label"].map(lambda l: halves[l][2])
