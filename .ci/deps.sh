@@ -5,7 +5,7 @@ packages=(
   cmake g++ make
   libembree-dev libopenimageio-dev openimageio-tools libosd-dev libglm-dev libopenexr-dev
   libtbb-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev libtinyobjloader-dev
-  libpng-dev libfreetype-dev fonts-dejavu-core
+  libpng-dev libtiff-dev libfreetype-dev fonts-dejavu-core
   libboost-dev  # header-only Boost.Math: Student's t in pgt compare
   clang-format clang libclang-rt-14-dev
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri

@@ -98,7 +98,17 @@ OpenImageFn imageModule() {
 
 }  // namespace
 
-std::unique_ptr<ImageFile> openImageFile(const std::string& path, std::string& why) {
+std::unique_ptr<ImageFile> openImageFile(const std::string& path, std::string& why,
+                                         ImageDecoder decoder) {
+    if (decoder != ImageDecoder::Module) {
+        bool handled = false;
+        auto direct = openNativeImage(path, why, handled);
+        if (direct || handled) return direct;
+        if (decoder == ImageDecoder::Direct) {
+            why = "left to the image module (a format or layout the direct readers do not take)";
+            return nullptr;
+        }
+    }
     return std::unique_ptr<ImageFile>(imageModule()(path.c_str(), &why));
 }
 

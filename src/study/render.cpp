@@ -585,6 +585,10 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         renderView(scene, scene.view(), truths, scene.methods, textures, timing, options.frame);
     r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
     r.timingsMs["build"] = r.truthBuild.buildMs;
+    if (truths.fine) {
+        r.timingsMs["tessellate_fine"] = r.truthBuildFine.tessellateMs;
+        r.timingsMs["build_fine"] = r.truthBuildFine.buildMs;
+    }
     r.timingsMs["truth_total"] = buildMs;
     return r;
 }

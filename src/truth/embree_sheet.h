@@ -426,16 +426,35 @@ struct TruthSurface::Impl {
         struct Box {
             Vec3d lo{1e300}, hi{-1e300};
         };
+        auto put = [&](size_t k, const Vec3d& p, const Vec3d& normal, double h, Box& acc) {
+            Vec3f v(p + normal * (l * (disp.scale * h + disp.bias)));
+            vertices[k] = v;
+            acc.lo = glm::min(acc.lo, Vec3d(v));
+            acc.hi = glm::max(acc.hi, Vec3d(v));
+        };
+        // A plane's lattice row by row: the same arithmetic as positionAt, uvAt and heightAt
+        // per vertex, without their index division and branches (a fifth of a fine truth's
+        // build went to them).
+        const PlaneGrid* g = b.isGrid() ? &*b.grid : nullptr;
+        const size_t rowLength = g ? size_t(g->nu) + 1 : 1;
         Box box = tbb::parallel_reduce(
-            tbb::blocked_range<size_t>(0, n, 16384), Box{},
+            tbb::blocked_range<size_t>(0, n / rowLength, std::max<size_t>(1, 16384 / rowLength)),
+            Box{},
             [&](const tbb::blocked_range<size_t>& r, Box acc) {
                 throwIfCancelled();  // a huge sheet: Ctrl-C in Python stops here
-                for (size_t k = r.begin(); k < r.end(); ++k) {
-                    Vec3f v(b.positionAt(k) +
-                            b.normalAt(k) * (l * (disp.scale * b.heightAt(k) + disp.bias)));
-                    vertices[k] = v;
-                    acc.lo = glm::min(acc.lo, Vec3d(v));
-                    acc.hi = glm::max(acc.hi, Vec3d(v));
+                if (!g) {
+                    for (size_t k = r.begin(); k < r.end(); ++k)
+                        put(k, b.positionAt(k), b.normalAt(k), b.heightAt(k), acc);
+                    return acc;
+                }
+                for (size_t j = r.begin(); j < r.end(); ++j) {
+                    const double t = g->gridT(int(j));
+                    for (int i = 0; i <= g->nu; ++i) {
+                        const double s = g->gridS(i);
+                        const Vec2d uv = PlaneGrid::blend(g->cornerUv, s, t);
+                        put(j * rowLength + size_t(i), PlaneGrid::blend(g->cornerPosition, s, t),
+                            g->planeNormal, sampleBilinear<double>(*g->heightMap, uv), acc);
+                    }
                 }
                 return acc;
             },

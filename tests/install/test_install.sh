@@ -31,10 +31,20 @@ check_tree() {
   (cd "$work" && "${run[@]}" "$pgt" render "$share/scenes/glsl_twins.json" --out twins \
       --timing-repeats 1 > render.log) || fail "installed render: $(cat "$work/render.log")"
   [ -f "$work/twins/frame.exr" ] || fail "no frame.exr"
-  # An image height map: OpenImageIO from this tree's lib/pgt/pgt_image.so.
+  # Image height maps: a PNG (libpng), and a PGM through this tree's lib/pgt/pgt_image.so.
   (cd "$work" && "${run[@]}" "$pgt" render "$share/scenes/stones_pinhole.json" --out stones \
       --no-timing > stones.log 2>&1) || fail "installed image render: $(cat "$work/stones.log")"
   [ -f "$root/lib/pgt/pgt_image.so" ] || fail "$root/lib/pgt/pgt_image.so missing"
+  /usr/bin/python3 - "$share/scenes/stones_pinhole.json" "$work" <<'PY'
+import json, sys
+scene, work = json.load(open(sys.argv[1])), sys.argv[2]
+with open(work + "/ramp.pgm", "wb") as f:
+    f.write(b"P5 16 16 255\n" + bytes((x * 16 + y) % 256 for y in range(16) for x in range(16)))
+scene["heightmap"] = {"file": "ramp.pgm"}
+json.dump(scene, open(work + "/pgm.json", "w"))
+PY
+  (cd "$work" && "${run[@]}" "$pgt" render pgm.json --out pgm --no-timing > pgm.log 2>&1) ||
+    fail "installed render of a PGM map (the image module): $(cat "$work/pgm.log")"
   /usr/bin/python3 - "$share/scenes/default.json" "$work/study.json" <<'PY'
 import json, sys
 scene = json.load(open(sys.argv[1]))

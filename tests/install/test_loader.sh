@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # OpenImageIO on demand (ctest install.openimageio_on_demand; docs/install.md): the command
-# and the Python module do not link libOpenImageIO; a render of a procedural map never loads
-# it; a render of an image map loads it from lib/pgt/pgt_image.so beside the binary; a missing
+# and the Python module do not link libOpenImageIO; a render of a procedural map or of a PNG
+# map (read by libpng directly) never loads it; a render of a map in another format (a PGM
+# here) loads it from lib/pgt/pgt_image.so beside the binary; a missing
 # module named by $PGT_IMAGE_MODULE is an error that names it, and the render writes nothing;
 # so is one that is a truncated ELF, a FIFO, a directory, text or a device (exit 2, no hang).
 # Usage: test_loader.sh PGT SCENE_DIR [PYTHON_MODULE]
@@ -28,6 +29,11 @@ scene["camera"]["resolution"] = [32, 32]
 scene["methods"] = ["parallax"]
 json.dump(scene, open(tmp + "/procedural.json", "w"))
 scene["heightmap"] = {"file": scenes + "/maps/stones.png"}
+json.dump(scene, open(tmp + "/png.json", "w"))
+# A 16 x 16 8-bit PGM ramp: a format only the image module reads.
+with open(tmp + "/ramp.pgm", "wb") as f:
+    f.write(b"P5 16 16 255\n" + bytes((x * 16 + y) % 256 for y in range(16) for x in range(16)))
+scene["heightmap"] = {"file": tmp + "/ramp.pgm"}
 json.dump(scene, open(tmp + "/image.json", "w"))
 PY
 
@@ -41,6 +47,14 @@ if grep -q 'file=[^ ]*libOpenImageIO\.so' "$tmp/p.loaded"; then
   fail "a render of a procedural map loaded OpenImageIO"
 fi
 [ -f "$tmp/p/frame.exr" ] && [ -f "$tmp/p/parallax_error.png" ] || fail "no frame.exr or map"
+
+LD_DEBUG=files LD_DEBUG_OUTPUT=$tmp/g.ld "$pgt" render "$tmp/png.json" --out "$tmp/g" \
+  --no-timing > /dev/null 2> "$tmp/g.log" || fail "PNG render: $(tail -n 5 "$tmp/g.log")"
+cat "$tmp"/g.ld.* > "$tmp/g.loaded"
+if grep -q 'file=[^ ]*libOpenImageIO\.so' "$tmp/g.loaded"; then
+  fail "a render of a PNG map loaded OpenImageIO"
+fi
+[ -f "$tmp/g/summary.json" ] || fail "no summary.json for the PNG map"
 
 LD_DEBUG=files LD_DEBUG_OUTPUT=$tmp/i.ld "$pgt" render "$tmp/image.json" --out "$tmp/i" \
   --no-timing > /dev/null 2> "$tmp/i.log" || fail "image render: $(tail -n 5 "$tmp/i.log")"

@@ -128,12 +128,17 @@ def test_bad_input_raises_with_the_clis_message(pgt_cli, scenes, tmp_path):
 
 
 def test_a_missing_image_module_raises_and_is_tried_again(scenes, tmp_path):
-    """An image map needs lib/pgt/pgt_image.so (docs/install.md): a missing one named by
+    """A map in a format other than PNG, EXR or TIFF needs lib/pgt/pgt_image.so
+    (docs/install.md): a missing one named by
     PGT_IMAGE_MODULE is an InputError naming it, and setting the variable right afterwards in
     the same process is enough (a fresh interpreter: the module loads once per process)."""
     scene = small_scene(scenes)
     scene["methods"] = ["parallax"]
-    scene["heightmap"] = {"file": os.path.join(scenes, "maps", "stones.png")}
+    # A PGM: PNG, EXR and TIFF maps are read without the module.
+    ramp = tmp_path / "ramp.pgm"
+    ramp.write_bytes(b"P5 16 16 255\n" + bytes((x * 16 + y) % 256
+                                              for y in range(16) for x in range(16)))
+    scene["heightmap"] = {"file": str(ramp)}
     code = f"""
 import os, pgt
 scene = {scene!r}
