@@ -9,7 +9,11 @@ try:
     import matplotlib
 
     matplotlib.use("Agg")
+    # SVG text as text (searchable, editable in a paper's figure, and 3x faster to write
+    # than glyph outlines).
+    matplotlib.rcParams["svg.fonttype"] = "none"
     import matplotlib.pyplot as plt  # noqa: F401  (re-exported)
+    import matplotlib.ticker
     import numpy as np  # noqa: F401
     import pandas as pd
 except ImportError as e:  # pragma: no cover - depends on the machine
@@ -114,12 +118,38 @@ def _replace_whole(path, write):
 FIGURE_DPI = 200
 
 
-def save_figure(fig, path, **kwargs):
+def save_figure(fig, path, fixed=False, **kwargs):
     """fig.savefig(path) written whole or not at all (its format from the path's ending), at
-    FIGURE_DPI with nothing clipped unless `kwargs` says otherwise."""
+    FIGURE_DPI with nothing clipped unless `kwargs` says otherwise. `fixed`: the figure's
+    margins were set to hold everything (subplots_adjust), so the canvas is not measured
+    again (a second drawing pass). PNGs are compressed at zlib level 1: a fifth of a figure's
+    time at level 6, for files a third larger."""
     fmt = os.path.splitext(path)[1].lstrip(".") or "png"
-    kwargs = {"dpi": FIGURE_DPI, "bbox_inches": "tight", "pad_inches": 0.05, **kwargs}
+    kwargs = {"dpi": FIGURE_DPI, **({} if fixed else {"bbox_inches": "tight", "pad_inches": 0.05}),
+              **({"pil_kwargs": {"compress_level": 1}} if fmt == "png" else {}), **kwargs}
     _replace_whole(path, lambda tmp: fig.savefig(tmp, format=fmt, **kwargs))
+
+
+class _PlainLogFormatter(matplotlib.ticker.LogFormatter):
+    """Log tick labels as plain numbers (1e-05, 0.01, 10), not mathtext: parsing 10^{-5} as
+    TeX took a fifth of a report's drawing. Which ticks get a label is LogFormatter's choice."""
+
+    def _num_to_string(self, x, vmin, vmax):
+        return f"{x:g}"
+
+
+def log_axis(ax, which="y"):
+    """A log axis (call it once the data are drawn) labelled in plain numbers, with no minor
+    ticks where it spans two decades or more: a figure of many panels spends a third of its
+    time making the minor ticks of each, and the decades are labelled. A shorter span keeps
+    them: its labels are on the minor ticks."""
+    (ax.set_yscale if which == "y" else ax.set_xscale)("log")
+    axis = ax.yaxis if which == "y" else ax.xaxis
+    axis.set_major_formatter(_PlainLogFormatter())
+    axis.set_minor_formatter(_PlainLogFormatter(labelOnlyBase=False, minor_thresholds=(2, 0.4)))
+    lo, hi = ax.get_ylim() if which == "y" else ax.get_xlim()
+    if lo > 0 and hi >= 100 * lo:
+        axis.set_minor_locator(matplotlib.ticker.NullLocator())
 
 
 def write_text(path, text):

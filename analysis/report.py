@@ -17,10 +17,10 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, interval_note, save_figure, seed_count, seed_interval  # noqa: E402
-from common import label_halves, plus_minus, write_text  # noqa: E402
+from common import label_halves, log_axis, plus_minus, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
 from report_paper import fig_paper  # noqa: E402
-from report_configs import fig_heatmaps, own_surface, storage_lines  # noqa: E402
+from report_configs import families, fig_heatmaps, own_surface, storage_lines  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
@@ -140,8 +140,8 @@ def fig_pareto(df, figdir):
                     where="post", color="0.45", lw=1, ls="--", label="Pareto front (GL)")
             fronts["gl"] = [agg["label"].iloc[i] for i in gl_front]
         mark_precomputed(ax, agg, pts)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
+        log_axis(ax, "x")
+        log_axis(ax)
         # The fronts' points are named (the GL front's in grey); every point is in the table.
         named = [(agg["label"].iloc[i], pts[i][0], pts[i][1]) for i in front]
         if xkey == "ns" and "gl" in fronts:
@@ -479,25 +479,30 @@ def main():
     common, renamed = own_surface(common)
     flagged = {renamed.get(l, l): n for l, n in flagged.items()}
 
-    # The angle figures (one job per scale), the heat maps and the depth section draw in two
-    # forked workers while this process draws the rest (drawing is most of the report's time).
+    # Every figure is a job for two forked workers (one a core), the largest first, while
+    # this process writes the tables: drawing is most of the report's time, and small jobs
+    # keep both cores busy to the end.
     pool = multiprocessing.get_context("fork").Pool(2, initializer=die_with_parent)
     # One view angle draws no curve against it (a panel of single points): the tables say it.
     curves = common["theta"].nunique() > 1
+    depth_job = pool.apply_async(depth_shadow_lines, (common, figdir))
+    pareto_job = pool.apply_async(fig_pareto, (common, figdir))
+    heat_jobs = [pool.apply_async(fig_heatmaps, (common, figdir, [family]))
+                 for family in families(common)]
     theta_jobs = [pool.apply_async(fig_error_vs_theta, (common, figdir, [scale]))
                   for scale in (sorted(common["scale"].unique()) if curves else [])]
-    depth_job = pool.apply_async(depth_shadow_lines, (common, figdir))
-    heat_job = pool.apply_async(fig_heatmaps, (common, figdir))
-    agg, pareto_files, fronts = fig_pareto(common, figdir)
+    paper_job = pool.apply_async(fig_paper, (common, figdir)) if curves else None
+    engines_job = pool.apply_async(engine_lines, (df, figdir))
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
     # Grazing views (the last few degrees) dominate means over all angles; the same table
     # over theta <= 80 shows the defaults for the views most frames contain.
     typical = common[common["theta"] <= 80]
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
-    paper = fig_paper(common, figdir) if curves else None
-    engines = engine_lines(df, figdir)
-    heat = heat_job.get()
+    agg, pareto_files, fronts = pareto_job.get()
+    paper = paper_job.get() if paper_job else None
+    engines = engines_job.get()
+    heat = [fig for job in heat_jobs for fig in job.get()]
     theta_figs = [fig for job in theta_jobs for fig in job.get()]
     depth = depth_job.get()
     pool.close()

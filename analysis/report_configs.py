@@ -7,7 +7,8 @@ import json
 import math
 import os
 
-from common import case_keys, interval_note, nice, np, plt, plus_minus, save_figure, seed_count
+from common import case_keys, interval_note, log_axis, nice, np, plt, plus_minus, save_figure
+from common import seed_count
 from common import seed_interval
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
@@ -118,10 +119,10 @@ def _angle_panel(ax, sub, family, labels, same):
         if len(series) <= 4:
             ax.fill_between(rows.index, rows["p50"].clip(lower=1e-5),
                             rows["p90"].clip(lower=1e-5), color=line.get_color(), alpha=0.12)
-    ax.set_yscale("log")
+    log_axis(ax)
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
     ax.set_title(family, fontsize=9)
-    ax.tick_params(labelsize=7)
+    ax.tick_params(which="both", labelsize=7)
     if series:
         ax.legend(fontsize=6)
 
@@ -166,7 +167,7 @@ def fig_error_vs_theta(df, figdir, scales=None):
         fig.subplots_adjust(left=0.07, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
                             hspace=0.3, wspace=0.08)
         name = f"error_vs_theta_s{scale:g}.png"
-        save_figure(fig, os.path.join(figdir, name))
+        save_figure(fig, os.path.join(figdir, name), fixed=True)
         plt.close(fig)
         out.append((scale, ratio, name))
     return out
@@ -235,11 +236,14 @@ def _heat_panel(ax, sub, label, limits):
     return im
 
 
-def fig_heatmaps(df, figdir):
-    """Per family: a panel per configuration, its mean error over the view angles on the
-    scale x bias-ratio grid (star: the minimum per scale)."""
+def fig_heatmaps(df, figdir, only=None):
+    """Per family (or the families `only` names: the report draws them in several workers):
+    a panel per configuration, its mean error over the view angles on the scale x bias-ratio
+    grid (star: the minimum per scale)."""
     files = []
     for family, labels in families(df).items():
+        if only is not None and family not in only:
+            continue
         subs = [(l, df[df["label"] == l]) for l in labels]
         # A heat map chooses a bias: one bias ratio is one column, nothing to choose.
         subs = [(l, s) for l, s in subs if s["bias_ratio"].nunique() >= 2]
@@ -257,15 +261,17 @@ def fig_heatmaps(df, figdir):
             ax.set_ylabel("scale s", fontsize=7)
         for ax in list(axes.flat)[len(subs):]:
             ax.set_visible(False)
-        height = 2.8 * rows
-        fig.subplots_adjust(left=0.08, right=0.86, bottom=0.55 / height, top=1 - 0.6 / height,
-                            hspace=0.6, wspace=0.3)
-        fig.colorbar(im, cax=fig.add_axes([0.89, 0.15, 0.02, 0.7]),
+        # Fixed margins in inches (the canvas is not measured again): the axis labels' room on
+        # the left, the colour bar and its label's on the right.
+        width, height = 4.0 * cols, 2.8 * rows
+        fig.subplots_adjust(left=0.7 / width, right=1 - 1.3 / width, bottom=0.55 / height,
+                            top=1 - 0.6 / height, hspace=0.6, wspace=0.3)
+        fig.colorbar(im, cax=fig.add_axes([1 - 1.1 / width, 0.15, 0.12 / width, 0.7]),
                      label="log10 mean error [texels]")
         fig.suptitle(f"{family}: mean error over view angles (star: minimum per scale)",
                      fontsize=9, y=1 - 0.15 / height)
         fname = f"heatmap_{family}.png"
-        save_figure(fig, os.path.join(figdir, fname))
+        save_figure(fig, os.path.join(figdir, fname), fixed=True)
         plt.close(fig)
         files.append(fname)
     return files

@@ -5,7 +5,7 @@ line; distinguishable in greyscale (line style, marker and grey level together);
 200 dpi and SVG."""
 import os
 
-from common import np, plt, save_figure, t975
+from common import log_axis, np, plt, save_figure, t975
 from report_configs import families
 
 LINES = ["-", "--", ":", "-."]
@@ -63,7 +63,7 @@ def fig_paper(df, figdir):
             if seeds > 1:
                 ax.fill_between(mean.index, lo, hi, color=grey, alpha=0.15, lw=0)
         ax.axhline(1.0, color="k", lw=0.7, ls=(0, (6, 3)))
-        ax.set_yscale("log")
+        log_axis(ax)
         ax.set_title(f"s = {scale:g}", fontsize=9)
         ax.set_xlabel("view angle θ [degrees]", fontsize=8)
         ax.tick_params(labelsize=7)
