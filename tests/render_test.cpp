@@ -9,8 +9,10 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <set>
 
 #include "core/error.h"
+#include "core/json_read.h"
 #include "methods/config.h"
 #include "study/outputs.h"
 #include "study/view_memory.h"
@@ -144,13 +146,10 @@ TEST(Render, OutputsRoundTrip) {
     auto in = OIIO::ImageInput::open((dir / "frame.exr").string());
     ASSERT_TRUE(in);
     const OIIO::ImageSpec& spec = in->spec();
-    std::vector<std::string> want = {
-        "truth.u",         "truth.v",        "truth.hit",       "base.u",          "base.v",
-        "base.hit",        "parallax.u",     "parallax.v",      "parallax.err",    "pom_8_16.u",
-        "pom_8_16.v",      "pom_8_16.err",   "pom_8_32.u",      "pom_8_32.v",      "pom_8_32.err",
-        "truth.depth",     "truth.shadow",   "parallax.depth",  "parallax.shadow", "pom_8_16.depth",
-        "pom_8_16.shadow", "pom_8_32.depth", "pom_8_32.shadow", "base.V.x",        "base.V.y",
-        "base.V.z",        "base.Vexact.x",  "base.Vexact.y",   "base.Vexact.z"};
+    // Every channel of the schema (study/frame_channels.h): the frame's own, five per method,
+    // no base.Vvertex (no method reads V per vertex).
+    const std::vector<std::string> want = frameChannelNames(s.methods);
+    ASSERT_EQ(want.size(), 14u + 5 * 3);
     ASSERT_EQ(spec.nchannels, int(want.size()));
     std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
     ASSERT_TRUE(in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()));
@@ -410,10 +409,12 @@ TEST(Render, ChannelSetKeepsOnlyTheGroupsAskedForAndTheMapsTheirLegend) {
     const auto all = write("all"), some = write("uv,inputs"), none = write("none");
     const auto full = read(all / "frame.exr"), part = read(some / "frame.exr");
     EXPECT_EQ(full.size(), 6u + 5 + 2 + 6);
-    std::vector<std::string> want = {"truth.u",       "truth.v",       "truth.hit",    "base.u",
-                                     "base.v",        "base.hit",      "parallax.u",   "parallax.v",
-                                     "parallax.err",  "base.V.x",      "base.V.y",     "base.V.z",
-                                     "base.Vexact.x", "base.Vexact.y", "base.Vexact.z"};
+    // "uv,inputs": the schema's channels of those two groups.
+    std::vector<std::string> want;
+    for (const FrameChannelSlot& slot : frameChannelLayout({"parallax"}, false))
+        if (slot.channel->group == ChannelGroup::Uv || slot.channel->group == ChannelGroup::Inputs)
+            want.push_back(slot.name);
+    ASSERT_EQ(want.size(), 6u + 3 + 6);
     ASSERT_EQ(part.size(), want.size());
     for (const std::string& name : want) {
         ASSERT_TRUE(part.count(name)) << name;
@@ -473,6 +474,52 @@ namespace {
 // pixel for pixel; where the scene's b is another (-s/2), it runs at b = -s, its configuration
 // says so and the warnings name the mismatch; "amplitude": "shipped" keeps the shipped (0.1,
 // -0.1) under the label learnopengl_pom_shipped.
+// frame.exr's schema (study/frame_channels.h) against docs/outputs.md and its own rules:
+// every channel and group is documented (a method's as `M.suffix`, x/y/z triples as
+// `NAME.x/y/z`), names are unique, a method's channels sit together in the configurations'
+// order, and the count without building the layout agrees.
+TEST(FrameChannels, EveryChannelAndGroupIsDocumentedAndLaidOutByTheSchema) {
+    const std::string path = test::testSourceDir() + "/../docs/outputs.md";
+    const std::string text = readTextFile(path, path, "", "the documentation", 1 << 22);
+    const size_t from = text.find("- `DIR/frame.exr`"), to = text.find("- `DIR/summary.json`");
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    const std::string doc = text.substr(from, to - from);
+    for (const FrameChannel& c : frameChannelSchema()) {
+        std::string name = c.perMethod ? std::string("M") + c.name : c.name;
+        const bool triple = name.size() > 2 && name[name.size() - 2] == '.' &&
+                            std::string("xyz").find(name.back()) != std::string::npos;
+        const std::string asTriple = triple ? name.substr(0, name.size() - 1) + "x/y/z" : name;
+        EXPECT_TRUE(doc.find("`" + name + "`") != std::string::npos ||
+                    doc.find("`" + asTriple + "`") != std::string::npos)
+            << name << " is not in docs/outputs.md's frame.exr paragraph";
+    }
+    for (const char* g : channelGroupNames())
+        EXPECT_NE(doc.find(std::string("`") + g + "`"), std::string::npos) << g;
+    for (bool inputs : {false, true}) {
+        const std::vector<std::string> labels = {"a", "b", "c"};
+        const std::vector<FrameChannelSlot> layout = frameChannelLayout(labels, inputs);
+        EXPECT_EQ(layout.size(), frameChannelCount(labels.size(), inputs));
+        std::set<std::string> unique;
+        size_t lastMethod = 0;
+        const FrameChannel* lastRun = nullptr;
+        for (const FrameChannelSlot& s : layout) {
+            EXPECT_TRUE(unique.insert(s.name).second) << s.name;
+            if (!s.channel->perMethod) {
+                lastRun = nullptr;
+                continue;
+            }
+            // Within a run of per-method channels, the method index never goes back.
+            if (lastRun) {
+                EXPECT_GE(s.method, lastMethod) << s.name;
+            }
+            EXPECT_EQ(s.name, labels[s.method] + s.channel->name);
+            lastMethod = s.method, lastRun = s.channel;
+        }
+        EXPECT_EQ(unique.count("base.Vvertex.x"), inputs ? 1u : 0u);
+    }
+}
+
 TEST(Presets, OnTheScenesSurfaceADocumentPresetIsItsBuiltIn) {
     auto scene = [](double s, double b) {
         return parseScene(nlohmann::json::parse(R"({

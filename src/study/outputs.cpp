@@ -239,100 +239,25 @@ void writeErrorPng(StagedStream& out, const std::string& name, const MethodFrame
 
 }  // namespace
 
-std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs) {
-    std::vector<std::string> names = {"truth.u", "truth.v", "truth.hit",
-                                      "base.u",  "base.v",  "base.hit"};
-    for (const MethodConfig& cfg : configs)
-        for (const char* c : {".u", ".v", ".err"}) names.push_back(cfg.label + c);
-    // The depth offsets and shadow states (docs/model.md §5b, §6c), after the UV channels.
-    names.push_back("truth.depth");
-    names.push_back("truth.shadow");
-    for (const MethodConfig& cfg : configs)
-        for (const char* c : {".depth", ".shadow"}) names.push_back(cfg.label + c);
-    // The tangent-space V every method was given (the base's frame: pgt's, the asset's or
-    // MikkTSpace) and V in the exact frame of the drawn surface (docs/model.md §2).
-    for (const char* c :
-         {"base.V.x", "base.V.y", "base.V.z", "base.Vexact.x", "base.Vexact.y", "base.Vexact.z"})
-        names.push_back(c);
-    // V per vertex, where a method reads FragmentInputs.
-    if (readsFragmentInputs(configs))
-        for (const char* c : {"base.Vvertex.x", "base.Vvertex.y", "base.Vvertex.z"})
-            names.push_back(c);
-    return names;
-}
-
-namespace {
-float shadowChannel(int8_t state) { return state == kShadowNone ? NAN : float(state); }
-}  // namespace
-
-bool FrameChannelSet::holds(const std::string& name) const {
-    auto endsWith = [&](const char* tail) {
-        const size_t n = std::strlen(tail);
-        return name.size() > n && name.compare(name.size() - n, n, tail) == 0;
-    };
-    if (name.rfind("base.V", 0) == 0) return inputs;
-    if (endsWith(".depth")) return depth;
-    if (endsWith(".shadow")) return shadow;
-    return uv;
-}
-
 FrameChannelSet parseFrameChannels(const std::string& list, const std::string& field) {
     if (list == "all") return {};
-    FrameChannelSet set{false, false, false, false};
+    FrameChannelSet set{{false, false, false, false}};
     if (list == "none") return set;
+    const auto& names = channelGroupNames();
     size_t start = 0;
     while (start <= list.size()) {
         const size_t end = std::min(list.find(',', start), list.size());
         const std::string group = list.substr(start, end - start);
-        bool* flag = group == "uv"       ? &set.uv
-                     : group == "depth"  ? &set.depth
-                     : group == "shadow" ? &set.shadow
-                     : group == "inputs" ? &set.inputs
-                                         : nullptr;
-        if (!flag)  // the item quoted, escaped and shortened (a command line can hold anything)
+        const size_t g = size_t(std::find(names.begin(), names.end(), group) - names.begin());
+        if (g == names.size())  // the item quoted, escaped and shortened (any text can come)
             throw InputError("command line", field, shortDump(Json(list)),
-                             "expected all, none or a comma-separated list of uv, depth, "
-                             "shadow, inputs (" +
-                                 shortDump(Json(group)) + " is none of them)");
-        *flag = true;
+                             "expected all, none or a comma-separated list of " +
+                                 joinNames(std::vector<std::string>(names.begin(), names.end())) +
+                                 " (" + shortDump(Json(group)) + " is none of them)");
+        set.groups[g] = true;
         start = end + 1;
     }
     return set;
-}
-
-void interleaveFrameBand(const FrameBand& b, float* rows) {
-    const size_t methods = b.pixels.size(), nc = frameChannelCount(methods, b.inputs != nullptr),
-                 tail = 6 + 3 * methods, view = 8 + 5 * methods;
-    const size_t n = b.truth->data.size();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const auto& r) {
-        for (size_t k = r.begin(); k < r.end(); ++k) {
-            float* p = &rows[k * nc];
-            const TruthSample& t = b.truth->data[k];
-            const Fragment& f = b.fragments->data[k];
-            p[0] = t.hit ? float(t.uv.x) : NAN, p[1] = t.hit ? float(t.uv.y) : NAN;
-            p[2] = t.hit ? 1.0f : 0.0f;
-            p[3] = f.covered ? float(f.uv0.x) : NAN, p[4] = f.covered ? float(f.uv0.y) : NAN;
-            p[5] = f.covered ? 1.0f : 0.0f;
-            for (size_t i = 0; i < methods; ++i) {
-                const MethodPixel& m = b.pixels[i]->data[k];
-                p[6 + 3 * i] = m.covered ? float(m.uv.x) : NAN;
-                p[7 + 3 * i] = m.covered ? float(m.uv.y) : NAN;
-                p[8 + 3 * i] = b.errTexels[i]->data[k];
-                p[tail + 2 + 2 * i] = m.covered ? m.depth : NAN;
-                p[tail + 3 + 2 * i] = m.covered ? shadowChannel(m.shadow) : NAN;
-            }
-            p[tail] = float(t.depth);
-            p[tail + 1] = shadowChannel(t.shadow);
-            for (int c = 0; c < 3; ++c) {
-                p[view + size_t(c)] = f.covered ? float(f.viewTangent[c]) : NAN;
-                p[view + 3 + size_t(c)] =
-                    f.covered && f.exactFrame ? float(f.viewTangentExact[c]) : NAN;
-                if (b.inputs)
-                    p[view + 6 + size_t(c)] =
-                        f.covered ? float(b.inputs->data[k].viewVertex[c]) : NAN;
-            }
-        }
-    });
 }
 
 FrameBand wholeFrameBand(const RenderResult& r) {
@@ -354,12 +279,16 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     createdDir_ = !std::filesystem::exists(std::filesystem::symlink_status(dir, ec));
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
-    const std::vector<std::string> names = frameChannelNames(configs);
-    channels_ = names.size();
+    std::vector<std::string> labels;
+    for (const MethodConfig& c : configs) labels.push_back(c.label);
+    const std::vector<FrameChannelSlot> layout =
+        frameChannelLayout(labels, readsFragmentInputs(configs));
+    channels_ = layout.size();
     methods_ = configs.size();
     std::vector<std::string> kept;
-    for (size_t c = 0; c < names.size(); ++c)
-        if (channels.holds(names[c])) keep_.push_back(c), kept.push_back(names[c]);
+    for (size_t c = 0; c < layout.size(); ++c)
+        if (channels.holds(layout[c].channel->group))
+            keep_.push_back(c), kept.push_back(layout[c].name);
     if (keep_.empty()) return;  // no frame.exr
     // PIZ (lossless wavelet + Huffman) by default: measured on the default scene at 2048^2,
     // 1.2 s against zip's 2.0 s of encoding for a file 2 % larger (116 vs 114 MB); "none"

@@ -3,6 +3,7 @@
 // written whole to temporaries, renamed into place together.
 #pragma once
 
+#include <array>
 #include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "study/frame_channels.h"
 #include "study/render.h"
 
 namespace pgt {
@@ -18,15 +20,12 @@ class ExrWriter;
 class StagedFiles;
 class StagedStream;
 
-// The channel groups frame.exr holds (docs/outputs.md; `pgt render --channels`): "uv" (the
-// truth's, the base's and each method's u, v and hit or err), "depth", "shadow" and "inputs"
-// (base.V, base.Vexact, base.Vvertex); none of them: no frame.exr (and no rows interleaved).
-// A group left out is dropped from the interleaved rows before the encoder sees them.
+// The channel groups (study/frame_channels.h) a frame.exr holds (docs/outputs.md; `pgt render
+// --channels`); none of them: no frame.exr (and no rows interleaved). A group left out is
+// dropped from the interleaved rows before the encoder sees them.
 struct FrameChannelSet {
-    bool uv = true, depth = true, shadow = true, inputs = true;
-    bool any() const { return uv || depth || shadow || inputs; }
-    // Whether the channel named `name` (frameChannelNames) is in the set.
-    bool holds(const std::string& name) const;
+    std::array<bool, kChannelGroups> groups{true, true, true, true};
+    bool holds(ChannelGroup g) const { return groups[size_t(g)]; }
 };
 // "all", "none" or a comma-separated list of the groups; anything else throws InputError
 // naming `field`.
@@ -73,19 +72,6 @@ void writeRenderOutputs(const Scene& scene, const RenderResult& result, const st
 
 // A share of counts, NaN when the whole is 0.
 double share(int64_t part, int64_t whole);
-// frame.exr's channels, in order: truth.u, truth.v, truth.hit, base.u, base.v, base.hit, then
-// LABEL.u, LABEL.v, LABEL.err per method, then truth.depth, truth.shadow and LABEL.depth,
-// LABEL.shadow per method, then base.V.x/y/z and base.Vexact.x/y/z (docs/outputs.md):
-// kFrameChannels + 5 per method, then base.Vvertex.x/y/z where a method reads FragmentInputs.
-constexpr size_t kFrameChannels = 14;
-// With `inputs` (FrameBand::inputs: a method reads FragmentInputs), base.Vvertex.x/y/z last.
-constexpr size_t frameChannelCount(size_t methods, bool inputs) {
-    return kFrameChannels + 5 * methods + (inputs ? 3 : 0);
-}
-std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);
-// A band's pixels as frame.exr holds them: channels interleaved, row by row (NaN where a
-// channel has no value), into `rows` (width x rows x channels floats).
-void interleaveFrameBand(const FrameBand& band, float* rows);
 // The whole frame of a result that kept its images, as one band.
 FrameBand wholeFrameBand(const RenderResult& result);
 

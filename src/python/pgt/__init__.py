@@ -25,11 +25,10 @@ __all__ = ["Frame", "render", "sweep", "compare", "InputError", "OutputError", "
 class Frame:
     """One rendered view: frame.exr's channels and summary.json.
 
-    channels: dict name -> float32 array (height x width), the names of frame.exr
-      (truth.u, truth.v, truth.hit, base.u, base.v, base.hit, LABEL.u, LABEL.v, LABEL.err,
-      then truth.depth, truth.shadow, LABEL.depth, LABEL.shadow, then base.V.x/y/z and
-      base.Vexact.x/y/z, the tangent-space V the methods got and V in the exact frame);
-      row 0 is the top of the image, as in frame.exr. Views of one array: `pixels`.
+    channels: dict name -> float32 array (height x width), the names of frame.exr as pgt's
+      channel schema makes them (docs/outputs.md: truth.u, truth.v, truth.hit, base.u, ...,
+      LABEL.u, LABEL.v, LABEL.err per method, ...); row 0 is the top of the image, as in
+      frame.exr. Views of one array: `pixels`.
     pixels: float32 array height x width x channels, in the channels' order.
     summary: summary.json as a dict.
     """
