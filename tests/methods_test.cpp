@@ -1,6 +1,7 @@
 // Methods on closed forms: constant height, head-on view, loop bounds, precision option.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -277,6 +278,53 @@ TEST(Sources, EveryKindIsInTheReadmeAndMethodsTables) {
         EXPECT_NE(methodsRows.find("\n| " + name + " |"), std::string::npos)
             << kind.name << ": docs/methods.md";
     }
+}
+
+// docs/methods.md's table of the GLSL presets' uniforms is checked against the presets
+// (methods/presets/presets.cpp, where each default is written; the C++ twins read it there):
+// every GLSL preset is in a row, and every uniform it sets is listed there with its value.
+TEST(Presets, TheUniformsTableIsThePresetsUniforms) {
+    const std::string path = test::testSourceDir() + "/../docs/methods.md";
+    const std::string text = readTextFile(path, path, "", "the documentation", 1 << 22);
+    const size_t at = text.find("| preset | its uniforms (shipped values) |");
+    ASSERT_NE(at, std::string::npos);
+    const std::string rows = text.substr(at, text.find("\n\n", at) - at);
+    // preset -> uniform -> the value its row gives ("−" is a minus).
+    std::map<std::string, std::map<std::string, double>> documented;
+    std::istringstream in(rows);
+    std::string line;
+    const std::regex name("`([a-z0-9_]+)`"), pair("`([a-z_]+)` ((?:−)?-?[0-9.]+)");
+    while (std::getline(in, line)) {
+        const size_t bar = line.find(" | ", 2);
+        if (line.rfind("| `", 0) != 0 || bar == std::string::npos) continue;
+        const std::string first = line.substr(0, bar), second = line.substr(bar);
+        std::map<std::string, double> values;
+        for (auto it = std::sregex_iterator(second.begin(), second.end(), pair);
+             it != std::sregex_iterator(); ++it) {
+            std::string v = (*it)[2];
+            const bool minus = v.rfind("−", 0) == 0;
+            values[(*it)[1]] = (minus ? -1 : 1) * std::stod(minus ? v.substr(3) : v);
+        }
+        const bool tangents = first.find("and their `_tangents`") != std::string::npos;
+        for (auto it = std::sregex_iterator(first.begin(), first.end(), name);
+             it != std::sregex_iterator(); ++it) {
+            if ((*it)[1] == "_tangents") continue;
+            documented[(*it)[1]] = values;
+            if (tangents) documented[std::string((*it)[1]) + "_tangents"] = values;
+        }
+    }
+    int checked = 0;
+    for (const MethodPreset& p : methodPresets()) {
+        if (p.shaderFile.empty()) continue;  // a built-in preset: no uniforms
+        ASSERT_TRUE(documented.count(p.name)) << p.name << " has no row in docs/methods.md";
+        for (const GlslSpec::Uniform& u : p.glsl.uniforms) {
+            const auto& row = documented.at(p.name);
+            ASSERT_TRUE(row.count(u.name)) << p.name << ": " << u.name << " is not in its row";
+            EXPECT_DOUBLE_EQ(row.at(u.name), u.values.at(0)) << p.name << ": " << u.name;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 40);
 }
 
 TEST(Presets, BuiltInPresetsAreTheDocumentsSettings) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include "methods/method.h"
 #include "methods/presets/presets.h"
@@ -119,17 +120,19 @@ Vec2f o3deTwin(const Texture& t, Vec2f uv, Vec3f V, O3de mode, float factor, int
     return P.z > 0 ? uv : uv + Vec2f(P);
 }
 
-// DarkPlaces: O = -0.04 normalize(V).xy; offset mapping N times tc += O / N (1 - b - h(tc));
-// relief the ray (O, -1) / N, N - 1 steps while z >= h, then R refinements of +-f/2.
-Vec2f darkplacesTwin(const Texture& t, Vec2f uv, Vec3f V, bool relief, int n, int r) {
+// DarkPlaces: O = -scale normalize(V).xy; offset mapping N times tc += O / N (1 - b - h(tc));
+// relief the ray (O, -1) / N from (uv - O b, 1), N - 1 steps while z >= h, then R refinements
+// of +-f/2.
+Vec2f darkplacesTwin(const Texture& t, Vec2f uv, Vec3f V, bool relief, float scale, float bias,
+                     int n, int r) {
     const Vec3f e = glm::normalize(V);
-    const Vec2f O = -Vec2f(e.x, e.y) * 0.04f;
+    const Vec2f O = -Vec2f(e.x, e.y) * scale;
     if (!relief) {
         Vec2f tc = uv;
-        for (int i = 0; i < n; ++i) tc += O / float(n) * (1.0f - height(t, tc));
+        for (int i = 0; i < n; ++i) tc += O / float(n) * ((1.0f - bias) - height(t, tc));
         return tc;
     }
-    Vec3f step(O, -1.0f), RT(uv, 1.0f);
+    Vec3f step(O, -1.0f), RT(uv - O * bias, 1.0f);
     step /= float(n);
     auto above = [&]() { return RT.z >= height(t, Vec2f(RT)) ? 1.0f : 0.0f; };
     for (int i = 1; i < n; ++i) RT += step * above();
@@ -141,13 +144,13 @@ Vec2f darkplacesTwin(const Texture& t, Vec2f uv, Vec3f V, bool relief, int n, in
     return Vec2f(RT);
 }
 
-// Babylon: offset uv + 0.05 h V.xy; occlusion away from the eye, 15 + 11 cos(theta) samples
+// Babylon: offset uv + s h V.xy; occlusion away from the eye, 15 + 11 cos(theta) samples
 // as a float, 15 passes, the linear crossing at the first height above the ray.
-Vec2f babylonTwin(const Texture& t, Vec2f uv, Vec3f V, bool occlusion) {
+Vec2f babylonTwin(const Texture& t, Vec2f uv, Vec3f V, bool occlusion, float s) {
     const Vec3f v = glm::normalize(V);
-    if (!occlusion) return uv + 0.05f * height(t, uv) * Vec2f(v.x, v.y);
+    if (!occlusion) return uv + s * height(t, uv) * Vec2f(v.x, v.y);
     const Vec2f maxOff =
-        -glm::normalize(Vec2f(v.x, v.y)) * (0.05f * glm::length(Vec2f(v.x, v.y)) / v.z);
+        -glm::normalize(Vec2f(v.x, v.y)) * (s * glm::length(Vec2f(v.x, v.y)) / v.z);
     const float samples = 15.0f + glm::dot(-v, Vec3f(0, 0, 1)) * (4.0f - 15.0f);
     const float step = 1.0f / samples;
     float ray = 1, prevHeight = 1;
@@ -192,10 +195,10 @@ Vec2f ogreFixedTwin(const Texture& t, Vec2f uv, Vec3f V, float s, int n) {
     return current * (1.0f - w) + prev * w;
 }
 
-Vec2f babylonFixedTwin(const Texture& t, Vec2f uv, Vec3f V) {
+Vec2f babylonFixedTwin(const Texture& t, Vec2f uv, Vec3f V, float s) {
     const Vec3f v = glm::normalize(V);
     if (v.x == 0 && v.y == 0) return uv;
-    const Vec2f maxOff = -Vec2f(v.x, v.y) / v.z * 0.05f;
+    const Vec2f maxOff = -Vec2f(v.x, v.y) / v.z * s;
     const float samples = glslMix(15.0f, 4.0f, v.z);
     const int passes = int(std::ceil(samples));
     const float step = 1.0f / samples;
@@ -390,93 +393,151 @@ Vec2f bevyReliefTwin(const Texture& t, Vec2f uv0, Vec3f V, float scale, float ma
     return uv;
 }
 
-using Twin = std::function<Vec2f(const Texture&, Vec2f, Vec3f)>;
+// A preset's uniforms as its entry in methods/presets/presets.cpp sets them: the twins read
+// their values from there, so a default is written once.
+struct Uniforms {
+    std::map<std::string, double> values;
+    float operator()(const std::string& name) const {
+        const auto it = values.find(name);
+        if (it == values.end()) throw std::logic_error("preset twin: no uniform " + name);
+        return float(it->second);
+    }
+    int integer(const std::string& name) const { return int((*this)(name)); }
+};
 
-Twin o3de(O3de mode) {
-    return
-        [mode](const Texture& t, Vec2f uv, Vec3f v) { return o3deTwin(t, uv, v, mode, 0.05f, 16); };
+struct TwinOf {
+    std::function<Vec2f(const Texture&, Vec2f, Vec3f, const Uniforms&)> run;
+    bool nanHeadOn = false;
+};
+
+TwinOf o3de(O3de mode) {
+    return {[mode](const Texture& t, Vec2f uv, Vec3f v, const Uniforms& u) {
+        return o3deTwin(t, uv, v, mode, u("factor"), mode == O3de::Basic ? 16 : u.integer("steps"));
+    }};
 }
 
-Twin three(Three mode) {
-    return [mode](const Texture& t, Vec2f uv, Vec3f v) {
-        return threeTwin(t, uv, v, mode, -0.005f, 20.0f, 25.0f);
-    };
+TwinOf three(Three mode) {
+    return {[mode](const Texture& t, Vec2f uv, Vec3f v, const Uniforms& u) {
+        const bool layers = mode != Three::Basic;
+        return threeTwin(t, uv, v, mode, u("parallax_scale"),
+                         layers ? u("parallax_min_layers") : 20.0f,
+                         layers ? u("parallax_max_layers") : 25.0f);
+    }};
 }
 
-// Every GLSL preset's twin at its shipped uniforms (methods/presets/presets.cpp).
-std::map<std::string, PresetTwin> makeTwins() {
+// Every GLSL preset's twin, reading its shipped uniforms (methods/presets/presets.cpp).
+// PlayCanvas scales its heightMapFactor by 0.025 to beta.19 and by 0.1 from beta.20 (in the
+// shader, not a uniform).
+std::map<std::string, TwinOf> makeTwins() {
     using T = const Texture&;
+    using U = const Uniforms&;
     return {
-        {"jme", {[](T t, Vec2f uv, Vec3f v) { return jmeTwin(t, uv, v, 0.05f); }}},
+        {"jme",
+         {[](T t, Vec2f uv, Vec3f v, U u) { return jmeTwin(t, uv, v, u("parallax_height")); }}},
         // normalize(vec2(0)) head-on: no finite uv' (the shipped shader's quirk)
-        {"jme_steep", {[](T t, Vec2f uv, Vec3f v) { return jmeSteepTwin(t, uv, v, 0.05f); }, true}},
-        {"jme_steep_fixed",
-         {[](T t, Vec2f uv, Vec3f v) { return jmeSteepFixedTwin(t, uv, v, 0.05f); }}},
-        {"playcanvas",
-         {[](T t, Vec2f uv, Vec3f v) { return playcanvasTwin(t, uv, v, 0.025f, -1.0f, false); }}},
-        {"playcanvas_fixed",
-         {[](T t, Vec2f uv, Vec3f v) { return playcanvasTwin(t, uv, v, 0.025f, 1.0f, false); }}},
-        {"playcanvas_offset_limited",
-         {[](T t, Vec2f uv, Vec3f v) { return playcanvasTwin(t, uv, v, 0.1f, 1.0f, true); }}},
-        {"ogre_parallax",
-         {[](T t, Vec2f uv, Vec3f v) { return ogreTwin(t, uv, v, 0.04f, 32, false); }}},
-        {"ogre_pom", {[](T t, Vec2f uv, Vec3f v) { return ogreTwin(t, uv, v, 0.04f, 32, true); }}},
-        {"ogre_pom_fixed",
-         {[](T t, Vec2f uv, Vec3f v) { return ogreFixedTwin(t, uv, v, 0.04f, 32); }}},
-        {"o3de_pom", {o3de(O3de::Pom)}},
-        {"o3de_steep", {o3de(O3de::Steep)}},
-        {"o3de_relief", {o3de(O3de::Relief)}},
-        {"o3de_contact", {o3de(O3de::Contact)}},
-        {"o3de_basic", {o3de(O3de::Basic)}},
-        {"darkplaces_offset",
-         {[](T t, Vec2f uv, Vec3f v) { return darkplacesTwin(t, uv, v, false, 2, 0); }}},
-        {"darkplaces_relief",
-         {[](T t, Vec2f uv, Vec3f v) { return darkplacesTwin(t, uv, v, true, 10, 5); }}},
-        {"babylon_offset", {[](T t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, false); }}},
+        {"jme_steep",
+         {[](T t, Vec2f uv, Vec3f v, U u) { return jmeSteepTwin(t, uv, v, u("parallax_height")); },
+          true}},
+        {"jme_steep_fixed", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return jmeSteepFixedTwin(t, uv, v, u("parallax_height"));
+         }}},
+        {"playcanvas", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return playcanvasTwin(t, uv, v, 0.025f * u("height_map_factor"), -1.0f, false);
+         }}},
+        {"playcanvas_fixed", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return playcanvasTwin(t, uv, v, 0.025f * u("height_map_factor"), 1.0f, false);
+         }}},
+        {"playcanvas_offset_limited", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return playcanvasTwin(t, uv, v, 0.1f * u("height_map_factor"), 1.0f, true);
+         }}},
+        {"ogre_parallax", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return ogreTwin(t, uv, v, u("height_scale"), 32, false);
+         }}},
+        {"ogre_pom", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return ogreTwin(t, uv, v, u("height_scale"), u.integer("layer_count"), true);
+         }}},
+        {"ogre_pom_fixed", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return ogreFixedTwin(t, uv, v, u("height_scale"), u.integer("layer_count"));
+         }}},
+        {"o3de_pom", o3de(O3de::Pom)},
+        {"o3de_steep", o3de(O3de::Steep)},
+        {"o3de_relief", o3de(O3de::Relief)},
+        {"o3de_contact", o3de(O3de::Contact)},
+        {"o3de_basic", o3de(O3de::Basic)},
+        {"darkplaces_offset", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return darkplacesTwin(t, uv, v, false, u("offset_scale"), u("offset_bias"),
+                                   u.integer("offset_steps"), 0);
+         }}},
+        {"darkplaces_relief", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return darkplacesTwin(t, uv, v, true, u("offset_scale"), u("offset_bias"),
+                                   u.integer("offset_steps"), u.integer("refine_steps"));
+         }}},
+        {"babylon_offset", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return babylonTwin(t, uv, v, false, u("parallax_scale"));
+         }}},
         // normalize(vec2(0)) head-on as well
         {"babylon_occlusion",
-         {[](T t, Vec2f uv, Vec3f v) { return babylonTwin(t, uv, v, true); }, true}},
-        {"babylon_occlusion_fixed",
-         {[](T t, Vec2f uv, Vec3f v) { return babylonFixedTwin(t, uv, v); }}},
-        {"threejs_basic", {three(Three::Basic)}},
-        {"threejs_steep", {three(Three::Steep)}},
-        {"threejs_occlusion", {three(Three::Occlusion)}},
-        {"threejs_relief", {three(Three::Relief)}},
-        {"godot", {[](T t, Vec2f uv, Vec3f v) { return godotTwin(t, uv, v, 5.0f); }}},
-        {"godot_deep",
-         {[](T t, Vec2f uv, Vec3f v) { return godotDeepTwin(t, uv, v, 5.0f, 8.0f, 32.0f); }}},
-        {"bevy_occlusion",
-         {[](T t, Vec2f uv, Vec3f v) { return bevyOcclusionTwin(t, uv, v, 0.1f, 16.0f); }}},
-        {"bevy_relief",
-         {[](T t, Vec2f uv, Vec3f v) { return bevyReliefTwin(t, uv, v, 0.1f, 16.0f, 5); }}},
-        {"unity_hdrp",
-         {[](T t, Vec2f uv, Vec3f v) { return unityTwin(t, uv, v, 0.02f, 5.0f, 15.0f); }}},
-        {"tatarchuk",
-         {[](T t, Vec2f uv, Vec3f v) { return tatarchukTwin(t, uv, v, 0.02f, 8.0f, 50.0f); }}},
+         {[](T t, Vec2f uv, Vec3f v, U u) {
+              return babylonTwin(t, uv, v, true, u("parallax_scale"));
+          },
+          true}},
+        {"babylon_occlusion_fixed", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return babylonFixedTwin(t, uv, v, u("parallax_scale"));
+         }}},
+        {"threejs_basic", three(Three::Basic)},
+        {"threejs_steep", three(Three::Steep)},
+        {"threejs_occlusion", three(Three::Occlusion)},
+        {"threejs_relief", three(Three::Relief)},
+        {"godot",
+         {[](T t, Vec2f uv, Vec3f v, U u) { return godotTwin(t, uv, v, u("heightmap_scale")); }}},
+        {"godot_deep", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return godotDeepTwin(t, uv, v, u("heightmap_scale"), u("heightmap_min_layers"),
+                                  u("heightmap_max_layers"));
+         }}},
+        {"bevy_occlusion", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return bevyOcclusionTwin(t, uv, v, u("depth_scale"), u("max_layer_count"));
+         }}},
+        {"bevy_relief", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return bevyReliefTwin(t, uv, v, u("depth_scale"), u("max_layer_count"),
+                                   u.integer("max_steps"));
+         }}},
+        {"unity_hdrp", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return unityTwin(t, uv, v, u("height_amplitude"), u("ppd_min_samples"),
+                              u("ppd_max_samples"));
+         }}},
+        {"tatarchuk", {[](T t, Vec2f uv, Vec3f v, U u) {
+             return tatarchukTwin(t, uv, v, u("height_map_scale"), u("min_samples"),
+                                  u("max_samples"));
+         }}},
     };
 }
 
 }  // namespace
 
 const PresetTwin* presetTwin(const std::string& preset) {
-    // NAME_tangents runs NAME's function on the base frame's per-pixel V, with the signs its
-    // engine's tangent path hands it (MethodPreset::tangentsSignX/Y): NAME's twin on that V,
-    // which is a twin of NAME itself only where NAME is fed V too (tests/gl_engines_test.cpp).
+    // Each GLSL preset's twin bound to that preset's own uniforms. NAME_tangents runs NAME's
+    // function on the base frame's per-pixel V, with the signs its engine's tangent path hands
+    // it (MethodPreset::tangentsSignX/Y): NAME's twin on that V, which is a twin of NAME itself
+    // only where NAME is fed V too (tests/gl_engines_test.cpp).
     static const std::map<std::string, PresetTwin> twins = [] {
-        std::map<std::string, PresetTwin> out = makeTwins();
+        const std::map<std::string, TwinOf> of = makeTwins();
         const std::string suffix = "_tangents";
+        std::map<std::string, PresetTwin> out;
         for (const MethodPreset& p : methodPresets()) {
-            if (p.name.size() <= suffix.size() ||
-                p.name.compare(p.name.size() - suffix.size(), suffix.size(), suffix) != 0)
-                continue;
-            auto it = out.find(p.name.substr(0, p.name.size() - suffix.size()));
-            if (it == out.end()) continue;
-            PresetTwin twin = it->second;
-            const float sx = float(p.tangentsSignX), sy = float(p.tangentsSignY);
-            twin.run = [run = it->second.run, sx, sy](const Texture& t, Vec2f uv, Vec3f v) {
-                return run(t, uv, Vec3f(sx * v.x, sy * v.y, v.z));
-            };
-            out.emplace(p.name, std::move(twin));
+            const bool tangents =
+                p.name.size() > suffix.size() &&
+                p.name.compare(p.name.size() - suffix.size(), suffix.size(), suffix) == 0;
+            auto it = of.find(tangents ? p.name.substr(0, p.name.size() - suffix.size()) : p.name);
+            if (it == of.end()) continue;
+            Uniforms u;
+            for (const GlslSpec::Uniform& un : p.glsl.uniforms)
+                if (!un.values.empty()) u.values[un.name] = un.values[0];
+            const float sx = tangents ? float(p.tangentsSignX) : 1.0f,
+                        sy = tangents ? float(p.tangentsSignY) : 1.0f;
+            out[p.name] = {[run = it->second.run, u, sx, sy](const Texture& t, Vec2f uv, Vec3f v) {
+                               return run(t, uv, Vec3f(sx * v.x, sy * v.y, v.z), u);
+                           },
+                           it->second.nanHeadOn};
         }
         return out;
     }();
