@@ -177,6 +177,35 @@ TEST(EngineFiles, WholeFragmentShaderThroughABodyEqualsPom) {
         "whole_frag.glsl, body");
 }
 
+// A body's locals may take the names pgt hands it (N, V, s, b), as an engine's code does
+// (`vec3 N = ...`, `V = normalize(V)`): the body has a scope of its own (issue 54).
+TEST(EngineFiles, ABodysLocalsMayTakePgtsNames) {
+    PomCheck pom;
+    pom.expectEqual(
+        {{"name", "whole"},
+         {"glsl", data("glsl/whole_frag.glsl")},
+         {"sampler", "uHeightMap"},
+         {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
+         {"body",
+          {"vec3 N = vec3(0.0, 0.0, 1.0);", "vec3 V = V;", "float s = uHeightScale;",
+           "uv = uv + V.xy / dot(V, N) * (s + uHeightBias);",
+           "float numLayers = mix(32.0, 8.0, abs(V.z));",
+           "vec2 delta = V.xy / V.z * s / numLayers;", "float depth = depthAt(uv), layer = 0.0;",
+           "while (layer < depth) {", "    uv -= delta;", "    depth = depthAt(uv);",
+           "    layer += 1.0 / numLayers;", "}", "vec2 prev = uv + delta;",
+           "float after = depth - layer, before = depthAt(prev) - layer + 1.0 / numLayers;",
+           "return mix(uv, prev, after / (after - before));"}}},
+        "whole_frag.glsl, body with locals N, V, s");
+    pom.expectEqual(
+        {{"name", "inout"},
+         {"hlsl", data("hlsl/pom_inout.hlsl")},
+         {"sampler", "heightTex"},
+         {"body",
+          {"float3 N = float3(0.0, 0.0, 1.0);", "float3 V = V;", "float4 uvsets = uv.xyxy;",
+           "ParallaxOcclusion_Impl(uvsets, V, s, b, 8.0, 32.0, heightTex);", "return uvsets.zw;"}}},
+        "pom_inout.hlsl, body with locals N, V");
+}
+
 // Every channel of every layout, read at texel centres (no filtering): R = h or 1 - h for
 // "height" and "depth" (G, B = 0, A = 1 as GL reads R32F), RGB = 0.5 + 0.5 m and A = h or
 // 1 - h for the normal layouts, m being the normal map of the case's s and b; "height.C" and

@@ -439,10 +439,11 @@ std::string hlslToGlsl(const GlslSpec& spec) {
     std::string text = user + kGlobals;
     std::string call = spec.call.empty() ? spec.function + "(uv, V)" : spec.call;
     if (!spec.body.empty()) {
-        text += kBodyHead;
+        // In a scope of its own, as in GLSL (methods/shader/program.cpp): locals named N or V.
+        text += std::string(kBodyHead) + "    {\n";
         lines.bodyFirst = countLines(text) + 1;
         lines.bodyCount = countLines(spec.body);
-        text += spec.body + "}\n";
+        text += spec.body + "    }\n    return uv;  // not reached: the body returns\n}\n";
         call = "pgt_body(uv, V)";
     }
     text += std::string(kEntrySignature) + (spec.engineInputs ? kEngineSignature : "") +

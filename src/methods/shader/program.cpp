@@ -344,8 +344,12 @@ Pieces wrapperPieces(const GlslSpec& spec) {
         p.function = "pgt_call";
     }
     if (!spec.body.empty()) {
-        p.entry.bodyFirst = countLines(p.glue + kBodyHead) + 1;
-        p.glue += std::string(kBodyHead) + spec.body + "}\n";
+        // The body in a scope of its own: its locals may take the names pgt gives it (an
+        // engine's `vec3 N = ...`, `vec3 V = normalize(V)`), which a redeclaration in the
+        // function's own scope would refuse.
+        const std::string head = std::string(kBodyHead) + "    {\n";
+        p.entry.bodyFirst = countLines(p.glue + head) + 1;
+        p.glue += head + spec.body + "    }\n    return uv;  // not reached: the body returns\n}\n";
         p.entry.bodyCount = countLines(spec.body);
         p.function = "pgt_call";
     }
