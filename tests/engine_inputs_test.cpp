@@ -189,6 +189,26 @@ double perVertexApart(const RenderResult& r) {
     return apart;
 }
 
+// "V" on a preset entry against the preset's own gains _pv (or _pp) in its label, so that a
+// preset stands beside itself in a list; a GLSL entry beside another of its name gains _pv
+// as a built-in does (docs/methods.md).
+TEST(EngineInputs, PerVertexLabels) {
+    const std::vector<MethodConfig> m =
+        parseMethods(nlohmann::json::array(
+                         {{{"preset", "godot"}},
+                          {{"preset", "godot"}, {"V", "per_vertex"}},
+                          {{"preset", "jme"}, {"V", "per_pixel"}},
+                          {{"preset", "jme"}, {"V", "per_vertex"}},
+                          {{"preset", "godot"}, {"V", "per_vertex"}, {"label", "mine"}},
+                          {{"name", "own"}, {"glsl", "pgt:layered.glsl"}},
+                          {{"name", "own"}, {"glsl", "pgt:layered.glsl"}, {"V", "per_vertex"}}}),
+                     "t", "methods");
+    const std::vector<std::string> labels = {"godot", "godot_pv", "jme_pp", "jme",
+                                             "mine",  "own",      "own_pv"};
+    ASSERT_EQ(m.size(), labels.size());
+    for (size_t i = 0; i < m.size(); ++i) EXPECT_EQ(m[i].label, labels[i]) << i;
+}
+
 // Per-vertex V: on a flat triangle the interpolated eye vector is the eye vector of the
 // interpolated point, so "V": "per_vertex" equals per-pixel V under either camera (closed
 // form); on the torus, whose frame turns from vertex to vertex, it does not.

@@ -56,7 +56,14 @@ MethodConfig parsePreset(const Json& object, const std::string& file, const std:
     for (const char* key : {"scale", "bias"})
         if (f.has(key)) setShaderParameter(cfg, key, f.raw(key), file, f.fieldPath(key));
     if (BuiltinMethod* b = cfg.builtin()) readShadowParameters(f, *b);
+    const bool perVertex = cfg.viewPerVertex;
     readMethodInputs(f, cfg);
+    // "V" against the preset's own: its label says so (godot_pv; jme_pp, whose engine
+    // interpolates V per vertex), so that the preset can stand beside itself in a list.
+    if (!f.has("label") && cfg.viewPerVertex != perVertex) {
+        cfg.label += cfg.viewPerVertex ? "_pv" : "_pp";
+        checkLabel(cfg.label, file, f.fieldPath("label"));
+    }
     if (f.has("uniforms")) {
         const Json& u = f.raw("uniforms");
         if (!u.is_object()) f.fail("uniforms", "expected an object of name: number or [numbers]");
