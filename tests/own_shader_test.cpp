@@ -334,10 +334,29 @@ TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
     const std::string hlslLine = errorOf({{"name", "bad"}, {"hlsl", bad}, {"function", "F"}});
     EXPECT_NE(hlslLine.find(bad + ":2:"), std::string::npos) << hlslLine;
     EXPECT_NE(hlslLine.find("undeclared"), std::string::npos) << hlslLine;
+    std::string e;
+    // A file's own #line (generated code, an engine's shader cache): the message names the
+    // line's place in the file, and what its #line said of it (issue 54: "pgt prelude:5").
+    const std::string lined = (dir / "lined.glsl").string(),
+                      linedHlsl = (dir / "lined.hlsl").string();
+    std::ofstream(lined) << "uniform sampler2D depthMap;\n#line 500\nvec2 F(vec2 uv, vec3 V) {\n"
+                            "    return uv + undeclared;\n}\n";
+    std::ofstream(linedHlsl) << "#line 500 \"gen.hlsl\"\nfloat2 F(float2 uv, float3 V) {\n"
+                                "    return uv + undeclared;\n}\n";
+    for (const auto& [key, file] :
+         {std::pair<std::string, std::string>{"glsl", lined}, {"hlsl", linedHlsl}}) {
+        e = errorOf({{"name", "l"}, {key, file}, {"function", "F"}});
+        const std::string at = key == "glsl" ? ":4:" : ":3";
+        EXPECT_NE(e.find(file + at), std::string::npos) << e;
+        EXPECT_NE(e.find(key == "glsl" ? "(its #line: 501)" : "(its #line: \"gen.hlsl\":501)"),
+                  std::string::npos)
+            << e;
+        EXPECT_EQ(e.find("prelude"), std::string::npos) << e;
+    }
     const std::string pom = data("glsl/pom_es300.glsl");
     nlohmann::json glsl = {{"name", "es"}, {"glsl", pom}, {"sampler", "heightMap"}};
     glsl["call"] = "uv + nosuch(V)";
-    std::string e = errorOf(glsl);
+    e = errorOf(glsl);
     EXPECT_NE(e.find(pom + ": call"), std::string::npos) << e;
     glsl["call"] = "vec3(uv, 0.0)";  // not a 2-vector
     e = errorOf(glsl);

@@ -135,7 +135,8 @@ class Includer : public glslang::TShader::Includer {
 // glslang's messages "ERROR: FILE:LINE: ..." with the lines pgt added named for what they
 // are: the call's line as "call", the others as pgt's entry point.
 std::string translateMessages(const std::string& log, const std::string& file, int userLines,
-                              int callLine, int bodyFirst, int bodyCount) {
+                              int callLine, int bodyFirst, int bodyCount,
+                              const std::vector<std::string>& declared) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -161,10 +162,14 @@ std::string translateMessages(const std::string& log, const std::string& file, i
                     aboutCall = true;
                 } else if (bodyCount > 0 && n >= bodyFirst && n <= bodyFirst + bodyCount) {
                     line = file + ": body:" + std::to_string(n - bodyFirst + 1) + rest;
-                } else if (n > userLines)
+                } else if (n > userLines) {
                     line = "pgt entry point" + rest;
-                else if (paren)
-                    line = file + ":" + std::to_string(n) + rest;
+                } else {  // with what the file's own #line said of the line
+                    const bool note =
+                        size_t(n) <= declared.size() && !declared[size_t(n) - 1].empty();
+                    line = file + ":" + std::to_string(n) +
+                           (note ? " (its #line: " + declared[size_t(n) - 1] + ")" : "") + rest;
+                }
             }
         }
         out << line << "\n";
@@ -198,6 +203,7 @@ std::string selectFunctions() {
 // Where the parts pgt adds sit in the text glslang compiles (for messages).
 struct TextLines {
     int user = 0, call = 0, bodyFirst = 0, bodyCount = 0;
+    std::vector<std::string> declared;  // the file's own #line numbering (blankLineDirectives)
 };
 
 // The types a texture or sampler the file declares may have.
@@ -269,11 +275,12 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
         ok = program.link(messages);
     }
     if (!ok)
-        throw InputError(spec.path, "hlsl", "",
-                         "the shader does not compile:\n" +
-                             translateMessages(
-                                 std::string(shader.getInfoLog()) + program.getInfoLog(), spec.path,
-                                 lines.user, lines.call, lines.bodyFirst, lines.bodyCount));
+        throw InputError(
+            spec.path, "hlsl", "",
+            "the shader does not compile:\n" +
+                translateMessages(std::string(shader.getInfoLog()) + program.getInfoLog(),
+                                  spec.path, lines.user, lines.call, lines.bodyFirst,
+                                  lines.bodyCount, lines.declared));
     std::vector<uint32_t> spirv;
     glslang::SpvOptions options;
     options.disableOptimizer = false;  // HLSL's legalisation (inlining, textures by value)
@@ -432,10 +439,11 @@ std::string asWrapperPiece(const std::string& glsl) {
 }  // namespace
 
 std::string hlslToGlsl(const GlslSpec& spec) {
-    std::string user = spec.source;
-    if (!user.empty() && user.back() != '\n') user += "\n";
+    std::vector<std::string> declared;
+    std::string user = blankLineDirectives(spec.source, declared);
     TextLines lines;
     lines.user = countLines(user);
+    lines.declared = std::move(declared);
     std::string text = user + kGlobals;
     std::string call = spec.call.empty() ? spec.function + "(uv, V)" : spec.call;
     if (!spec.body.empty()) {

@@ -12,6 +12,7 @@
 #include "methods/shader/hlsl.h"
 #include "methods/shader/shader_gate.h"
 #include "methods/shader/shader_words.h"
+#include "methods/shader/source_text.h"
 
 namespace pgt::gl {
 
@@ -183,8 +184,8 @@ bool driverLine(const std::string& line, std::string& ln, std::string& col, size
 // are the user's file, `entry` the lines of the entry's "call" or "body" (Mesa does not keep
 // #line's source numbers on every message, so lines are mapped by position).
 std::string translateLog(const std::string& log, const std::string& file, int first, int count,
-                         const EntryLines& entry,
-                         const std::vector<GlslSpec::LineOrigin>& origins) {
+                         const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins,
+                         const std::vector<std::string>& declared) {
     std::istringstream in(log);
     std::ostringstream out;
     std::string line;
@@ -209,15 +210,18 @@ std::string translateLog(const std::string& log, const std::string& file, int fi
         }
         std::string where = n <= first ? "pgt prelude" : n <= first + count ? file : "pgt wrapper";
         if (where == "pgt wrapper" && line.find("warning") != std::string::npos)
-            continue;  // e.g. an uninitialised result after a call that did not compile
+            continue;      // e.g. an uninitialised result after a call that did not compile
+        std::string note;  // what the file's own #line said of the line
         if (n > first && n <= first + count) {
             n -= first;
+            if (size_t(n) <= declared.size() && !declared[size_t(n) - 1].empty())
+                note = " (its #line: " + declared[size_t(n) - 1] + ")";
             if (size_t(n) <= origins.size()) {  // a line of an #included file
                 where = origins[size_t(n) - 1].file;
                 n = origins[size_t(n) - 1].line;
             }
         }
-        out << where << ":" << n << (col.empty() ? "" : ":" + col) << ": " << line.substr(i)
+        out << where << ":" << n << (col.empty() ? "" : ":" + col) << note << ": " << line.substr(i)
             << "\n";
     }
     if (aboutCall)
@@ -242,7 +246,8 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
 template <class GetIv, class GetLog, class Delete>
 void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
                    const std::string& file, const char* verb, int userFirst, int userCount,
-                   const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins) {
+                   const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins,
+                   const std::vector<std::string>& declared) {
     GLint ok = 0;
     getIv(object, status, &ok);
     if (ok) return;
@@ -250,19 +255,20 @@ void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Del
     remove(object);
     throw InputError(file, "glsl", "",
                      std::string("the shader does not ") + verb + ":\n" +
-                         translateLog(log, file, userFirst, userCount, entry, origins));
+                         translateLog(log, file, userFirst, userCount, entry, origins, declared));
 }
 
 // `userFirst`, `userCount`: where the user's file sits in `src` (for the messages).
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
                int userCount = 1 << 30, const EntryLines& entry = {},
-               const std::vector<GlslSpec::LineOrigin>& origins = {}) {
+               const std::vector<GlslSpec::LineOrigin>& origins = {},
+               const std::vector<std::string>& declared = {}) {
     GLuint s = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
     glCompileShader(s);
     requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, file,
-                  "compile", userFirst, userCount, entry, origins);
+                  "compile", userFirst, userCount, entry, origins, declared);
     return s;
 }
 
@@ -479,7 +485,8 @@ GLuint programFor(const GlslSpec& spec) {
     checkDialect(spec);
     const Pieces pieces = wrapperPieces(spec);
     const std::string& prelude = pieces.prelude;
-    const std::string user = userLines(pieces.user);
+    std::vector<std::string> declared;  // the file's own #line numbering, for messages
+    const std::string user = userLines(blankLineDirectives(pieces.user, declared));
     const int first = countLines(prelude), count = countLines(user);
     EntryLines entry;  // in the fragment shader
     if (!spec.hlsl) {
@@ -497,7 +504,7 @@ GLuint programFor(const GlslSpec& spec) {
     GLuint vs = compile(GL_VERTEX_SHADER, kVertex, "pgt vertex shader");
     const std::vector<GlslSpec::LineOrigin> none;
     const auto& origins = spec.hlsl ? none : spec.origins;
-    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, entry, origins);
+    GLuint f = compile(GL_FRAGMENT_SHADER, fs, spec.path, first, count, entry, origins, declared);
     GLuint prog = glCreateProgram();
     glAttachShader(prog, vs);
     glAttachShader(prog, f);
@@ -505,7 +512,7 @@ GLuint programFor(const GlslSpec& spec) {
     glDeleteShader(vs);
     glDeleteShader(f);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                  spec.path, "link", first, count, entry, origins);
+                  spec.path, "link", first, count, entry, origins, declared);
     gPrograms.emplace(std::move(key), Program{prog, linkedValues(prog)});
     return prog;
 }

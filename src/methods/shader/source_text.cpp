@@ -2,6 +2,7 @@
 #include "methods/shader/source_text.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -13,6 +14,33 @@
 #include "methods/shader/shader_words.h"
 
 namespace pgt {
+
+std::string blankLineDirectives(const std::string& text, std::vector<std::string>& declared) {
+    std::istringstream in(text);
+    std::string out, line, source;
+    long next = -1;  // the number the next line is declared to have (-1: no directive yet)
+    declared.clear();
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        std::string directive, number, name;
+        words >> directive >> number >> name;
+        const bool isLine = directive == "#line" && !number.empty() &&
+                            std::all_of(number.begin(), number.end(),
+                                        [](char c) { return std::isdigit((unsigned char)c); });
+        if (isLine) {
+            declared.push_back("");
+            next = std::stol(number.substr(0, 9));
+            if (!name.empty()) source = name;
+            out += "\n";
+            continue;
+        }
+        declared.push_back(next < 0 ? ""
+                                    : (source.empty() ? "" : source + ":") + std::to_string(next));
+        if (next >= 0) ++next;
+        out += line + "\n";
+    }
+    return out;
+}
 
 std::string normaliseLineEnds(std::string text) {
     if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);

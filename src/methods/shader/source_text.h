@@ -23,6 +23,11 @@ inline constexpr size_t kMaxShaderBytes = 16u << 20;
 // Drops a leading UTF-8 byte-order mark and makes CRLF and lone CR line ends LF.
 std::string normaliseLineEnds(std::string text);
 
+// A file's own `#line N ["S"]` directives blanked (so a compiler's line numbers are the
+// lines' places in the text, which pgt maps to files), and per line of `text` what such a
+// directive declared for it ("S:N" or "N"; "" before any): the messages show both.
+std::string blankLineDirectives(const std::string& text, std::vector<std::string>& declared);
+
 // HLSL: each `enum [class] E [: T] { A [= x], B, ... };` becomes `typedef int E;` and
 // `static const int` constants, E_A for each member (and A too for a plain enum), with `E::A`
 // written E_A for E declared here or in `known`; on the enum's own lines, so that no later
