@@ -156,6 +156,44 @@ TEST(EngineFiles, GlslIncludeAndHeightInGreenEqualPom) {
                     "pom_include.glsl, height.g");
 }
 
+// "include_paths": the file alone in a folder of its own, its includes found in a folder the
+// entry names (relative to the scene file), in GLSL and HLSL; a missing folder is refused.
+TEST(EngineFiles, IncludesAreFoundOnTheIncludePaths) {
+    const auto dir = test::tempDir("include_paths");
+    std::filesystem::create_directories(dir / "shaders");
+    std::filesystem::copy_file(data("glsl/pom_include.glsl"), dir / "shaders/pom_include.glsl");
+    std::filesystem::copy_file(data("hlsl/pom_inout.hlsl"), dir / "shaders/pom_inout.hlsl");
+    const std::string glslDir = std::filesystem::path(data("glsl/pom_steps.glsl")).parent_path(),
+                      hlslDir = std::filesystem::path(data("hlsl/pom_march.hlsli")).parent_path();
+    PomCheck pom;
+    pom.expectEqual({{"name", "inc"},
+                     {"glsl", (dir / "shaders/pom_include.glsl").string()},
+                     {"include_paths", {glslDir}},
+                     {"function", "ParallaxOcclusion"},
+                     {"sampler", "packedMap"},
+                     {"texture", "height.g"},
+                     {"uniforms", pomUniforms()}},
+                    "pom_include.glsl alone, include_paths");
+    pom.expectEqual(
+        {{"name", "inout"},
+         {"hlsl", (dir / "shaders/pom_inout.hlsl").string()},
+         {"include_paths", {hlslDir}},
+         {"sampler", "heightTex"},
+         {"body",
+          {"float4 uvsets = uv.xyxy;",
+           "ParallaxOcclusion_Impl(uvsets, V, s, b, 8.0, 32.0, heightTex);", "return uvsets.zw;"}}},
+        "pom_inout.hlsl alone, include_paths");
+    try {
+        method({{"name", "x"},
+                {"glsl", (dir / "shaders/pom_include.glsl").string()},
+                {"include_paths", {"nowhere"}}});
+        ADD_FAILURE() << "a missing include folder was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("include_paths[0]"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+}
+
 // A whole GL 2 fragment shader (varyings, gl_FragColor, its own main()), whose parallax is
 // statements in main(): the same statements in "body".
 TEST(EngineFiles, WholeFragmentShaderThroughABodyEqualsPom) {

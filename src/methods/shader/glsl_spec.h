@@ -48,6 +48,9 @@ struct GlslSpec {
     // and the study's identity hashes them, so an edited include is another method. `included`:
     // their texts joined; `enums`: what they and the file declare.
     std::vector<std::pair<std::string, std::string>> includeFiles;
+    // "include_paths": folders (resolved from the scene file's folder) searched, in order, for
+    // an #include the including file's own folder does not hold.
+    std::vector<std::string> includePaths;
     std::string included;
     std::vector<std::string> enums;
     std::string function = "ParallaxMapping";

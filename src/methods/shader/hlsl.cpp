@@ -82,8 +82,12 @@ int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(),
 class Includer : public glslang::TShader::Includer {
   public:
     Includer(std::string top, std::vector<std::string> enums,
-             const std::vector<std::pair<std::string, std::string>>& files)
-        : top_(std::move(top)), enums_(std::move(enums)), files_(files) {}
+             const std::vector<std::pair<std::string, std::string>>& files,
+             const std::vector<std::string>& searchPaths)
+        : top_(std::move(top)),
+          enums_(std::move(enums)),
+          files_(files),
+          searchPaths_(searchPaths) {}
     IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
         return resolve(requested, from, depth);
     }
@@ -101,7 +105,7 @@ class Includer : public glslang::TShader::Includer {
     // `#pragma once` is included once; each is normalised as the user's file is.
     IncludeResult* resolve(const char* requested, const char* from, size_t depth) {
         const std::filesystem::path owner(from && *from ? from : top_);
-        std::string name = (owner.parent_path() / requested).lexically_normal().string();
+        std::string name = resolveInclude(owner.string(), requested, searchPaths_);
         auto* content = new std::string;
         try {
             if (depth > kMaxIncludeDepth)
@@ -129,6 +133,7 @@ class Includer : public glslang::TShader::Includer {
     std::string top_;
     std::vector<std::string> enums_;
     const std::vector<std::pair<std::string, std::string>>& files_;
+    const std::vector<std::string>& searchPaths_;
     std::set<std::string> once_;
 };
 
@@ -267,7 +272,7 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
                                       EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
-    Includer includer(spec.path, spec.enums, spec.includeFiles);
+    Includer includer(spec.path, spec.enums, spec.includeFiles, spec.includePaths);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {

@@ -325,6 +325,26 @@ std::string shaderPath(JsonFields& f, const std::string& key, const std::string&
     return path;
 }
 
+// "include_paths": folders, each relative to the scene file's folder (or absolute), that must
+// exist.
+std::vector<std::string> includePaths(JsonFields& f, const std::string& file) {
+    const Json& raw = f.raw("include_paths");
+    if (!raw.is_array()) f.fail("include_paths", "expected an array of folders");
+    std::vector<std::string> out;
+    for (size_t i = 0; i < raw.size(); ++i) {
+        const std::string field = "include_paths[" + std::to_string(i) + "]";
+        if (!raw[i].is_string() || raw[i].get<std::string>().empty())
+            f.failValue(field, raw[i], "expected a folder's path");
+        std::filesystem::path p(raw[i].get<std::string>());
+        if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+        std::error_code ec;
+        if (!std::filesystem::is_directory(p, ec))
+            f.failValue(field, raw[i], "is not a folder (" + p.lexically_normal().string() + ")");
+        out.push_back(p.lexically_normal().string());
+    }
+    return out;
+}
+
 // "call" or "body": the entry's own code, checked as one line or as a body's shape.
 void readEntryCode(JsonFields& f, GlslSpec& spec) {
     spec.call = f.string("call", "");
@@ -378,8 +398,10 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     const std::string key = spec->hlsl ? "hlsl" : "glsl";
     if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
     spec->path = shaderPath(f, key, file);
-    // Before the file: its #ifdef lines decide which includes are read (conditional_lines.h).
+    // Before the file: its #ifdef lines decide which includes are read (conditional_lines.h),
+    // and the folders its includes are searched in.
     if (f.has("defines")) spec->defines = parseDefines(f);
+    if (f.has("include_paths")) spec->includePaths = includePaths(f, file);
     readShaderSource(*spec, file, f.fieldPath(key));
     spec->function = f.string("function", "ParallaxMapping");
     if (spec->hlsl && f.has("version"))
@@ -457,6 +479,7 @@ void shaderJson(const GlslSpec& g, Json& j) {
     if (!g.call.empty()) j["call"] = g.call;
     if (!g.body.empty()) j["body"] = g.body;
     if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
+    if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
     if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
     if (g.engineInputs) j["inputs"] = "engine";
     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;

@@ -187,7 +187,7 @@ std::string enumConstants(const std::string& t, const std::vector<ShaderWord>& w
 void collectIncludes(const std::string& path, const std::string& text, size_t depth,
                      std::set<std::string>& seen, size_t& bytes, ConditionalLines& cond,
                      std::vector<std::pair<std::string, std::string>>& out,
-                     Branch from = Branch::Active) {
+                     const std::vector<std::string>& searchPaths, Branch from = Branch::Active) {
     if (depth >= kMaxIncludeDepth) return;
     std::istringstream in(blankComments(text));
     cond.enterFile(from);
@@ -196,8 +196,7 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
         const Branch branch = cond.next(line);
         if (branch == Branch::Skipped || target.empty()) continue;
         throwIfCancelled();
-        const std::string name =
-            (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
+        const std::string name = resolveInclude(path, target, searchPaths);
         if (!seen.insert(name).second) continue;
         std::string sub;
         try {
@@ -210,7 +209,7 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
         bytes += sub.size() + 1;
         out.emplace_back(name, sub);
         if (bytes > kMaxShaderBytes) break;
-        collectIncludes(name, sub, depth + 1, seen, bytes, cond, out, branch);
+        collectIncludes(name, sub, depth + 1, seen, bytes, cond, out, searchPaths, branch);
     }
     cond.leaveFile();
 }
@@ -219,13 +218,28 @@ void collectIncludes(const std::string& path, const std::string& text, size_t de
 
 std::vector<std::pair<std::string, std::string>> hlslIncludes(
     const std::string& path, const std::string& text,
-    const std::vector<std::pair<std::string, std::string>>& defines) {
+    const std::vector<std::pair<std::string, std::string>>& defines,
+    const std::vector<std::string>& searchPaths) {
     std::set<std::string> seen = {std::filesystem::path(path).lexically_normal().string()};
     size_t bytes = 0;
     std::vector<std::pair<std::string, std::string>> out;
     ConditionalLines cond(defines);
-    collectIncludes(path, text, 0, seen, bytes, cond, out);
+    collectIncludes(path, text, 0, seen, bytes, cond, out, searchPaths);
     return out;
+}
+
+std::string resolveInclude(const std::string& including, const std::string& target,
+                           const std::vector<std::string>& searchPaths) {
+    namespace fs = std::filesystem;
+    const std::string beside =
+        (fs::path(including).parent_path() / target).lexically_normal().string();
+    std::error_code ec;
+    if (fs::is_regular_file(beside, ec) || fs::path(target).is_absolute()) return beside;
+    for (const std::string& dir : searchPaths) {
+        const std::string there = (fs::path(dir) / target).lexically_normal().string();
+        if (fs::is_regular_file(there, ec)) return there;
+    }
+    return beside;
 }
 
 std::vector<std::string> hlslEnumNames(const std::string& text) {
@@ -413,8 +427,9 @@ class GlslIncludes {
     std::vector<GlslSpec::LineOrigin> origins;
     bool any = false;
 
-    explicit GlslIncludes(const std::vector<std::pair<std::string, std::string>>& defines)
-        : cond_(defines) {}
+    GlslIncludes(const std::vector<std::pair<std::string, std::string>>& defines,
+                 const std::vector<std::string>& searchPaths)
+        : cond_(defines), searchPaths_(searchPaths) {}
 
     // Each line kept (an include in a branch certainly skipped, or in one pgt cannot judge
     // whose file is missing, blanked: the compiler skips or names it); the includes expanded.
@@ -435,8 +450,7 @@ class GlslIncludes {
             }
             any = true;
             throwIfCancelled();  // an include fan-out: Ctrl-C in Python stops between files
-            const std::string name =
-                (std::filesystem::path(path).parent_path() / target).lexically_normal().string();
+            const std::string name = resolveInclude(path, target, searchPaths_);
             std::error_code ec;
             if (branch == Branch::Skipped) {
                 text += "\n";
@@ -474,6 +488,7 @@ class GlslIncludes {
 
   private:
     ConditionalLines cond_;
+    const std::vector<std::string>& searchPaths_;
     std::set<std::string> once_;
     size_t bytes_ = 0;
 };
@@ -487,14 +502,14 @@ void readShaderSource(GlslSpec& spec, const std::string& owner, const std::strin
     spec.origins.clear();
     if (spec.hlsl) {  // glslang includes the HLSL files (methods/shader/hlsl.cpp)
         takePragmaOnce(text);
-        spec.includeFiles = hlslIncludes(spec.path, text, spec.defines);
+        spec.includeFiles = hlslIncludes(spec.path, text, spec.defines, spec.includePaths);
         spec.included.clear();
         for (const auto& [name, sub] : spec.includeFiles) spec.included += sub + "\n";
         spec.enums = hlslEnumNames(text + spec.included);
         spec.source = hlslSamplerDefaults(hlslEnumsAsConstants(text, spec.enums));
         return;
     }
-    GlslIncludes includes(spec.defines);
+    GlslIncludes includes(spec.defines, spec.includePaths);
     includes.expand(spec.path, text, 0);
     if (!includes.any) {  // the file's own text, byte for byte (its SHA-1 names the study)
         spec.source = std::move(text);

@@ -39,7 +39,12 @@ std::string hlslEnumsAsConstants(const std::string& text, const std::vector<std:
 // a conditional certainly skipped with `defines` (conditional_lines.h) is not read.
 std::vector<std::pair<std::string, std::string>> hlslIncludes(
     const std::string& path, const std::string& text,
-    const std::vector<std::pair<std::string, std::string>>& defines);
+    const std::vector<std::pair<std::string, std::string>>& defines,
+    const std::vector<std::string>& searchPaths = {});
+// The file an `#include "target"` of the file `including` reads: beside it, else in the first
+// of `searchPaths` that holds it (GlslSpec::includePaths), else beside it (for the error).
+std::string resolveInclude(const std::string& including, const std::string& target,
+                           const std::vector<std::string>& searchPaths);
 // The enums `text` declares (for `E::A` across files).
 std::vector<std::string> hlslEnumNames(const std::string& text);
 
