@@ -194,6 +194,37 @@ TEST(EngineFiles, IncludesAreFoundOnTheIncludePaths) {
     std::filesystem::remove_all(dir);
 }
 
+// A generator's shader has no file (Panda3D's): a "body" alone, in GLSL (default) or HLSL
+// ("language"), with the sampler pgt declares and s, b; it equals pom as a file would.
+TEST(EngineFiles, ABodyWithoutAFileEqualsPom) {
+    PomCheck pom;
+    pom.expectEqual(
+        {{"name", "generated"},
+         {"version", "330"},
+         {"body",
+          {"uv = uv + V.xy / V.z * (s + b);", "float numLayers = mix(32.0, 8.0, abs(V.z));",
+           "vec2 delta = V.xy / V.z * s / numLayers;",
+           "float depth = 1.0 - textureLod(depthMap, uv, 0.0).r, layer = 0.0;",
+           "while (layer < depth) {", "    uv -= delta;",
+           "    depth = 1.0 - textureLod(depthMap, uv, 0.0).r;", "    layer += 1.0 / numLayers;",
+           "}", "vec2 prev = uv + delta;", "float after = depth - layer;",
+           "float before = 1.0 - textureLod(depthMap, prev, 0.0).r - layer + 1.0 / numLayers;",
+           "return mix(uv, prev, after / (after - before));"}}},
+        "a body without a file (GLSL)");
+    const MethodConfig m = method({{"name", "g"}, {"language", "hlsl"}, {"body", "return uv;"}});
+    EXPECT_TRUE(m.shader()->hlsl);
+    EXPECT_FALSE(m.shader()->ownFile);
+    EXPECT_EQ(toJson(m).at("language"), "hlsl");
+    EXPECT_FALSE(toJson(m).contains("hlsl"));
+    // Without a body it is no method: the error says what is missing.
+    try {
+        method({{"name", "g"}, {"language", "glsl"}, {"call", "uv"}});
+        ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("body"), std::string::npos) << e.what();
+    }
+}
+
 // A whole GL 2 fragment shader (varyings, gl_FragColor, its own main()), whose parallax is
 // statements in main(): the same statements in "body".
 TEST(EngineFiles, WholeFragmentShaderThroughABodyEqualsPom) {

@@ -142,7 +142,9 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
         throw InputError(file, path, shortDump(entry), "expected a method name or object");
     if (object.contains("preset")) return parsePreset(object, file, path, worldPerUv);
     JsonFields f(object, file, path);
-    if (object.contains("glsl") || object.contains("hlsl")) return parseShaderMethod(f, file);
+    // A shader: its file, or a body alone in a language (no built-in has either key).
+    for (const char* key : {"glsl", "hlsl", "body", "language"})
+        if (object.contains(key)) return parseShaderMethod(f, file);
     MethodConfig cfg;
     cfg.name = f.choice("name", methodNames(), "");
     BuiltinMethod& b = *cfg.builtin();

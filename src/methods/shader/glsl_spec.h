@@ -34,8 +34,10 @@ inline bool mentionsIdentifier(const std::string& text, const std::string& word)
 }
 
 struct GlslSpec {
-    std::string path;    // as resolved from the scene file's folder
-    std::string source;  // the file's text (read when the scene is parsed)
+    std::string path;    // as resolved from the scene file's folder (no file: the scene file)
+    std::string source;  // the file's text (read when the scene is parsed); "" without one
+    // Whether the entry names a file ("glsl" / "hlsl"); false: its "body" is all its code.
+    bool ownFile = true;
     // Where each line of `source` came from, when GLSL #includes were expanded into it
     // (methods/shader/source_text.h); empty: every line is the file's own.
     struct LineOrigin {

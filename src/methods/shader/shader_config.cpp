@@ -393,16 +393,22 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
     cfg.name = f.string("name", "");
     checkLabel(cfg.name, file, f.fieldPath("name"));  // a GLSL method's name is its label
     auto spec = std::make_shared<GlslSpec>();
-    // "glsl": FILE or "hlsl": FILE (one of them).
-    spec->hlsl = f.has("hlsl");
+    // "glsl": FILE or "hlsl": FILE (one of them); or no file: a "body" in the "language"
+    // named (GLSL by default), such as a generator's output (GlslSpec::ownFile).
+    spec->ownFile = f.has("glsl") || f.has("hlsl");
+    spec->hlsl =
+        spec->ownFile ? f.has("hlsl") : f.choice("language", {"glsl", "hlsl"}, "glsl") == "hlsl";
     const std::string key = spec->hlsl ? "hlsl" : "glsl";
     if (spec->hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
-    spec->path = shaderPath(f, key, file);
+    if (!spec->ownFile && !f.has("body"))
+        f.fail("body", "a method without a \"glsl\" or \"hlsl\" file is its \"body\"");
+    // A body without a file is named after the scene file in messages.
+    spec->path = spec->ownFile ? shaderPath(f, key, file) : file;
     // Before the file: its #ifdef lines decide which includes are read (conditional_lines.h),
     // and the folders its includes are searched in.
     if (f.has("defines")) spec->defines = parseDefines(f);
     if (f.has("include_paths")) spec->includePaths = includePaths(f, file);
-    readShaderSource(*spec, file, f.fieldPath(key));
+    if (spec->ownFile) readShaderSource(*spec, file, f.fieldPath(key));
     spec->function = f.string("function", "ParallaxMapping");
     if (spec->hlsl && f.has("version"))
         f.fail("version", "names a GLSL dialect; an HLSL method has none");
@@ -467,7 +473,10 @@ std::string setShaderUniform(ShaderMethod& m, const std::string& name, const Jso
 // A shader's entry as JSON: its file, entry, samplers, layout, call, defines, uniforms and
 // the SHA-1 of its text.
 void shaderJson(const GlslSpec& g, Json& j) {
-    j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+    if (g.ownFile)
+        j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+    else
+        j["language"] = g.hlsl ? "hlsl" : "glsl";
     if (g.call.empty() && g.body.empty()) j["function"] = g.function;
     // 110: none named; HLSL has none (its "450" is the GLSL pgt makes of it).
     if (!g.hlsl && g.version != "110") j["version"] = g.version;
