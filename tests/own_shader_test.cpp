@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
+#include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
 #include "study/render.h"
 #include "test_util.h"
@@ -192,6 +193,42 @@ TEST(EngineFiles, IncludesAreFoundOnTheIncludePaths) {
         EXPECT_NE(std::string(e.what()).find("include_paths[0]"), std::string::npos) << e.what();
     }
     std::filesystem::remove_all(dir);
+}
+
+// A Vulkan-style fragment shader as it ships (tests/data/glsl/vulkan_pom.frag): set and binding
+// layouts, a uniform block and a push-constant block whose members the entry sets by
+// "INSTANCE.MEMBER", located stage inputs and output (plain globals a body may assign), an
+// array texture; its function through a body, with the height as depth in the normal map's
+// alpha. It equals pom with no wrapper (issue 54).
+TEST(EngineFiles, VulkanStyleGlslRunsAsShipped) {
+    PomCheck pom;
+    nlohmann::json entry = {{"name", "vk"},
+                            {"glsl", data("glsl/vulkan_pom.frag")},
+                            {"sampler", "sNormalHeightMap"},
+                            {"texture", "normal+depth"},
+                            {"uniforms",
+                             {{"ubo.heightScale", "scale"},
+                              {"ubo.parallaxBias", "bias"},
+                              {"ubo.maxLayers", 32.0},
+                              {"pc.minLayers", 8.0}}},
+                            {"body", {"inUV = uv;", "return parallaxOcclusion(inUV, V);"}}};
+    pom.expectEqual(entry, "vulkan_pom.frag");
+    // The text the GL gets keeps every line in its place.
+    std::ifstream in(data("glsl/vulkan_pom.frag"));
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    const std::string gl = vulkanGlslForGl(text);
+    EXPECT_EQ(std::count(gl.begin(), gl.end(), '\n'), std::count(text.begin(), text.end(), '\n'));
+    EXPECT_EQ(gl.find("set ="), std::string::npos) << gl;
+    EXPECT_EQ(gl.find("push_constant"), std::string::npos) << gl;
+    EXPECT_NE(gl.find("struct UBO"), std::string::npos) << gl;
+    EXPECT_NE(gl.find("uniform PushConsts pc;"), std::string::npos) << gl;
+    // A block without an instance name: its members become uniforms.
+    const std::string members =
+        vulkanGlslForGl("layout(binding = 0) uniform B {\n    float k;\n    vec2 m;\n};\n");
+    EXPECT_NE(members.find("\n    uniform float k;\n    uniform vec2 m;\n"), std::string::npos)
+        << members;
+    EXPECT_EQ(members.find_first_of("{}"), std::string::npos) << members;
+    EXPECT_EQ(std::count(members.begin(), members.end(), '\n'), 4);
 }
 
 // A generator's shader has no file (Panda3D's): a "body" alone, in GLSL (default) or HLSL

@@ -36,11 +36,62 @@ vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textur
 vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
     pgt_fetches++; return textureGrad(s, p, dx, dy); }
 vec4 pgt_texelFetch(sampler2D s, ivec2 p, int l) { pgt_fetches++; return texelFetch(s, p, l); }
-#define texture pgt_texture
+)";
+constexpr const char* kTextureNames = R"(#define texture pgt_texture
 #define textureLod pgt_textureLod
 #define textureGrad pgt_textureGrad
 #define texelFetch pgt_texelFetch
 )";
+
+// The counting functions for every other sampler type a file may declare (a Vulkan shader's
+// array of layers, a cube map, a shadow map, integer textures), so that a `texture()` on them
+// compiles under kTextureNames' names, and counts: the sampler, texture()'s coordinate, the
+// derivatives' type, texelFetch's coordinate ("" where GLSL has none) and what it returns.
+struct SamplerOverload {
+    const char *type, *coord, *grad, *fetch, *value;
+    bool bias = true, lod = true;
+};
+constexpr SamplerOverload kSamplerOverloads[] = {
+    {"sampler1D", "float", "float", "int", "vec4"},
+    {"sampler1DArray", "vec2", "float", "ivec2", "vec4"},
+    {"sampler2DArray", "vec3", "vec2", "ivec3", "vec4"},
+    {"sampler3D", "vec3", "vec3", "ivec3", "vec4"},
+    {"samplerCube", "vec3", "vec3", "", "vec4"},
+    {"samplerCubeArray", "vec4", "vec3", "", "vec4"},
+    {"isampler2D", "vec2", "vec2", "ivec2", "ivec4"},
+    {"usampler2D", "vec2", "vec2", "ivec2", "uvec4"},
+    {"sampler2DShadow", "vec3", "vec2", "", "float"},
+    {"samplerCubeShadow", "vec4", "vec3", "", "float", true, false},
+    {"sampler2DArrayShadow", "vec4", "vec2", "", "float", false, false},
+};
+
+std::string samplerOverloads() {
+    std::string out;
+    for (const SamplerOverload& o : kSamplerOverloads) {
+        const std::string t = o.type, c = o.coord, g = o.grad, v = o.value;
+        const std::string head = v + " pgt_";
+        out +=
+            head + "texture(" + t + " s, " + c + " p) { pgt_fetches++; return texture(s, p); }\n";
+        if (o.bias)
+            out += head + "texture(" + t + " s, " + c +
+                   " p, float b) { pgt_fetches++; return texture(s, p, b); }\n";
+        if (o.lod)
+            out += head + "textureLod(" + t + " s, " + c +
+                   " p, float l) { pgt_fetches++; return textureLod(s, p, l); }\n";
+        out += head + "textureGrad(" + t + " s, " + c + " p, " + g + " dx, " + g +
+               " dy) { pgt_fetches++; return textureGrad(s, p, dx, dy); }\n";
+        if (*o.fetch)
+            out += head + "texelFetch(" + t + " s, " + o.fetch +
+                   " p, int l) { pgt_fetches++; return texelFetch(s, p, l); }\n";
+    }
+    return out;
+}
+
+// pgt's prelude: the counting functions of every sampler type, then their names.
+const std::string& preludeText() {
+    static const std::string text = std::string(kPrelude) + samplerOverloads() + kTextureNames;
+    return text;
+}
 
 // The legacy dialects' texture functions (GLSL ES 1.00 and desktop 1.10/1.20, with the lod
 // extensions ES 1.00 code enables), counted as the modern ones are.
@@ -60,11 +111,14 @@ vec4 pgt_frag_color, pgt_frag_data[8];
 constexpr const char* kOwnMain = "#define main pgt_user_main\n";
 constexpr const char* kOwnMainEnd = "#undef main\n";
 
-// Extensions whose functions GLSL 4.50 has built in: their #extension lines are blanked
+// Extensions whose functions GLSL 4.50 has built in (and glslang's include directive, which
+// pgt's own #include expansion stands for): their #extension lines are blanked
 // (an #extension after the prelude's code would be refused, and "require" of an ES-only name
 // fails on a desktop GL).
 constexpr const char* kCoreExtensions[] = {
-    "GL_OES_standard_derivatives", "GL_EXT_shader_texture_lod", "GL_ARB_shader_texture_lod"};
+    "GL_OES_standard_derivatives",     "GL_EXT_shader_texture_lod",
+    "GL_ARB_shader_texture_lod",       "GL_ARB_separate_shader_objects",
+    "GL_ARB_shading_language_420pack", "GL_GOOGLE_include_directive"};
 
 // "inputs": "engine" (GlslSpec::engineInputs): an engine's varyings as globals any function
 // reads, set by main() before the call (an HLSL method's pgt_set_engine is its own, hlsl.cpp),
@@ -323,7 +377,7 @@ constexpr const char* kGlY = R"(#define dFdy(p) (-(dFdy(p)))
 
 Pieces wrapperPieces(const GlslSpec& spec) {
     Pieces p;
-    p.prelude = std::string(kPrelude) + (spec.legacyTextureNames() ? kLegacyNames : "") +
+    p.prelude = preludeText() + (spec.legacyTextureNames() ? kLegacyNames : "") +
                 (spec.api == GlslSpec::Api::Gl ? kGlY : "");
     if (spec.hlsl) {  // defines and samplers are the HLSL compiler's
         if (spec.engineInputs) p.prelude += "#define PGT_ENGINE_INPUTS 1\n";
@@ -337,7 +391,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
             p.prelude += "uniform sampler2D " + name + ";  // declared by pgt\n";
     for (const auto& [name, value] : spec.defines)
         p.prelude += "#define " + name + " " + value + "\n";
-    p.user = spec.source;
+    p.user = vulkanGlslForGl(spec.source);  // Vulkan-style layouts, stage variables, blocks
     const std::vector<std::string> mains = functionTypes(spec.source, "main");
     if (std::find(mains.begin(), mains.end(), "void") != mains.end()) {
         p.prelude += kOwnMain;

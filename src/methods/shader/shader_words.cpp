@@ -91,14 +91,145 @@ bool declaresGlobal(const std::string& t, const std::string& name,
         const std::string type = wordText(t, w[j - 1]);
         if (std::find(types.begin(), types.end(), type) == types.end()) continue;
         size_t k = j - 1;
-        while (k > 0 && w[k - 1].ident &&
-               (is(t, w[k - 1], "uniform") || is(t, w[k - 1], "lowp") ||
-                is(t, w[k - 1], "mediump") || is(t, w[k - 1], "highp") ||
-                is(t, w[k - 1], "static")))
-            --k;
+        for (bool more = true; more && k > 0;) {
+            more = false;
+            if (w[k - 1].ident && (is(t, w[k - 1], "uniform") || is(t, w[k - 1], "lowp") ||
+                                   is(t, w[k - 1], "mediump") || is(t, w[k - 1], "highp") ||
+                                   is(t, w[k - 1], "static"))) {
+                --k, more = true;
+            } else if (is(t, w[k - 1], ")")) {  // layout(binding = 0, set = 1) (Vulkan GLSL)
+                size_t open = k - 1;
+                while (open > 0 && !is(t, w[open], "(")) --open;
+                if (open > 0 && is(t, w[open - 1], "layout")) k = open - 1, more = true;
+            }
+        }
         if (k == 0 || boundary(t, w[k - 1])) return true;
     }
     return false;
+}
+
+namespace {
+
+// Edits of a text by position, applied from the last: each replaces [begin, end).
+struct TextEdit {
+    size_t begin, end;
+    std::string with;
+};
+
+std::string applyEdits(std::string text, std::vector<TextEdit> edits) {
+    std::sort(edits.begin(), edits.end(),
+              [](const TextEdit& a, const TextEdit& b) { return a.begin > b.begin; });
+    for (const TextEdit& e : edits) text.replace(e.begin, e.end - e.begin, e.with);
+    return text;
+}
+
+// Blanks [begin, end) but its line breaks (so no line moves).
+TextEdit blank(const std::string& t, size_t begin, size_t end) {
+    std::string with = t.substr(begin, end - begin);
+    for (char& c : with)
+        if (c != '\n') c = ' ';
+    return {begin, end, with};
+}
+
+// The word after the one that closes the bracket opened at word `open` ('(' or '{').
+size_t closing(const std::string& t, const std::vector<ShaderWord>& w, size_t open) {
+    const char o = t[w[open].begin], c = o == '(' ? ')' : '}';
+    int depth = 0;
+    for (size_t k = open; k < w.size(); ++k) {
+        if (!w[k].ident && t[w[k].begin] == o) ++depth;
+        if (!w[k].ident && t[w[k].begin] == c && --depth == 0) return k;
+    }
+    return w.size() - 1;
+}
+
+bool oneOf(const std::string& t, const ShaderWord& w, std::initializer_list<const char*> names) {
+    for (const char* n : names)
+        if (is(t, w, n)) return true;
+    return false;
+}
+
+// A layout group `layout ( ... )` at words [at, close]: edits dropping `set = N` and
+// `push_constant` (the whole group when nothing else is left, or when `all`).
+void editLayout(const std::string& t, const std::vector<ShaderWord>& w, size_t at, size_t close,
+                bool all, std::vector<TextEdit>& edits) {
+    std::vector<std::pair<size_t, size_t>> items;  // words of each comma-separated item
+    size_t start = at + 2;
+    for (size_t k = start; k <= close; ++k)
+        if (k == close || is(t, w[k], ",")) items.push_back({start, k}), start = k + 1;
+    size_t kept = 0;
+    std::vector<TextEdit> mine;
+    for (size_t i = 0; i < items.size(); ++i) {
+        const auto [a, b] = items[i];
+        const bool drop = a < b && (is(t, w[a], "set") || is(t, w[a], "push_constant"));
+        if (!drop) {
+            ++kept;
+            continue;
+        }
+        // The item and the comma before it (or after it, for the first).
+        const size_t from = i > 0 ? w[a - 1].begin : w[a].begin;
+        const size_t to = i > 0 || b >= close ? w[b - 1].end : w[b].end;
+        mine.push_back(blank(t, from, to));
+    }
+    if (all || kept == 0)
+        edits.push_back(blank(t, w[at].begin, w[close].end));
+    else
+        edits.insert(edits.end(), mine.begin(), mine.end());
+}
+
+}  // namespace
+
+std::string vulkanGlslForGl(const std::string& t) {
+    const std::vector<ShaderWord> w = shaderWords(t);
+    std::vector<TextEdit> edits;
+    size_t k = 0;
+    while (k < w.size()) {
+        // A global declaration: its words up to ';' or '{' at this level.
+        size_t end = k;
+        while (end < w.size() && !is(t, w[end], ";") && !is(t, w[end], "{") && !boundary(t, w[end]))
+            end = is(t, w[end], "(") ? closing(t, w, end) + 1 : end + 1;
+        std::vector<size_t> layouts;  // each layout group's first word
+        size_t stage = w.size(), uniform = w.size();
+        for (size_t j = k; j < end; ++j) {
+            if (is(t, w[j], "layout") && j + 1 < end && is(t, w[j + 1], "(")) layouts.push_back(j);
+            if (oneOf(t, w[j], {"in", "out"}) && stage == w.size()) stage = j;
+            if (is(t, w[j], "uniform") && uniform == w.size()) uniform = j;
+            if (is(t, w[j], "(")) j = closing(t, w, j);
+        }
+        const bool block = end < w.size() && is(t, w[end], "{");
+        if (block && uniform < end && end == uniform + 2) {  // uniform NAME { ... } [inst];
+            const size_t close = closing(t, w, end);
+            size_t after = close + 1;
+            const bool instance = after < w.size() && w[after].ident;
+            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
+            if (instance) {  // struct NAME { ... }; uniform NAME inst;
+                edits.push_back({w[uniform].begin, w[uniform].end, "struct"});
+                edits.push_back(
+                    {w[close].end, w[close].end, "; uniform " + wordText(t, w[uniform + 1])});
+            } else {  // its members as uniforms
+                edits.push_back(blank(t, w[uniform].begin, w[end].end));
+                size_t m = end + 1;
+                while (m < close) {
+                    edits.push_back({w[m].begin, w[m].begin, "uniform "});
+                    while (m < close && !is(t, w[m], ";")) ++m;
+                    ++m;
+                }
+                edits.push_back(blank(t, w[close].begin, w[close].end));
+            }
+            k = after;
+            continue;
+        }
+        if (!block && stage < end && uniform == w.size()) {  // a stage variable: a plain global
+            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
+            for (size_t j = k; j < end; ++j)
+                if (oneOf(t, w[j], {"in", "out", "flat", "smooth", "noperspective", "centroid"}))
+                    edits.push_back(blank(t, w[j].begin, w[j].end));
+        } else {
+            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), false, edits);
+        }
+        // Past the declaration; a function's body (or any other block) is skipped whole.
+        k = block ? closing(t, w, end) + 1 : end + 1;
+    }
+    return applyEdits(t, std::move(edits));
 }
 
 std::vector<std::string> functionTypes(const std::string& t, const std::string& name) {

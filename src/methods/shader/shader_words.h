@@ -31,6 +31,13 @@ inline std::string wordText(const std::string& text, const ShaderWord& w) {
 // "[" or ",". A function parameter of that name is no declaration.
 bool declaresGlobal(const std::string& text, const std::string& name,
                     const std::vector<std::string>& types);
+// A Vulkan-style GLSL file as OpenGL 4.50 takes it, every line in its place: `set = N` and
+// `push_constant` dropped from layout qualifiers; global stage inputs and outputs (`layout(
+// location = 0) in vec2 inUV;`, `out vec4 outColor;`) made plain globals, which a "body" may
+// assign (pgt's own stage feeds the entry); a uniform or push-constant block with an instance
+// name made a struct and a uniform of it (its members set as "INSTANCE.MEMBER"), one without
+// an instance name made its members uniforms.
+std::string vulkanGlslForGl(const std::string& text);
 // The types of each function named `name` that `text` defines or declares (`T name(`, T a
 // word other than a statement's keyword).
 std::vector<std::string> functionTypes(const std::string& text, const std::string& name);
