@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 
@@ -54,6 +55,26 @@ nlohmann::json pomUniforms() {
             {"min_layers", 8.0},
             {"max_layers", 32.0}};
 }
+// pgt's pom (docs/model.md §6b) as a body's statements: `start`, the lines that move uv to the
+// top of the relief (and declare what they need), then the march with `scale` the name of s
+// and `depthAt(P)` the depth read at P.
+nlohmann::json pomBody(std::vector<std::string> start, const std::string& scale,
+                       const std::function<std::string(const std::string&)>& depthAt) {
+    for (const std::string& line :
+         {std::string("float numLayers = mix(32.0, 8.0, abs(V.z));"),
+          "vec2 delta = V.xy / V.z * " + scale + " / numLayers;",
+          "float depth = " + depthAt("uv") + ", layer = 0.0;",
+          std::string("while (layer < depth) {"), std::string("    uv -= delta;"),
+          "    depth = " + depthAt("uv") + ";", std::string("    layer += 1.0 / numLayers;"),
+          std::string("}"), std::string("vec2 prev = uv + delta;"),
+          "float after = depth - layer, before = " + depthAt("prev") +
+              " - layer + 1.0 / numLayers;",
+          std::string("return mix(uv, prev, after / (after - before));")})
+        start.push_back(line);
+    return start;
+}
+std::string fileDepthAt(const std::string& p) { return "depthAt(" + p + ")"; }
+
 // The shaders scenes/own_shader.json ships.
 std::string scene(const std::string& file) {
     return test::testSourceDir() + "/../scenes/own_shader/" + file;
@@ -235,19 +256,13 @@ TEST(EngineFiles, VulkanStyleGlslRunsAsShipped) {
 // ("language"), with the sampler pgt declares and s, b; it equals pom as a file would.
 TEST(EngineFiles, ABodyWithoutAFileEqualsPom) {
     PomCheck pom;
-    pom.expectEqual(
-        {{"name", "generated"},
-         {"version", "330"},
-         {"body",
-          {"uv = uv + V.xy / V.z * (s + b);", "float numLayers = mix(32.0, 8.0, abs(V.z));",
-           "vec2 delta = V.xy / V.z * s / numLayers;",
-           "float depth = 1.0 - textureLod(depthMap, uv, 0.0).r, layer = 0.0;",
-           "while (layer < depth) {", "    uv -= delta;",
-           "    depth = 1.0 - textureLod(depthMap, uv, 0.0).r;", "    layer += 1.0 / numLayers;",
-           "}", "vec2 prev = uv + delta;", "float after = depth - layer;",
-           "float before = 1.0 - textureLod(depthMap, prev, 0.0).r - layer + 1.0 / numLayers;",
-           "return mix(uv, prev, after / (after - before));"}}},
-        "a body without a file (GLSL)");
+    pom.expectEqual({{"name", "generated"},
+                     {"version", "330"},
+                     {"body", pomBody({"uv = uv + V.xy / V.z * (s + b);"}, "s",
+                                      [](const std::string& p) {
+                                          return "(1.0 - textureLod(depthMap, " + p + ", 0.0).r)";
+                                      })}},
+                    "a body without a file (GLSL)");
     const MethodConfig m = method({{"name", "g"}, {"language", "hlsl"}, {"body", "return uv;"}});
     EXPECT_TRUE(m.shader()->hlsl);
     EXPECT_FALSE(m.shader()->ownFile);
@@ -266,42 +281,28 @@ TEST(EngineFiles, ABodyWithoutAFileEqualsPom) {
 // statements in main(): the same statements in "body".
 TEST(EngineFiles, WholeFragmentShaderThroughABodyEqualsPom) {
     PomCheck pom;
-    pom.expectEqual(
-        {{"name", "whole"},
-         {"glsl", data("glsl/whole_frag.glsl")},
-         {"sampler", "uHeightMap"},
-         {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
-         {"body",
-          {"uv = uv + V.xy / V.z * (uHeightScale + uHeightBias);",
-           "float numLayers = mix(32.0, 8.0, abs(V.z));",
-           "vec2 delta = V.xy / V.z * uHeightScale / numLayers;",
-           "float depth = depthAt(uv), layer = 0.0;", "while (layer < depth) {", "    uv -= delta;",
-           "    depth = depthAt(uv);", "    layer += 1.0 / numLayers;", "}",
-           "vec2 prev = uv + delta;",
-           "float after = depth - layer, before = depthAt(prev) - layer + 1.0 / numLayers;",
-           "return mix(uv, prev, after / (after - before));"}}},
-        "whole_frag.glsl, body");
+    pom.expectEqual({{"name", "whole"},
+                     {"glsl", data("glsl/whole_frag.glsl")},
+                     {"sampler", "uHeightMap"},
+                     {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
+                     {"body", pomBody({"uv = uv + V.xy / V.z * (uHeightScale + uHeightBias);"},
+                                      "uHeightScale", fileDepthAt)}},
+                    "whole_frag.glsl, body");
 }
 
 // A body's locals may take the names pgt hands it (N, V, s, b), as an engine's code does
 // (`vec3 N = ...`, `V = normalize(V)`): the body has a scope of its own (issue 54).
 TEST(EngineFiles, ABodysLocalsMayTakePgtsNames) {
     PomCheck pom;
-    pom.expectEqual(
-        {{"name", "whole"},
-         {"glsl", data("glsl/whole_frag.glsl")},
-         {"sampler", "uHeightMap"},
-         {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
-         {"body",
-          {"vec3 N = vec3(0.0, 0.0, 1.0);", "vec3 V = V;", "float s = uHeightScale;",
-           "uv = uv + V.xy / dot(V, N) * (s + uHeightBias);",
-           "float numLayers = mix(32.0, 8.0, abs(V.z));",
-           "vec2 delta = V.xy / V.z * s / numLayers;", "float depth = depthAt(uv), layer = 0.0;",
-           "while (layer < depth) {", "    uv -= delta;", "    depth = depthAt(uv);",
-           "    layer += 1.0 / numLayers;", "}", "vec2 prev = uv + delta;",
-           "float after = depth - layer, before = depthAt(prev) - layer + 1.0 / numLayers;",
-           "return mix(uv, prev, after / (after - before));"}}},
-        "whole_frag.glsl, body with locals N, V, s");
+    pom.expectEqual({{"name", "whole"},
+                     {"glsl", data("glsl/whole_frag.glsl")},
+                     {"sampler", "uHeightMap"},
+                     {"uniforms", {{"uHeightScale", "scale"}, {"uHeightBias", "bias"}}},
+                     {"body", pomBody({"vec3 N = vec3(0.0, 0.0, 1.0);", "vec3 V = V;",
+                                       "float s = uHeightScale;",
+                                       "uv = uv + V.xy / dot(V, N) * (s + uHeightBias);"},
+                                      "s", fileDepthAt)}},
+                    "whole_frag.glsl, body with locals N, V, s");
     pom.expectEqual(
         {{"name", "inout"},
          {"hlsl", data("hlsl/pom_inout.hlsl")},

@@ -176,6 +176,26 @@ void editLayout(const std::string& t, const std::vector<ShaderWord>& w, size_t a
         edits.insert(edits.end(), mine.begin(), mine.end());
 }
 
+// `uniform NAME { members } [inst];` from its `uniform` word: with an instance name, `struct
+// NAME { members }; uniform NAME inst;`; without, its members as uniforms. Returns the word
+// after the block's '}'.
+size_t editUniformBlock(const std::string& t, const std::vector<ShaderWord>& w, size_t uniform,
+                        std::vector<TextEdit>& edits) {
+    const size_t open = uniform + 2, close = closing(t, w, open);
+    if (close + 1 < w.size() && w[close + 1].ident) {
+        edits.push_back({w[uniform].begin, w[uniform].end, "struct"});
+        edits.push_back({w[close].end, w[close].end, "; uniform " + wordText(t, w[uniform + 1])});
+        return close + 1;
+    }
+    edits.push_back(blank(t, w[uniform].begin, w[open].end));
+    for (size_t m = open + 1; m < close; ++m) {
+        edits.push_back({w[m].begin, w[m].begin, "uniform "});
+        while (m < close && !is(t, w[m], ";")) ++m;
+    }
+    edits.push_back(blank(t, w[close].begin, w[close].end));
+    return close + 1;
+}
+
 }  // namespace
 
 std::string vulkanGlslForGl(const std::string& t) {
@@ -197,25 +217,8 @@ std::string vulkanGlslForGl(const std::string& t) {
         }
         const bool block = end < w.size() && is(t, w[end], "{");
         if (block && uniform < end && end == uniform + 2) {  // uniform NAME { ... } [inst];
-            const size_t close = closing(t, w, end);
-            size_t after = close + 1;
-            const bool instance = after < w.size() && w[after].ident;
             for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
-            if (instance) {  // struct NAME { ... }; uniform NAME inst;
-                edits.push_back({w[uniform].begin, w[uniform].end, "struct"});
-                edits.push_back(
-                    {w[close].end, w[close].end, "; uniform " + wordText(t, w[uniform + 1])});
-            } else {  // its members as uniforms
-                edits.push_back(blank(t, w[uniform].begin, w[end].end));
-                size_t m = end + 1;
-                while (m < close) {
-                    edits.push_back({w[m].begin, w[m].begin, "uniform "});
-                    while (m < close && !is(t, w[m], ";")) ++m;
-                    ++m;
-                }
-                edits.push_back(blank(t, w[close].begin, w[close].end));
-            }
-            k = after;
+            k = editUniformBlock(t, w, uniform, edits);
             continue;
         }
         if (!block && stage < end && uniform == w.size()) {  // a stage variable: a plain global
