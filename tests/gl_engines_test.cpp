@@ -229,8 +229,11 @@ TEST(Gl, EnginePresetsMatchTheirCppTwins) {
 // on most pixels (their closed forms are held on a flat height above).
 TEST(Gl, EngineFramePresetsEqualTheirTangentsOnAPlane) {
     nlohmann::json methods = nlohmann::json::array();
-    for (const MethodPreset& p : methodPresets())
-        if (p.glsl.engineInputs || p.config.viewPerVertex)
+    auto tangents = [](const std::string& n) {
+        return n.size() > 9 && n.compare(n.size() - 9, 9, "_tangents") == 0;
+    };
+    for (const MethodPreset& p : methodPresets())  // (jme_tangents reads the engine's inputs too)
+        if ((p.glsl.engineInputs || p.config.viewPerVertex) && !tangents(p.name))
             methods.push_back({{"preset", p.name}}),
                 methods.push_back({{"preset", p.name + "_tangents"}});
     ASSERT_EQ(methods.size(), 2u * 13);

@@ -9,6 +9,18 @@ uniform float parallax_height;  // ParallaxHeight, default 0.05
 
 float jmeHeight(vec2 uv) { return texture(heightMap, uv).r; }
 
+#ifdef PGT_ENGINE_INPUTS
+// PBRLighting.frag's V (jme_tangents): the interpolated tangent normalised but not made
+// orthogonal to the normal, B = w cross(N, T), and the direction to the eye in that frame.
+vec3 jmePbrV() {
+    vec3 n = normalize(pgt_world_normal);
+    vec3 t = normalize(pgt_world_tangent.xyz);
+    vec3 b = pgt_world_tangent.w * cross(n, t);
+    vec3 e = normalize(pgt_camera_position - pgt_world_position);
+    return vec3(dot(e, t), dot(e, b), dot(e, n));
+}
+#endif
+
 // The default ("classic"): one fetch at uv, the offset s (h - 0.6) cos(theta) along the unit
 // V's xy: multiplied by V.z where parallax divides, zero at h = 0.6.
 vec2 JmeParallax(vec2 uv, vec3 V) {

@@ -210,6 +210,9 @@ struct EngineFrame {
     const char* engineNote;
     const char* tangentsNote;
     double signX = 1, signY = 1;
+    // The GLSL giving the _tangents variant's V from the engine's inputs, where the engine's
+    // tangent path is not pgt's per-pixel frame; null: that frame's V.
+    const char* tangentsView = nullptr;
 };
 constexpr EngineFrame kEngineFrames[] = {
     {"threejs_", "threeEngineV(uv)", "world_per_uv",
@@ -225,7 +228,9 @@ constexpr EngineFrame kEngineFrames[] = {
      "; V per pixel in the mesh tangents' frame, handed to the function as +V (TBN_TANGENTS)", 1,
      -1},
     {"jme", nullptr, "", "; V per vertex, interpolated (Lighting.vert)",
-     "; V per fragment from the vertex tangents (PBRLighting)"},
+     "; V per fragment from the vertex tangents, normalised, not made orthogonal to the normal "
+     "(PBRLighting)",
+     1, 1, "jmePbrV()"},
 };
 
 // Each engine preset, and beside those of kEngineFrames their _tangents variants.
@@ -242,6 +247,10 @@ std::vector<MethodPreset> withEngineFrames(std::vector<MethodPreset> list) {
         MethodPreset tangents = p;
         tangents.name += "_tangents";
         tangents.source += frame->tangentsNote;
+        if (frame->tangentsView) {
+            tangents.glsl.engineInputs = true;
+            tangents.glsl.call = p.glsl.function + "(uv, " + frame->tangentsView + ")";
+        }
         if (frame->signX != 1 || frame->signY != 1) {
             auto sign = [](double s, const char* c) {
                 return std::string(s < 0 ? "-V." : "V.") + c;
