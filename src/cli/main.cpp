@@ -97,7 +97,8 @@ void renderCommand(const std::string& scenePath, const std::string& outDir,
     const double finishMs = pgt::msSince(t0);
     printSummary(result);
     std::printf("stages (wall ms): before the frame (scene, map, outputs) %.0f,", beforeMs);
-    for (const auto& [stage, ms] : result.timingsMs) std::printf(" %s %.0f,", stage.c_str(), ms);
+    for (const auto& [stage, ms] : result.timings.byName())
+        std::printf(" %s %.0f,", stage.c_str(), ms);
     std::printf(" maps and summary %.0f\n", finishMs);
     std::printf("wrote %s/frame.exr, %s/summary.json and %zu error maps\n", outDir.c_str(),
                 outDir.c_str(), result.methods.size());
@@ -116,7 +117,7 @@ void sweepCommand(const std::string& scenePath, pgt::SweepOptions sweepOpt, bool
                 sweepOpt.outDir.c_str());
     if (!sum.stageMs.empty()) {
         std::printf("stage totals (s):");
-        for (const auto& [stage, ms] : sum.stageMs)
+        for (const auto& [stage, ms] : sum.stageMs.byName())
             std::printf(" %s %.2f", stage.c_str(), ms / 1000);
         std::printf("\n");
     }

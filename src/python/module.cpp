@@ -200,7 +200,7 @@ py::dict sweep(const std::string& file, const std::string& text, const std::stri
     d["resumed"] = sum.resumed;
     d["finished"] = sum.finished;
     d["wall_seconds"] = sum.wallSeconds;
-    d["stage_ms"] = sum.stageMs;
+    d["stage_ms"] = sum.stageMs.byName();
     d["report"] = sum.reportPath;
     d["report_not_written"] = sum.reportWhy;
     return d;

@@ -135,7 +135,7 @@ Json summaryJson(const Scene& scene, const RenderResult& r) {
               {"triangles_culled", r.raster.trianglesCulled}}},
             {"methods", methods},
             {"provenance", provenance(sceneSha1(scene))},
-            {"timings_ms", r.timingsMs},
+            {"timings_ms", r.timings.byName()},
             {"units",
              {{"error", "texels of the height map (docs/model.md §7)"},
               {"ns_per_px", "single-threaded method time per rasterised pixel, median"},

@@ -164,7 +164,7 @@ class BandPipeline {
             raster.emplace(mesh, r_.camera, rasterOptions(scene_, configs_));
             r_.raster = raster->setupStats();
         }
-        r_.timingsMs["raster"] += msSince(t0);
+        r_.timings.add(Stage::Raster, msSince(t0));
         const int W = r_.camera.width(), H = r_.camera.height();
         if (options_.keepImages) r_.truth = Image2D<TruthSample>(W, H);
         if (options_.keepImages) {
@@ -206,7 +206,7 @@ class BandPipeline {
             frags_ = &ownFrags_;
         }
         if (timing_.repeats > 0) sampler_.add(*frags_);
-        r_.timingsMs["raster"] += msSince(t0);
+        r_.timings.add(Stage::Raster, msSince(t0));
     }
 
     void traceBand(PixelRect band) {
@@ -220,7 +220,7 @@ class BandPipeline {
             ownTruth_ = rowsOf(truth_.frames->truth, band);
         if (!truth_.prepared) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
         countHits(*truthBand_, r_.truthHits, r_.truthHoles);
-        r_.timingsMs["trace"] += msSince(t0);
+        r_.timings.add(Stage::Trace, msSince(t0));
         if (!truth_.haveFine()) return;
         auto t1 = Clock::now();
         if (truth_.surfaces)
@@ -229,7 +229,7 @@ class BandPipeline {
             fineBand_ = rowsOf(truth_.frames->fine, band);
         uncertainty_.add(*truthBand_, fineBand_, scene_.height.width, scene_.height.height,
                          scene_.height.address);
-        r_.timingsMs["trace_fine"] += msSince(t1);
+        r_.timings.add(Stage::TraceFine, msSince(t1));
     }
 
     // One configuration over the band's fragments (V in the exact frame or not) into `out`
@@ -267,19 +267,19 @@ class BandPipeline {
         const Texture& map = scene_.height;
         auto tg = Clock::now();
         noneErrors(*frags_, *truthBand_, {map.width, map.height, map.address}, noneErrors_);
-        r_.timingsMs["methods"] += msSince(tg);
+        r_.timings.add(Stage::Methods, msSince(tg));
         tg = Clock::now();
         std::vector<Image2D<MethodPixel>> glExact(runs_.size());
         drawGlsl(glExact);
         const Image2D<TruthSample>& exactTruth = truthWhereExact();
-        r_.timingsMs["methods_eval"] += msSince(tg);
-        r_.timingsMs["methods"] += msSince(tg);
+        r_.timings.add(Stage::MethodsEval, msSince(tg));
+        r_.timings.add(Stage::Methods, msSince(tg));
         for (size_t i = 0; i < runs_.size(); ++i) {
             MethodRun& m = runs_[i];
             const bool gl = runsInGl(*m.config);
             auto t0 = Clock::now();
             if (!gl) evaluate(m, false, m.pixels);
-            r_.timingsMs["methods_eval"] += msSince(t0);
+            r_.timings.add(Stage::MethodsEval, msSince(t0));
             m.tally.add(*truthBand_, m.pixels, map.width, map.height, map.address, &m.errTexels,
                         y0);
             m.checks.add(*frags_, frags_->view, m.pixels, m.errTexels, noneErrors_);
@@ -289,7 +289,7 @@ class BandPipeline {
                 leaveOutNoExactFrame(exact, m);
                 m.tallyExact.add(exactTruth, exact, map.width, map.height, map.address);
             }
-            r_.timingsMs["methods"] += msSince(t0);
+            r_.timings.add(Stage::Methods, msSince(t0));
         }
     }
 
@@ -345,7 +345,7 @@ class BandPipeline {
             copyRows(*inputs_, band.y0, r_.fragmentInputs);
         }
         for (FrameSink* sink : options_.sinks) sink->band(r_, fb);
-        r_.timingsMs["write"] += msSince(t0);
+        r_.timings.add(Stage::Write, msSince(t0));
     }
 
     // The statistics of the whole frame and each method's cost on the timing subset.
@@ -376,7 +376,7 @@ class BandPipeline {
                     m.countWhereExact ? m.sumWhereExact / double(m.countWhereExact) : NAN;
             }
         });
-        r_.timingsMs["statistics"] = msSince(tStats);
+        r_.timings.set(Stage::Statistics, msSince(tStats));
         auto t0 = Clock::now();
         for (size_t i = 0; i < runs_.size(); ++i) {
             MethodRun& m = runs_[i];
@@ -390,7 +390,7 @@ class BandPipeline {
             }
         }
         if (options_.deferTiming) r_.timed = std::move(timed);
-        r_.timingsMs["method_timing"] = msSince(t0);
+        r_.timings.set(Stage::MethodTiming, msSince(t0));
     }
 
     // The band's FragmentInputs where the rasteriser made them (a method reads them), else null.
@@ -441,9 +441,10 @@ RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& 
         r.truthBuildFine = truth.frames->buildFine;
         r.truthBlocks = truth.frames->blocks;
     }
-    for (const char* stage : {"raster", "trace", "methods", "methods_eval", "write"})
-        r.timingsMs[stage] = 0;
-    if (truth.haveFine()) r.timingsMs["trace_fine"] = 0;
+    for (Stage stage :
+         {Stage::Raster, Stage::Trace, Stage::Methods, Stage::MethodsEval, Stage::Write})
+        r.timings.set(stage, 0);
+    if (truth.haveFine()) r.timings.set(Stage::TraceFine, 0);
     BandPipeline(scene, truth, configs, textures, timing, options, r).run();
     return r;
 }
@@ -524,7 +525,7 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
         mf.nsPerPixel = mf.timing.median;
     }
     r.timed = {};
-    r.timingsMs["method_timing"] += msSince(t0);
+    r.timings.add(Stage::MethodTiming, msSince(t0));
 }
 
 FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
@@ -571,9 +572,9 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
             input.frames = &f;
             RenderResult r = renderWith(scene, scene.view(), camera, input, scene.methods, textures,
                                         timing, options.frame);
-            r.timingsMs["trace"] = f.traceMs;
-            if (f.haveFine) r.timingsMs["trace_fine"] = f.fineMs;
-            r.timingsMs["truth_total"] = truthMs;
+            r.timings.set(Stage::Trace, f.traceMs);
+            if (f.haveFine) r.timings.set(Stage::TraceFine, f.fineMs);
+            r.timings.set(Stage::TruthTotal, truthMs);
             return r;
         }
     }
@@ -583,13 +584,13 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     double buildMs = msSince(t0);
     RenderResult r =
         renderView(scene, scene.view(), truths, scene.methods, textures, timing, options.frame);
-    r.timingsMs["tessellate"] = r.truthBuild.tessellateMs;
-    r.timingsMs["build"] = r.truthBuild.buildMs;
+    r.timings.set(Stage::Tessellate, r.truthBuild.tessellateMs);
+    r.timings.set(Stage::Build, r.truthBuild.buildMs);
     if (truths.fine) {
-        r.timingsMs["tessellate_fine"] = r.truthBuildFine.tessellateMs;
-        r.timingsMs["build_fine"] = r.truthBuildFine.buildMs;
+        r.timings.set(Stage::TessellateFine, r.truthBuildFine.tessellateMs);
+        r.timings.set(Stage::BuildFine, r.truthBuildFine.buildMs);
     }
-    r.timingsMs["truth_total"] = buildMs;
+    r.timings.set(Stage::TruthTotal, buildMs);
     return r;
 }
 

@@ -15,6 +15,7 @@
 #include "compare/compare.h"
 #include "compare/uncertainty.h"
 #include "compare/warnings.h"
+#include "core/clock.h"
 #include "core/image.h"
 #include "heightfield/heightfield.h"
 #include "methods/runtime/evaluate.h"
@@ -76,7 +77,7 @@ struct RenderResult {
     bool haveUncertainty = false;
     RasterStats raster;
     std::vector<MethodFrame> methods;
-    std::map<std::string, double> timingsMs;  // stage -> wall ms, summed over the bands
+    StageTimes timings;      // wall ms per stage, summed over the bands
     FragmentList timed;      // FrameOptions::deferTiming: the seeded subset to time methods on
     int64_t truthHits = 0;   // pixels whose truth ray hit the surface
     int64_t truthHoles = 0;  // misses where a plane's sheet had to be hit (TruthSample::hole)

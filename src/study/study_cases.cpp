@@ -141,7 +141,7 @@ class GlTimings {
                 timed_[key(study, k, c)] = {timeMethod(cfg, frags, tex, study.timing), c.index};
             }
         }
-        stages["gl_timing_wall"] += msSince(t0);
+        stages.add(Stage::GlTimingWall, msSince(t0));
     }
     // A case's GLSL methods given their view's timing.
     void fill(RenderResult& r, const Study& study, const StudyCase& c) const {
@@ -201,7 +201,7 @@ void runCase(CaseRunner& run, const TruthPair& truths, CaseInFlight& f) {
 
 void finishCase(CaseRunner& run, CaseInFlight& f) {
     if (f.writer) f.writer->finish(f.r);
-    for (const auto& [stage, ms] : f.r.timingsMs) run.stages[stage] += ms;
+    run.stages += f.r.timings;
     run.done(*f.c, f.r);
 }
 
@@ -243,7 +243,7 @@ void runSurface(CaseRunner& run, const StudyCase* const* cases, size_t n, const 
                                                               finishCase(run, *f);
                                                               f->r = RenderResult{};
                                                           }));
-    run.stages["cases_wall"] += msSince(t0);
+    run.stages.add(Stage::CasesWall, msSince(t0));
 }
 
 }  // namespace
@@ -261,7 +261,7 @@ void runStudyCases(const Scene& scene, const Study& study,
         auto tb = Clock::now();
         const TruthPair& truths = builder.update({scale, bias}, scene.truth.uncertainty);
         run.textures.clear();
-        stages["truth_build"] += msSince(tb);
+        stages.add(Stage::TruthBuild, msSince(tb));
         runSurface(run, &todo[first], last - first, truths);
     }
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.h"
 #include "scene/scene.h"
 #include "study/plan.h"
 #include "study/render.h"
@@ -27,7 +28,6 @@ struct CaseOptions {
 // Called on one thread, in case order, with each finished case (its timing in).
 using CaseDone = std::function<void(const StudyCase&, const RenderResult&)>;
 // Wall ms per stage, summed over the cases and phases.
-using StageTimes = std::map<std::string, double>;
 
 // Runs `todo` (cases of `study`, grouped by (s, b) as the plan lists them).
 void runStudyCases(const Scene& scene, const Study& study,

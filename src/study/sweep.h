@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/clock.h"
 #include "scene/scene.h"
 #include "study/plan.h"
 #include "study/render.h"
@@ -38,9 +39,9 @@ struct SweepSummary {
     int total = 0, resumed = 0, done = 0;
     bool finished = false;  // every case has its rows
     double wallSeconds = 0;
-    std::map<std::string, double> stageMs;  // summed over the cases run: build, trace, ...
-    bool reportTried = false;               // options.report and finished
-    std::string reportPath, reportWhy;      // the report, or why it was not written
+    StageTimes stageMs;                 // summed over the cases run: build, trace, ...
+    bool reportTried = false;           // options.report and finished
+    std::string reportPath, reportWhy;  // the report, or why it was not written
 };
 
 SweepSummary runSweep(const Scene& scene, const Study& study, const SweepOptions& options);

@@ -60,7 +60,7 @@ void BM_FrameStages(benchmark::State& state) {
         writer.finish(r);
         ms["maps_and_summary"].push_back(msSince(t1));
         ms["whole"].push_back(msSince(t0));
-        for (const auto& [stage, t] : r.timingsMs) ms[stage].push_back(t);
+        for (const auto& [stage, t] : r.timings.byName()) ms[stage].push_back(t);
     }
     std::filesystem::remove_all(dir);
     for (const auto& [stage, t] : ms) state.counters[stage + "_ms"] = median(t);
