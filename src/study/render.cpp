@@ -25,13 +25,91 @@ namespace {
 // Where a view's truth and fragments come from: surfaces traced band by band, or whole frames
 // traced before (block by block: renderFrame; once for many configurations: a
 // PreparedView); fragments rasterised band by band, or prepared.
-struct TruthInput {
-    const TruthPair* surfaces = nullptr;
-    const TruthFrames* frames = nullptr;
-    const PreparedView* prepared = nullptr;  // its bands read as they are
-    bool haveFine() const {
-        return surfaces ? bool(surfaces->fine) : frames ? frames->haveFine : false;
+// Rows [band.y0, band.y1) of a whole-frame image.
+template <class T>
+Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
+    Image2D<T> out(band.width(), band.height());
+    std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(), out.data.begin());
+    return out;
+}
+
+// Where a frame's truth comes from, band by band: its surfaces traced per band
+// (SurfacesTruth), frames traced block by block beforehand (FramesTruth), or a prepared view's
+// bands, which also hold its fragments (PreparedTruth).
+class TruthSource {
+  public:
+    virtual ~TruthSource() = default;
+    // The band's truth samples: traced or copied into `own`, or the source's own image.
+    virtual const Image2D<TruthSample>& band(const Camera& camera, PixelRect rect,
+                                             Image2D<TruthSample>& own) const = 0;
+    virtual bool haveFine() const = 0;
+    // The 2x-rate twin's band (only where haveFine()).
+    virtual void fineBand(const Camera& camera, PixelRect rect,
+                          Image2D<TruthSample>& out) const = 0;
+    // What summary.json records of the truth's build.
+    virtual void describe(RenderResult& r) const = 0;
+    // A prepared view (its fragments and depths made beforehand); null otherwise.
+    virtual const PreparedView* prepared() const { return nullptr; }
+};
+
+class SurfacesTruth : public TruthSource {
+  public:
+    explicit SurfacesTruth(const TruthPair& t) : t_(t) {}
+    const Image2D<TruthSample>& band(const Camera& camera, PixelRect rect,
+                                     Image2D<TruthSample>& own) const override {
+        t_.truth->traceRect(camera, rect, own);
+        return own;
     }
+    bool haveFine() const override { return bool(t_.fine); }
+    void fineBand(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out) const override {
+        t_.fine->traceRect(camera, rect, out);
+    }
+    void describe(RenderResult& r) const override {
+        r.truthBuild = t_.truth->stats();
+        if (t_.fine) r.truthBuildFine = t_.fine->stats();
+    }
+
+  private:
+    const TruthPair& t_;
+};
+
+class FramesTruth : public TruthSource {
+  public:
+    explicit FramesTruth(const TruthFrames& f) : f_(f) {}
+    const Image2D<TruthSample>& band(const Camera&, PixelRect rect,
+                                     Image2D<TruthSample>& own) const override {
+        own = rowsOf(f_.truth, rect);
+        return own;
+    }
+    bool haveFine() const override { return f_.haveFine; }
+    void fineBand(const Camera&, PixelRect rect, Image2D<TruthSample>& out) const override {
+        out = rowsOf(f_.fine, rect);
+    }
+    void describe(RenderResult& r) const override {
+        r.truthBuild = f_.build;
+        r.truthBuildFine = f_.buildFine;
+        r.truthBlocks = f_.blocks;
+    }
+
+  private:
+    const TruthFrames& f_;
+};
+
+class PreparedTruth : public TruthSource {
+  public:
+    explicit PreparedTruth(const PreparedView& v) : v_(v) {}
+    // Its depths were set when it was prepared.
+    const Image2D<TruthSample>& band(const Camera&, PixelRect rect,
+                                     Image2D<TruthSample>&) const override {
+        return v_.bands[size_t(rect.y0 / bandRows(rect.width()))].truth;
+    }
+    bool haveFine() const override { return false; }
+    void fineBand(const Camera&, PixelRect, Image2D<TruthSample>&) const override {}
+    void describe(RenderResult& r) const override { r.truthBuild = v_.build; }
+    const PreparedView* prepared() const override { return &v_; }
+
+  private:
+    const PreparedView& v_;
 };
 
 // The height map's lowest, highest and mean h.
@@ -112,14 +190,6 @@ void countHits(const Image2D<TruthSample>& truth, int64_t& hits, int64_t& holes)
     hits += c.first, holes += c.second;
 }
 
-// Rows [band.y0, band.y1) of a whole-frame image.
-template <class T>
-Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
-    Image2D<T> out(band.width(), band.height());
-    std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(), out.data.begin());
-    return out;
-}
-
 // A band image into rows [y0, y0 + its height) of `full`.
 template <class T>
 void copyRows(const Image2D<T>& band, int y0, Image2D<T>& full) {
@@ -131,7 +201,7 @@ static_assert(kBandRows % 2 == 0, "bands keep the GL's 2x2 quads whole (evaluate
 
 class BandPipeline {
   public:
-    BandPipeline(const Scene& scene, const TruthInput& truth,
+    BandPipeline(const Scene& scene, const TruthSource& truth,
                  const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                  const TimingSpec& timing, const FrameOptions& options, RenderResult& r)
         : scene_(scene),
@@ -158,9 +228,10 @@ class BandPipeline {
     void run() {
         auto t0 = Clock::now();
         // The drawn mesh culled and binned, unless the fragments are prepared.
-        const BaseMesh mesh = truth_.prepared ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
+        const BaseMesh mesh =
+            truth_.prepared() ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         std::optional<Rasterizer> raster;
-        if (!truth_.prepared) {
+        if (!truth_.prepared()) {
             raster.emplace(mesh, r_.camera, rasterOptions(scene_, configs_));
             r_.raster = raster->setupStats();
         }
@@ -191,9 +262,8 @@ class BandPipeline {
     // The band's fragments: rasterised, or the prepared view's.
     void rasterBand(const Rasterizer* raster, PixelRect band) {
         auto t0 = Clock::now();
-        if (truth_.prepared) {
-            const PreparedView::Band& b =
-                truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))];
+        if (const PreparedView* prepared = truth_.prepared()) {
+            const PreparedView::Band& b = prepared->bands[size_t(band.y0 / bandRows(band.width()))];
             fragments_ = &b.fragments;
             inputs_ = &b.inputs;
             frags_ = &b.frags;
@@ -211,22 +281,13 @@ class BandPipeline {
 
     void traceBand(PixelRect band) {
         auto t0 = Clock::now();
-        truthBand_ = &ownTruth_;
-        if (truth_.surfaces)
-            truth_.surfaces->truth->traceRect(r_.camera, band, ownTruth_);
-        else if (truth_.prepared)  // its depths were set when it was prepared
-            truthBand_ = &truth_.prepared->bands[size_t(band.y0 / bandRows(band.width()))].truth;
-        else
-            ownTruth_ = rowsOf(truth_.frames->truth, band);
-        if (!truth_.prepared) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
+        truthBand_ = &truth_.band(r_.camera, band, ownTruth_);
+        if (!truth_.prepared()) setTruthDepths(ownTruth_, *fragments_, scene_.worldPerUv());
         countHits(*truthBand_, r_.truthHits, r_.truthHoles);
         r_.timings.add(Stage::Trace, msSince(t0));
         if (!truth_.haveFine()) return;
         auto t1 = Clock::now();
-        if (truth_.surfaces)
-            truth_.surfaces->fine->traceRect(r_.camera, band, fineBand_);
-        else
-            fineBand_ = rowsOf(truth_.frames->fine, band);
+        truth_.fineBand(r_.camera, band, fineBand_);
         uncertainty_.add(*truthBand_, fineBand_, scene_.height.width, scene_.height.height,
                          scene_.height.address);
         r_.timings.add(Stage::TraceFine, msSince(t1));
@@ -400,7 +461,7 @@ class BandPipeline {
 
     const Scene& scene_;
     const std::vector<MethodConfig>& configs_;
-    const TruthInput truth_;
+    const TruthSource& truth_;
     const TimingSpec& timing_;
     const FrameOptions& options_;
     const MethodTextureCache& textures_;
@@ -425,22 +486,13 @@ class BandPipeline {
 };
 
 RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& camera,
-                        const TruthInput& truth, const std::vector<MethodConfig>& configs,
+                        const TruthSource& truth, const std::vector<MethodConfig>& configs,
                         MethodTextureCache& textures, const TimingSpec& timing,
                         const FrameOptions& options) {
     RenderResult r;
     r.view = view;
     r.camera = camera;
-    if (truth.surfaces) {
-        r.truthBuild = truth.surfaces->truth->stats();
-        if (truth.surfaces->fine) r.truthBuildFine = truth.surfaces->fine->stats();
-    } else if (truth.prepared) {
-        r.truthBuild = truth.prepared->build;
-    } else {
-        r.truthBuild = truth.frames->build;
-        r.truthBuildFine = truth.frames->buildFine;
-        r.truthBlocks = truth.frames->blocks;
-    }
+    truth.describe(r);
     for (Stage stage :
          {Stage::Raster, Stage::Trace, Stage::Methods, Stage::MethodsEval, Stage::Write})
         r.timings.set(stage, 0);
@@ -498,9 +550,7 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
 RenderResult renderPrepared(const Scene& scene, const PreparedView& v,
                             const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                             const FrameOptions& frame) {
-    TruthInput input;
-    input.prepared = &v;
-    RenderResult r = renderWith(scene, v.view, v.camera, input, configs, textures,
+    RenderResult r = renderWith(scene, v.view, v.camera, PreparedTruth(v), configs, textures,
                                 TimingSpec{.repeats = 0}, frame);
     r.raster = v.raster;
     return r;
@@ -509,10 +559,8 @@ RenderResult renderPrepared(const Scene& scene, const PreparedView& v,
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, const FrameOptions& frame) {
-    TruthInput input;
-    input.surfaces = &truths;
-    return renderWith(scene, view, makeCamera(scene, view), input, configs, textures, timing,
-                      frame);
+    return renderWith(scene, view, makeCamera(scene, view), SurfacesTruth(truths), configs,
+                      textures, timing, frame);
 }
 
 void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
@@ -568,10 +616,8 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
                             "brings a block under the budget) beside the rest of the frame");
         if (blocks) {
             double truthMs = msSince(t0);
-            TruthInput input;
-            input.frames = &f;
-            RenderResult r = renderWith(scene, scene.view(), camera, input, scene.methods, textures,
-                                        timing, options.frame);
+            RenderResult r = renderWith(scene, scene.view(), camera, FramesTruth(f), scene.methods,
+                                        textures, timing, options.frame);
             r.timings.set(Stage::Trace, f.traceMs);
             if (f.haveFine) r.timings.set(Stage::TraceFine, f.fineMs);
             r.timings.set(Stage::TruthTotal, truthMs);
