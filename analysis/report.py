@@ -6,6 +6,7 @@ against fetches with the Pareto front, bias-ratio x scale heat maps with the min
 and a table of recommended scale/bias defaults beside the source documents' advice.
 Usage: /usr/bin/python3 analysis/report.py DIR"""
 import argparse
+import concurrent.futures
 import ctypes
 import multiprocessing
 import math
@@ -203,13 +204,17 @@ def defaults_table(df):
     return pd.DataFrame(rows)
 
 
-def die_with_parent():
+def die_with_parent(parent):
     """A drawing worker dies with the report (Linux's PR_SET_PDEATHSIG): a report killed
-    while it draws leaves no orphan still writing figures."""
+    while it draws leaves no orphan still writing figures. A report killed between the fork and
+    this call is already gone (`parent` is no longer the worker's parent): the worker leaves at
+    once, or it would wait for work forever (seen: killed reports left such workers asleep)."""
     try:
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)
     except (OSError, AttributeError):
         pass
+    if os.getppid() != parent:
+        os._exit(0)
 
 
 def base_lines(base):
@@ -481,32 +486,34 @@ def main():
 
     # Every figure is a job for two forked workers (one a core), the largest first, while
     # this process writes the tables: drawing is most of the report's time, and small jobs
-    # keep both cores busy to the end.
-    pool = multiprocessing.get_context("fork").Pool(2, initializer=die_with_parent)
+    # keep both cores busy to the end. An executor, not a multiprocessing.Pool: a worker that
+    # dies fails the report (BrokenProcessPool) instead of leaving it waiting for a result.
+    pool = concurrent.futures.ProcessPoolExecutor(
+        2, mp_context=multiprocessing.get_context("fork"), initializer=die_with_parent,
+        initargs=(os.getpid(),))
     # One view angle draws no curve against it (a panel of single points): the tables say it.
     curves = common["theta"].nunique() > 1
-    depth_job = pool.apply_async(depth_shadow_lines, (common, figdir))
-    pareto_job = pool.apply_async(fig_pareto, (common, figdir))
-    heat_jobs = [pool.apply_async(fig_heatmaps, (common, figdir, [family]))
+    depth_job = pool.submit(depth_shadow_lines, common, figdir)
+    pareto_job = pool.submit(fig_pareto, common, figdir)
+    heat_jobs = [pool.submit(fig_heatmaps, common, figdir, [family])
                  for family in families(common)]
-    theta_jobs = [pool.apply_async(fig_error_vs_theta, (common, figdir, [scale]))
+    theta_jobs = [pool.submit(fig_error_vs_theta, common, figdir, [scale])
                   for scale in (sorted(common["scale"].unique()) if curves else [])]
-    paper_job = pool.apply_async(fig_paper, (common, figdir)) if curves else None
-    engines_job = pool.apply_async(engine_lines, (df, figdir))
+    paper_job = pool.submit(fig_paper, common, figdir) if curves else None
+    engines_job = pool.submit(engine_lines, df, figdir)
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
     # Grazing views (the last few degrees) dominate means over all angles; the same table
     # over theta <= 80 shows the defaults for the views most frames contain.
     typical = common[common["theta"] <= 80]
     table80 = defaults_table(typical) if len(typical) and typical["theta"].nunique() < common["theta"].nunique() else None
-    agg, pareto_files, fronts = pareto_job.get()
-    paper = paper_job.get() if paper_job else None
-    engines = engines_job.get()
-    heat = [fig for job in heat_jobs for fig in job.get()]
-    theta_figs = [fig for job in theta_jobs for fig in job.get()]
-    depth = depth_job.get()
-    pool.close()
-    pool.join()
+    agg, pareto_files, fronts = pareto_job.result()
+    paper = paper_job.result() if paper_job else None
+    engines = engines_job.result()
+    heat = [fig for job in heat_jobs for fig in job.result()]
+    theta_figs = [fig for job in theta_jobs for fig in job.result()]
+    depth = depth_job.result()
+    pool.shutdown()
 
     lines = (header_lines(df, study, args.dir) + ranking_note(n_common, n_total, flagged, renamed)
              + runtime_lines(theta_figs, angle_table_lines(common), agg, pareto_files, fronts,
