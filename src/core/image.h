@@ -48,4 +48,12 @@ void resetImage(Image2D<T>& image, int w, int h) {
                       });
 }
 
+// Rows [band.y0, band.y1) of a whole-frame image.
+template <class T>
+Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
+    Image2D<T> out(band.width(), band.height());
+    std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(), out.data.begin());
+    return out;
+}
+
 }  // namespace pgt

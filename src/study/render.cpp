@@ -16,6 +16,7 @@
 #include "core/overloaded.h"
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
+#include "study/truth_source.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -25,93 +26,6 @@ namespace {
 // Where a view's truth and fragments come from: surfaces traced band by band, or whole frames
 // traced before (block by block: renderFrame; once for many configurations: a
 // PreparedView); fragments rasterised band by band, or prepared.
-// Rows [band.y0, band.y1) of a whole-frame image.
-template <class T>
-Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {
-    Image2D<T> out(band.width(), band.height());
-    std::copy_n(full.data.begin() + int64_t(band.y0) * full.width, out.size(), out.data.begin());
-    return out;
-}
-
-// Where a frame's truth comes from, band by band: its surfaces traced per band
-// (SurfacesTruth), frames traced block by block beforehand (FramesTruth), or a prepared view's
-// bands, which also hold its fragments (PreparedTruth).
-class TruthSource {
-  public:
-    virtual ~TruthSource() = default;
-    // The band's truth samples: traced or copied into `own`, or the source's own image.
-    virtual const Image2D<TruthSample>& band(const Camera& camera, PixelRect rect,
-                                             Image2D<TruthSample>& own) const = 0;
-    virtual bool haveFine() const = 0;
-    // The 2x-rate twin's band (only where haveFine()).
-    virtual void fineBand(const Camera& camera, PixelRect rect,
-                          Image2D<TruthSample>& out) const = 0;
-    // What summary.json records of the truth's build.
-    virtual void describe(RenderResult& r) const = 0;
-    // A prepared view (its fragments and depths made beforehand); null otherwise.
-    virtual const PreparedView* prepared() const { return nullptr; }
-};
-
-class SurfacesTruth : public TruthSource {
-  public:
-    explicit SurfacesTruth(const TruthPair& t) : t_(t) {}
-    const Image2D<TruthSample>& band(const Camera& camera, PixelRect rect,
-                                     Image2D<TruthSample>& own) const override {
-        t_.truth->traceRect(camera, rect, own);
-        return own;
-    }
-    bool haveFine() const override { return bool(t_.fine); }
-    void fineBand(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out) const override {
-        t_.fine->traceRect(camera, rect, out);
-    }
-    void describe(RenderResult& r) const override {
-        r.truthBuild = t_.truth->stats();
-        if (t_.fine) r.truthBuildFine = t_.fine->stats();
-    }
-
-  private:
-    const TruthPair& t_;
-};
-
-class FramesTruth : public TruthSource {
-  public:
-    explicit FramesTruth(const TruthFrames& f) : f_(f) {}
-    const Image2D<TruthSample>& band(const Camera&, PixelRect rect,
-                                     Image2D<TruthSample>& own) const override {
-        own = rowsOf(f_.truth, rect);
-        return own;
-    }
-    bool haveFine() const override { return f_.haveFine; }
-    void fineBand(const Camera&, PixelRect rect, Image2D<TruthSample>& out) const override {
-        out = rowsOf(f_.fine, rect);
-    }
-    void describe(RenderResult& r) const override {
-        r.truthBuild = f_.build;
-        r.truthBuildFine = f_.buildFine;
-        r.truthBlocks = f_.blocks;
-    }
-
-  private:
-    const TruthFrames& f_;
-};
-
-class PreparedTruth : public TruthSource {
-  public:
-    explicit PreparedTruth(const PreparedView& v) : v_(v) {}
-    // Its depths were set when it was prepared.
-    const Image2D<TruthSample>& band(const Camera&, PixelRect rect,
-                                     Image2D<TruthSample>&) const override {
-        return v_.bands[size_t(rect.y0 / bandRows(rect.width()))].truth;
-    }
-    bool haveFine() const override { return false; }
-    void fineBand(const Camera&, PixelRect, Image2D<TruthSample>&) const override {}
-    void describe(RenderResult& r) const override { r.truthBuild = v_.build; }
-    const PreparedView* prepared() const override { return &v_; }
-
-  private:
-    const PreparedView& v_;
-};
-
 // The height map's lowest, highest and mean h.
 struct HeightRange {
     float lo = INFINITY, hi = -INFINITY;
