@@ -324,11 +324,8 @@ std::unique_ptr<ImageFile> openNativeImage(const std::string& path, std::string&
                                            bool& handled) {
     handled = true;
     switch (sniff(path)) {
-        case Format::Png: {
-            auto r = std::make_unique<PngImage>();
-            if (r->open(path, why)) return r;
-            return nullptr;
-        }
+        case Format::Png:  // every PNG is libpng's: a failure is this file's error
+            return tryOpen<PngImage>(path, why, handled);
         case Format::Exr:
             return tryOpen<ExrImage>(path, why, handled);
         case Format::Tiff:

@@ -124,12 +124,15 @@ size_t frameChannelCount(size_t methods, bool inputs) {
     return n;
 }
 
-std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs) {
+std::vector<FrameChannelSlot> frameChannelLayout(const std::vector<MethodConfig>& configs) {
     std::vector<std::string> labels;
     for (const MethodConfig& c : configs) labels.push_back(c.label);
+    return frameChannelLayout(labels, readsFragmentInputs(configs));
+}
+
+std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs) {
     std::vector<std::string> names;
-    for (const FrameChannelSlot& s : frameChannelLayout(labels, readsFragmentInputs(configs)))
-        names.push_back(s.name);
+    for (const FrameChannelSlot& s : frameChannelLayout(configs)) names.push_back(s.name);
     return names;
 }
 

@@ -64,6 +64,9 @@ struct FrameChannelSlot {
 // order of an interleaved row.
 std::vector<FrameChannelSlot> frameChannelLayout(const std::vector<std::string>& labels,
                                                  bool inputs);
+// The same for a frame of these configurations (their labels; the inputs' where one reads
+// FragmentInputs).
+std::vector<FrameChannelSlot> frameChannelLayout(const std::vector<MethodConfig>& configs);
 // Their count without building them.
 size_t frameChannelCount(size_t methods, bool inputs);
 std::vector<std::string> frameChannelNames(const std::vector<MethodConfig>& configs);

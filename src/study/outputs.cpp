@@ -279,10 +279,7 @@ RenderWriter::RenderWriter(const Scene& scene, const std::string& dir, int width
     createdDir_ = !std::filesystem::exists(std::filesystem::symlink_status(dir, ec));
     makeOutputDir(dir);  // no probe: the staged writes check every byte themselves
     files_ = std::make_unique<StagedFiles>(dir);
-    std::vector<std::string> labels;
-    for (const MethodConfig& c : configs) labels.push_back(c.label);
-    const std::vector<FrameChannelSlot> layout =
-        frameChannelLayout(labels, readsFragmentInputs(configs));
+    const std::vector<FrameChannelSlot> layout = frameChannelLayout(configs);
     channels_ = layout.size();
     methods_ = configs.size();
     std::vector<std::string> kept;
