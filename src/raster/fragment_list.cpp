@@ -12,14 +12,15 @@
 namespace pgt {
 
 FragmentList compactFragments(const Image2D<Fragment>& frags,
-                              const Image2D<FragmentInputs>* inputs) {
+                              const Image2D<FragmentInputs>* inputs,
+                              std::vector<HelperLane>* helpers) {
     FragmentList list;
-    compactFragments(frags, inputs, true, list);
+    compactFragments(frags, inputs, true, list, helpers);
     return list;
 }
 
 void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
-                      bool lights, FragmentList& list) {
+                      bool lights, FragmentList& list, std::vector<HelperLane>* helpers) {
     if (inputs && inputs->data.size() != frags.data.size()) inputs = nullptr;  // not made
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
@@ -41,6 +42,9 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
     list.lightExact.resize(lights ? total : 0);
     list.viewVertex.resize(inputs ? total : 0);
     list.engine.resize(inputs ? total : 0);
+    list.triangle.resize(helpers ? total : 0);
+    list.helpers.clear();
+    if (helpers) list.helpers.swap(*helpers);
     tbb::parallel_for(0, H, [&](int y) {
         size_t k = start[size_t(y)];
         for (int x = 0; x < W; ++x) {
@@ -60,6 +64,7 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
                 list.viewVertex[k] = inputs->at(x, y).viewVertex;
                 list.engine[k] = inputs->at(x, y).engine;
             }
+            if (helpers) list.triangle[k] = f.triangle;
             ++k;
         }
     });

@@ -14,7 +14,8 @@ namespace pgt {
 
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
-// reads them as they are. 148 bytes per fragment, 236 with the FragmentInputs.
+// reads them as they are. 148 bytes per fragment, 236 with the FragmentInputs (4 more with
+// the triangles of a GL draw on the screen, and its helper lanes).
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
@@ -24,6 +25,10 @@ struct FragmentList {
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     std::vector<Vec3d> viewVertex;         // V per vertex, interpolated (Fragment)
     std::vector<EngineInputs> engine;      // an engine's varyings (Fragment::engine)
+    // For a GL draw on the screen (RasterOptions::quadHelpers; else both empty): each
+    // fragment's triangle (Fragment::triangle) and the helper lanes of their quads.
+    std::vector<uint32_t> triangle;
+    std::vector<HelperLane> helpers;
     size_t size() const { return pixel.size(); }
     // Fragment k's per-vertex V and engine inputs; a list made by hand (tests) that left them
     // out gives the per-pixel V and zero inputs.
@@ -39,13 +44,15 @@ struct FragmentList {
     void append(const FragmentList& from, int32_t pixelOffset = 0);
 };
 // The covered pixels of `frags`, row by row (pixel = y * width + x of that image); their
-// per-vertex V and engine inputs from `inputs` where given (else those lists stay empty).
+// per-vertex V and engine inputs from `inputs` where given (else those lists stay empty); with
+// `helpers` (the raster's, moved in), their triangles too.
 FragmentList compactFragments(const Image2D<Fragment>& frags,
-                              const Image2D<FragmentInputs>* inputs = nullptr);
+                              const Image2D<FragmentInputs>* inputs = nullptr,
+                              std::vector<HelperLane>* helpers = nullptr);
 // The same into `list`, reusing its storage (a frame's bands); its lights left out (lightAt:
 // zero) unless `lights` (the view has a light).
 void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
-                      bool lights, FragmentList& list);
+                      bool lights, FragmentList& list, std::vector<HelperLane>* helpers = nullptr);
 
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however

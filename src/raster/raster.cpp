@@ -196,6 +196,10 @@ struct ScreenTriangle {
         bary = weights(e);
         return true;
     }
+    // The perspective-correct barycentrics of any screen point (a helper lane's).
+    std::array<double, 3> barycentrics(Vec2d p) const {
+        return weights({edge[0].at(p), edge[1].at(p), edge[2].at(p)});
+    }
 
     // An attribute (uv, position) at any screen point, inside the triangle or not (a helper
     // invocation's): the perspective-correct interpolation with one division (the area
@@ -318,9 +322,10 @@ namespace {
 
 // Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
 // forward); `frags` and `depth` are the rectangle's.
-void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& camera, Vec3d light,
-          const RasterOptions& o, PixelRect rect, Image2D<Fragment>& frags,
-          Image2D<FragmentInputs>* inputs, Vec2i at, Image2D<double>& depth) {
+void scan(const ScreenTriangle& tri, uint32_t triangle, const SurfaceDerivatives& d,
+          const Camera& camera, Vec3d light, const RasterOptions& o, PixelRect rect,
+          Image2D<Fragment>& frags, Image2D<FragmentInputs>* inputs, Vec2i at,
+          Image2D<double>& depth) {
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
@@ -339,6 +344,7 @@ void scan(const ScreenTriangle& tri, const SurfaceDerivatives& d, const Camera& 
             shade(f, in, tri, b, d, camera, camera.ray(sample.x, sample.y), light, o);
             quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py,
                             !camera.jittered());
+            f.triangle = triangle;
         }
 }
 
@@ -452,7 +458,7 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-                scan(screen, d, camera_, light, options_, rect, out, inputs, at, depth);
+                scan(screen, t, d, camera_, light, options_, rect, out, inputs, at, depth);
         }
     }
     for (int y = 0; y < rect.height(); ++y)
@@ -464,30 +470,89 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
 }
 
 void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats,
-                               Image2D<FragmentInputs>* inputs) const {
+                               Image2D<FragmentInputs>* inputs,
+                               std::vector<HelperLane>* helpers) const {
     const int W = camera_.width();
     // Cleared once (in parallel), then each bin of columns writes its own pixels in place.
     resetImage(out, W, y1 - y0);
     const bool wantInputs = inputs && (options_.perVertexView || options_.engineInputs);
     if (wantInputs) resetImage(*inputs, W, y1 - y0);
+    const int bins = (W + kBin - 1) / kBin;
+    const bool wantHelpers = helpers && options_.quadHelpers;
+    std::vector<std::vector<HelperLane>> binHelpers(wantHelpers ? size_t(bins) : 0);
     tbb::combinable<RasterStats> counts;
-    tbb::parallel_for(0, (W + kBin - 1) / kBin, [&](int b) {
+    tbb::parallel_for(0, bins, [&](int b) {
         const PixelRect rect{b * kBin, y0, std::min(W, (b + 1) * kBin), y1};
         rasterizeAt(rect, out, wantInputs ? inputs : nullptr, {rect.x0, 0}, counts.local());
+        if (wantHelpers) quadHelpers(rect, out, {rect.x0, 0}, binHelpers[size_t(b)]);
     });
     counts.combine_each([&](const RasterStats& c) {
         stats.covered += c.covered;
         stats.noExactFrame += c.noExactFrame;
     });
+    if (!helpers) return;
+    helpers->clear();
+    for (const auto& h : binHelpers) helpers->insert(helpers->end(), h.begin(), h.end());
+}
+
+void Rasterizer::quadHelpers(PixelRect rect, const Image2D<Fragment>& out, Vec2i at,
+                             std::vector<HelperLane>& helpers) const {
+    PGT_CHECK(rect.x0 % 2 == 0 && rect.y0 % 2 == 0);
+    for (int qy = rect.y0; qy < rect.y1; qy += 2)
+        for (int qx = rect.x0; qx < rect.x1; qx += 2) {
+            // The quad's lanes in GL's order: (x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1).
+            std::array<const Fragment*, 4> lane{};
+            for (int i = 0; i < 4; ++i) {
+                const int x = qx + (i & 1), y = qy + (i >> 1);
+                if (x >= rect.x1 || y >= rect.y1) continue;
+                const Fragment& f = out.at(x - rect.x0 + at.x, y - rect.y0 + at.y);
+                if (f.covered) lane[size_t(i)] = &f;
+            }
+            for (int i = 0; i < 4; ++i) {
+                if (!lane[size_t(i)]) continue;
+                const uint32_t t = lane[size_t(i)]->triangle;
+                bool first = true;  // the quad's first fragment of t owns its helpers
+                for (int j = 0; j < i; ++j) first = first && !(lane[size_t(j)] && lane[size_t(j)]->triangle == t);
+                if (!first) continue;
+                const Vec2i owner(qx + (i & 1), qy + (i >> 1));
+                for (int j = 0; j < 4; ++j) {
+                    if (lane[size_t(j)] && lane[size_t(j)]->triangle == t) continue;
+                    const Vec2i l(qx + (j & 1), qy + (j >> 1));
+                    helpers.push_back(helperLane(t, owner, l));
+                    helpers.back().at = l - Vec2i(rect.x0, rect.y0) + at;
+                }
+            }
+        }
+}
+
+HelperLane Rasterizer::helperLane(uint32_t t, Vec2i owner, Vec2i lane) const {
+    HelperLane h;
+    const auto v = triangleVertices(mesh_, 3 * size_t(t));
+    const ClippedPolygon poly = clipToNear(v, camera_, options_.perVertexView, nearZ_);
+    // Any piece of the clipped polygon: they share the triangle's plane.
+    for (int k = 1; k + 1 < poly.size; ++k) {
+        ScreenTriangle screen;
+        if (!screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
+            continue;
+        const Vec2d sample = camera_.samplePosition(owner.x, owner.y) + Vec2d(lane - owner);
+        shade(h.fragment, &h.inputs, screen, screen.barycentrics(sample), surfaceDerivatives(v),
+              camera_, camera_.ray(sample.x, sample.y), camera_.light().value_or(Vec3d(0)),
+              options_);
+        quadDerivatives(h.fragment, options_.engineInputs ? &h.inputs : nullptr, screen, lane.x,
+                        lane.y, !camera_.jittered());
+        break;
+    }
+    h.fragment.triangle = t;
+    return h;
 }
 
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats,
-                            Image2D<FragmentInputs>* inputs) {
+                            Image2D<FragmentInputs>* inputs, std::vector<HelperLane>* helpers) {
     const Rasterizer raster(mesh, camera, options);
     Image2D<Fragment> frags;
     RasterStats st = raster.setupStats();
-    raster.rasterizeRows(0, camera.height(), frags, st, inputs);
+    raster.rasterizeRows(0, camera.height(), frags, st, inputs, helpers);
     if (stats) *stats = st;
     return frags;
 }

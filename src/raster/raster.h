@@ -39,6 +39,7 @@ struct Fragment {
     // point (world units; the base of the depth offsets, §5b).
     Vec3d lightTangent{0}, lightTangentExact{0};
     double rayT = NAN;
+    uint32_t triangle = 0;  // the base mesh face that drew it (its first index / 3)
 };
 
 // What some methods read besides a Fragment, made only when one of the frame's methods does
@@ -61,6 +62,22 @@ struct RasterOptions {
     // viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
     // FragmentInputs image a caller passes; off: not made).
     bool exactFrame = true, perVertexView = true, engineInputs = true;
+    // The helper lanes of the frame's 2x2 quads (HelperLane), for a GL draw that lays the
+    // fragments out on the screen (a GLSL or HLSL method).
+    bool quadHelpers = false;
+};
+
+// A helper invocation of a 2x2 quad, as a GPU runs one (docs/model.md §6): where a quad holds
+// fragments of a triangle and lanes that are not that triangle's (uncovered, another
+// triangle's, or beyond the frame's odd edge), each such lane is the triangle's fragment
+// evaluated there, barycentrics extended beyond its edges. Its sample is the lane's pixel
+// centre, moved as the quad's first fragment of the triangle is by jitter. A GL draw gives
+// each triangle's fragments a quad of their own from these, so that dFdx, dFdy and implicit
+// levels of detail see the triangle's own plane and never a neighbouring triangle.
+struct HelperLane {
+    Vec2i at{0};  // the lane's pixel in the rasterised image (x may be its width when odd)
+    Fragment fragment;
+    FragmentInputs inputs;
 };
 
 // The UV-space direction of world direction `dir` at a point whose surface derivatives are
@@ -96,8 +113,11 @@ class Rasterizer {
     // Rows [y0, y1) of the frame into `out` (resized to W x (y1 - y0)), bin by bin over all
     // cores; adds their covered pixels to `stats`.
     // With `inputs`, also their FragmentInputs (resized like `out`) where the options ask.
+    // With `helpers` and RasterOptions::quadHelpers, also the quads' helper lanes, pixels
+    // relative to `out` (else `helpers` is left empty).
     void rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterStats& stats,
-                       Image2D<FragmentInputs>* inputs = nullptr) const;
+                       Image2D<FragmentInputs>* inputs = nullptr,
+                       std::vector<HelperLane>* helpers = nullptr) const;
     // Triangles drawn and culled.
     const RasterStats& setupStats() const { return setup_; }
 
@@ -105,6 +125,11 @@ class Rasterizer {
     // rasterize() into `out` at `at` (rect's top-left pixel there), which the caller cleared.
     void rasterizeAt(PixelRect rect, Image2D<Fragment>& out, Image2D<FragmentInputs>* inputs,
                      Vec2i at, RasterStats& stats) const;
+    // The helper lanes of rect's quads (rect's corner even), drawn into `out` at `at`.
+    void quadHelpers(PixelRect rect, const Image2D<Fragment>& out, Vec2i at,
+                     std::vector<HelperLane>& helpers) const;
+    // Triangle t's lane `lane` of the quad whose first fragment of t is at `owner`.
+    HelperLane helperLane(uint32_t t, Vec2i owner, Vec2i lane) const;
     const BaseMesh& mesh_;
     const Camera& camera_;
     RasterOptions options_;
@@ -120,6 +145,7 @@ class Rasterizer {
 // The whole frame at once (all cores).
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,
                             const RasterOptions& options, RasterStats* stats = nullptr,
-                            Image2D<FragmentInputs>* inputs = nullptr);
+                            Image2D<FragmentInputs>* inputs = nullptr,
+                            std::vector<HelperLane>* helpers = nullptr);
 
 }  // namespace pgt

@@ -146,7 +146,9 @@ class BandPipeline {
             truth_.prepared() ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         std::optional<Rasterizer> raster;
         if (!truth_.prepared()) {
-            raster.emplace(mesh, r_.camera, rasterOptions(scene_, configs_));
+            const RasterOptions o = rasterOptions(scene_, configs_);
+            quadHelpers_ = o.quadHelpers;
+            raster.emplace(mesh, r_.camera, o);
             r_.raster = raster->setupStats();
         }
         r_.timings.add(Stage::Raster, msSince(t0));
@@ -182,9 +184,11 @@ class BandPipeline {
             inputs_ = &b.inputs;
             frags_ = &b.frags;
         } else {
-            raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_);
+            raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_,
+                                  &ownHelpers_);
             // Pixel indices within the band.
-            compactFragments(ownFragments_, &ownInputs_, r_.camera.light().has_value(), ownFrags_);
+            compactFragments(ownFragments_, &ownInputs_, r_.camera.light().has_value(), ownFrags_,
+                             quadHelpers_ ? &ownHelpers_ : nullptr);
             fragments_ = &ownFragments_;
             inputs_ = &ownInputs_;
             frags_ = &ownFrags_;
@@ -377,6 +381,7 @@ class BandPipeline {
     const std::vector<MethodConfig>& configs_;
     const TruthSource& truth_;
     const TimingSpec& timing_;
+    bool quadHelpers_ = false;  // the raster makes its quads' helper lanes (a GL draw)
     const FrameOptions& options_;
     const MethodTextureCache& textures_;
     RenderResult& r_;
@@ -393,6 +398,7 @@ class BandPipeline {
     Image2D<TruthSample> ownTruth_, fineBand_;
     Image2D<Fragment> ownFragments_;
     Image2D<FragmentInputs> ownInputs_;
+    std::vector<HelperLane> ownHelpers_;
     FragmentList ownFrags_;
     Image2D<MethodPixel> exactPixels_;      // a built-in's pixels in the exact frame
     Image2D<TruthSample> truthWhereExact_;  // the truth for the exact pass (truthWhereExact)
@@ -426,6 +432,7 @@ RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>&
     for (const MethodConfig& c : configs) {
         o.perVertexView = o.perVertexView || c.viewPerVertex;
         o.engineInputs = o.engineInputs || readsEngineInputs(c);
+        o.quadHelpers = o.quadHelpers || runsInGl(c);
     }
     return o;
 }
@@ -443,18 +450,28 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
     v.build = truths.truth->stats();
     const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
     Image2D<FragmentInputs> inputs;
-    const Image2D<Fragment> fragments =
-        rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
-                  rasterOptions(scene, scene.methods), &v.raster, &inputs);
-    const int W = v.camera.width(), H = v.camera.height();
-    for (int y0 = 0; y0 < H; y0 += bandRows(W)) {  // the pipeline's bands
-        const int rows = std::min(H, y0 + bandRows(W)) - y0;
+    std::vector<HelperLane> helpers;
+    const RasterOptions options = rasterOptions(scene, scene.methods);
+    const Image2D<Fragment> fragments = rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
+                                                  options, &v.raster, &inputs, &helpers);
+    const int W = v.camera.width(), H = v.camera.height(), R = bandRows(W);
+    // Each band's helper lanes (bands keep quads whole; a lane below an odd frame is the last
+    // band's), rows counted within the band.
+    std::vector<std::vector<HelperLane>> bandHelpers(size_t((H + R - 1) / R));
+    for (HelperLane& h : helpers) {
+        const int band = std::min(h.at.y, H - 1) / R;
+        h.at.y -= band * R;
+        bandHelpers[size_t(band)].push_back(std::move(h));
+    }
+    for (int y0 = 0; y0 < H; y0 += R) {  // the pipeline's bands
+        const int rows = std::min(H, y0 + R) - y0;
         PreparedView::Band b;
         const PixelRect band{0, y0, W, y0 + rows};
         b.truth = rowsOf(truth, band);
         b.fragments = rowsOf(fragments, band);
         if (inputs.width == W) b.inputs = rowsOf(inputs, band);
-        b.frags = compactFragments(b.fragments, &b.inputs);
+        b.frags = compactFragments(b.fragments, &b.inputs,
+                                   options.quadHelpers ? &bandHelpers[size_t(y0 / R)] : nullptr);
         setTruthDepths(b.truth, b.fragments, scene.worldPerUv());
         v.bands.push_back(std::move(b));
     }

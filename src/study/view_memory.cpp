@@ -23,6 +23,10 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double band = double(width) * std::min(height, bandRows(width));
     double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 236 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
+    // A GL draw's triangles and helper lanes: at most 3 lanes a fragment (one alone in its
+    // quad), in the raster's list and the smaller copy the draw makes.
+    if (rasterOptions(scene, *m.configs).quadHelpers)
+        perBandPixel += 4 + 3.0 * 2 * sizeof(HelperLane);
     if (m.writesImages)
         perBandPixel +=
             double(frameChannelCount(m.configs->size(), readsFragmentInputs(*m.configs))) *

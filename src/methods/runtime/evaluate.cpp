@@ -261,6 +261,16 @@ GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool e
         in.pixel = frags.pixel;
         in.frameWidth = width;
         in.frameHeight = height;
+        in.triangle = frags.triangle;
+        in.helpers.reserve(frags.helpers.size());
+        for (const HelperLane& h : frags.helpers) {
+            const Fragment& f = h.fragment;
+            const Vec3d view = exactFrame               ? f.viewTangentExact
+                               : frags.viewVertex.empty() || !cfg.viewPerVertex ? f.viewTangent
+                                                                               : h.inputs.viewVertex;
+            in.helpers.push_back({h.at, f.triangle, Vec2f(f.uv0), Vec2f(f.uvDx), Vec2f(f.uvDy),
+                                  Vec3f(view), h.inputs.engine});
+        }
     }
     return in;
 }

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <stdexcept>
+#include <unordered_map>
 #include <utility>
 
 #include "core/error.h"
@@ -121,6 +122,17 @@ struct DrawImages {
             texel.push_back(t);
         }
     }
+    // Texel t gets a quad's helper lane (state 1); its derivatives where the draw has them.
+    void putHelper(size_t t, const GlslInputs::Helper& lane, bool grads) {
+        if (grads) {
+            gradData[4 * t] = lane.uvDx.x, gradData[4 * t + 1] = lane.uvDx.y;
+            gradData[4 * t + 2] = lane.uvDy.x, gradData[4 * t + 3] = lane.uvDy.y;
+        }
+        uvData[2 * t] = lane.uv0.x, uvData[2 * t + 1] = lane.uv0.y;
+        viewData[4 * t] = lane.view.x, viewData[4 * t + 1] = lane.view.y;
+        viewData[4 * t + 2] = lane.view.z, viewData[4 * t + 3] = 1.0f;
+        if (engine) putEngine(t, lane.engine, {0, 0});
+    }
     void putEngine(size_t t, const EngineInputs& e, Vec2f offset) {
         const Vec3f p = e.position + e.positionDx * offset.x + e.positionDy * offset.y;
         const float values[kEngineImages][4] = {{p.x, p.y, p.z, 1.0f},
@@ -175,25 +187,75 @@ std::unique_ptr<DrawImages> packedImages(const GlslInputs& in, size_t first, siz
     return img;
 }
 
-// The screen-layout tile of `in` at (x0, y0) (both even), w x h: its fragments at their
-// pixels, then the helpers of their quads (GlslInputs).
-std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<size_t>& inTile,
-                                       int x0, int y0, int w, int h) {
-    auto img = std::make_unique<DrawImages>(w, h, !in.engine.empty());
-    auto texelOf = [&](int x, int y) { return size_t(y - y0) * size_t(w) + size_t(x - x0); };
+// Where each fragment of a screen tile is drawn: the origin of its triangle's quad in the draw
+// image (GlslInputs), and the rows the quads moved below the tile take.
+struct QuadLayout {
+    std::vector<Vec2i> origin;  // per fragment of the tile, in the tile's order
+    std::unordered_map<uint64_t, Vec2i> blocks;  // (quad << 32 | triangle) -> origin
+    int rows = 0;                                // the image's height
+};
+
+QuadLayout quadLayout(const GlslInputs& in, const std::vector<size_t>& inTile, int x0, int y0,
+                      int w, int h) {
+    QuadLayout q;
+    q.rows = h;
+    const int quadsX = w / 2;
+    std::vector<uint32_t> inPlace(size_t(quadsX) * size_t(h / 2), UINT32_MAX);
+    int moved = 0;
     for (size_t k : inTile) {
-        const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
-        img->put(texelOf(x, y), in, k, 2.0f);
+        const int x = in.pixel[k] % in.frameWidth - x0, y = in.pixel[k] / in.frameWidth - y0;
+        const size_t quad = size_t(y / 2) * size_t(quadsX) + size_t(x / 2);
+        const uint32_t tri = in.triangle.empty() ? 0 : in.triangle[k];
+        const uint64_t key = uint64_t(quad) << 32 | tri;
+        auto found = q.blocks.find(key);
+        if (found == q.blocks.end()) {
+            Vec2i at(x & ~1, y & ~1);
+            if (inPlace[quad] == UINT32_MAX)
+                inPlace[quad] = tri;
+            else  // another triangle's fragments in this quad: a quad below the tile
+                at = Vec2i(2 * (moved % quadsX), h + 2 * (moved / quadsX)), ++moved;
+            found = q.blocks.emplace(key, at).first;
+        }
+        q.origin.push_back(found->second);
     }
-    // Helpers along a fragment's row or column first (exact: what fine derivatives read),
-    // then the diagonal ones left (extrapolated along both).
+    q.rows = h + 2 * ((moved + quadsX - 1) / quadsX);
+    return q;
+}
+
+// The screen-layout tile of `in` at (x0, y0) (both even), w x h: its fragments in their
+// triangles' quads, then the quads' helper lanes (GlslInputs).
+std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<size_t>& inTile,
+                                       const std::vector<size_t>& helpersInTile, int x0, int y0,
+                                       int w, int h) {
+    const QuadLayout layout = quadLayout(in, inTile, x0, y0, w, h);
+    auto img = std::make_unique<DrawImages>(w, layout.rows, !in.engine.empty());
+    auto texelOf = [&](Vec2i origin, int x, int y) {
+        return size_t(origin.y + (y & 1)) * size_t(w) + size_t(origin.x + (x & 1));
+    };
+    for (size_t i = 0; i < inTile.size(); ++i) {
+        const size_t k = inTile[i];
+        img->put(texelOf(layout.origin[i], in.pixel[k] % in.frameWidth, in.pixel[k] / in.frameWidth),
+                 in, k, 2.0f);
+    }
+    for (size_t j : helpersInTile) {
+        const GlslInputs::Helper& hl = in.helpers[j];
+        const int x = hl.at.x - x0, y = hl.at.y - y0;
+        const uint64_t quad = uint64_t(y / 2) * uint64_t(w / 2) + uint64_t(x / 2);
+        const auto block = layout.blocks.find(quad << 32 | hl.triangle);
+        if (block == layout.blocks.end()) continue;
+        const size_t t = texelOf(block->second, x, y);
+        if (img->state(t) == 0.0f) img->putHelper(t, hl, !in.uvDx.empty());
+    }
+    // Lanes left: along a fragment's row or column first (exact: what fine derivatives
+    // read), then the diagonal ones (extrapolated along both).
     for (int diagonal = 0; diagonal < 2; ++diagonal)
-        for (size_t k : inTile) {
+        for (size_t i = 0; i < inTile.size(); ++i) {
+            const size_t k = inTile[i];
             const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
             const int nx = x ^ 1, ny = y ^ 1;
             const int at[3][2] = {{nx, y}, {x, ny}, {nx, ny}};
             for (int a = diagonal ? 2 : 0; a < (diagonal ? 3 : 2); ++a) {
-                const size_t t = texelOf(at[a][0], at[a][1]);
+                const size_t t = texelOf(layout.origin[i], at[a][0], at[a][1]);
                 if (img->state(t) == 0.0f)
                     img->put(t, in, k, 1.0f, Vec2f(float(at[a][0] - x), float(at[a][1] - y)));
             }
@@ -445,10 +507,15 @@ void drawAll(const GlslSpec& spec, const DrawMaps& maps, const GlslInputs& in, G
     }
     const int tilesX = (in.frameWidth + kTile - 1) / kTile;
     const int tilesY = (in.frameHeight + kTile - 1) / kTile;
-    std::vector<std::vector<size_t>> byTile(size_t(tilesX) * size_t(tilesY));
+    std::vector<std::vector<size_t>> byTile(size_t(tilesX) * size_t(tilesY)),
+        helpersByTile(byTile.size());
     for (size_t k = 0; k < in.pixel.size(); ++k) {
         const int x = in.pixel[k] % in.frameWidth, y = in.pixel[k] / in.frameWidth;
         byTile[size_t(y / kTile) * size_t(tilesX) + size_t(x / kTile)].push_back(k);
+    }
+    for (size_t j = 0; j < in.helpers.size(); ++j) {
+        const Vec2i at = in.helpers[j].at;  // x or y may be the frame's odd side
+        helpersByTile[size_t(at.y / kTile) * size_t(tilesX) + size_t(at.x / kTile)].push_back(j);
     }
     for (int ty = 0; ty < tilesY; ++ty)
         for (int tx = 0; tx < tilesX; ++tx) {
@@ -458,7 +525,8 @@ void drawAll(const GlslSpec& spec, const DrawMaps& maps, const GlslInputs& in, G
             const int x0 = tx * kTile, y0 = ty * kTile;
             const int w = std::min(kTile, (in.frameWidth - x0 + 1) & ~1);
             const int h = std::min(kTile, (in.frameHeight - y0 + 1) & ~1);
-            auto img = screenTile(in, inTile, x0, y0, w, h);
+            auto img = screenTile(in, inTile, helpersByTile[size_t(ty) * size_t(tilesX) + size_t(tx)],
+                                  x0, y0, w, h);
             drawImages(spec, maps, *img, nullptr, 0, true, run);
         }
 }
@@ -468,6 +536,10 @@ void checkInputs(const GlslInputs& in) {
     PGT_CHECK(in.uvDx.empty() ||
               (in.uvDx.size() == in.uv0.size() && in.uvDy.size() == in.uv0.size()));
     PGT_CHECK(in.frameWidth <= 0 || in.pixel.size() == in.uv0.size());
+    PGT_CHECK(in.triangle.empty() || in.triangle.size() == in.uv0.size());
+    for (const GlslInputs::Helper& h : in.helpers)
+        PGT_CHECK(h.at.x >= 0 && h.at.y >= 0 && h.at.x <= in.frameWidth &&
+                  h.at.y <= in.frameHeight);
 }
 
 // A job on the GL thread with the maps checked and the uploads resolved.

@@ -101,10 +101,14 @@ struct GlslMaps : MapRefs {
 // The fragments of a draw. Packed (frameWidth 0): fragment k at texel (k % w, k / w), so
 // a shader's own dFdx/dFdy see unrelated fragments. Screen layout (frameWidth > 0): each
 // fragment at its pixel (y * frameWidth + x, y downward), drawn in tiles that keep the 2x2
-// quads; a quad's uncovered pixels are helper invocations whose uv0 is extended from a
-// covered pixel of the quad along its derivatives (exact along the quad's row and column,
-// which fine derivatives read) and whose V is that pixel's. dFdx, dFdy and implicit-LOD
-// texture() then see the draw's neighbours as in an engine.
+// quads. With triangles and helpers (a frame's, RasterOptions::quadHelpers) each triangle's
+// fragments of a quad get a quad of their own, as a GPU shades them: the first triangle's
+// in place, any other's in rows below the tile, the lanes that are not the triangle's
+// fragments its helper lanes (raster/raster.h HelperLane). dFdx, dFdy and implicit-LOD
+// texture() then see each triangle's own plane, across triangle edges and UV seams too. A
+// lane no helper fills (lists made by hand) is extended from a fragment of its quad along
+// the derivatives (exact along the quad's row and column, which fine derivatives read), its
+// V that fragment's.
 struct GlslInputs {
     std::vector<Vec2f> uv0;
     // An engine's varyings (GlslSpec::engineInputs; empty: none), a helper's position moved
@@ -114,6 +118,17 @@ struct GlslInputs {
     std::vector<Vec2f> uvDx, uvDy;  // uv0's derivatives (pgt_uv_dx, pgt_uv_dy); empty = 0
     std::vector<int32_t> pixel;     // screen layout only
     int frameWidth = 0, frameHeight = 0;
+    // Screen layout: each fragment's triangle (empty: one quad per pixel quad) and the helper
+    // lanes of the quads (at: the lane's pixel; x or y may equal the frame's odd side).
+    struct Helper {
+        Vec2i at{0};
+        uint32_t triangle = 0;
+        Vec2f uv0{0}, uvDx{0}, uvDy{0};
+        Vec3f view{0};
+        EngineInputs engine;
+    };
+    std::vector<uint32_t> triangle;
+    std::vector<Helper> helpers;
 };
 
 // Compiles and links the spec's shader (cached, as runGlsl does) without drawing: a study
