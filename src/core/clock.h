@@ -36,6 +36,7 @@ enum class Stage {
     TruthBuild,    // a study: the truths of its surfaces
     CasesWall,     // a study: its cases, wall clock
     GlTimingWall,  // a study: its GLSL methods' timings, wall clock
+    VertexStage,   // the engine vertex stages' runs on the drawn mesh
     Count
 };
 inline constexpr size_t kStages = size_t(Stage::Count);
@@ -43,7 +44,7 @@ inline constexpr size_t kStages = size_t(Stage::Count);
 inline constexpr std::array<const char*, kStages> kStageNames = {
     "raster",        "trace",       "trace_fine", "methods_eval",  "methods",         "statistics",
     "method_timing", "write",       "tessellate", "build",         "tessellate_fine", "build_fine",
-    "truth_total",   "truth_build", "cases_wall", "gl_timing_wall"};
+    "truth_total",   "truth_build", "cases_wall", "gl_timing_wall", "vertex_stage"};
 
 // Milliseconds per stage; a stage never added or set is absent (the frame did not run it).
 class StageTimes {

@@ -42,6 +42,7 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
     list.lightExact.resize(lights ? total : 0);
     list.viewVertex.resize(inputs ? total : 0);
     list.engine.resize(inputs ? total : 0);
+    list.bary.resize(inputs ? total : 0);
     list.triangle.resize(helpers ? total : 0);
     list.helpers.clear();
     if (helpers) list.helpers.swap(*helpers);
@@ -63,6 +64,7 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
             if (inputs) {
                 list.viewVertex[k] = inputs->at(x, y).viewVertex;
                 list.engine[k] = inputs->at(x, y).engine;
+                list.bary[k] = inputs->at(x, y).bary;
             }
             if (helpers) list.triangle[k] = f.triangle;
             ++k;

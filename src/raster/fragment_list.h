@@ -25,6 +25,7 @@ struct FragmentList {
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     std::vector<Vec3d> viewVertex;         // V per vertex, interpolated (Fragment)
     std::vector<EngineInputs> engine;      // an engine's varyings (Fragment::engine)
+    std::vector<Vec3d> bary;               // FragmentInputs::bary (with the inputs)
     // For a GL draw on the screen (RasterOptions::quadHelpers; else both empty): each
     // fragment's triangle (Fragment::triangle) and the helper lanes of their quads.
     std::vector<uint32_t> triangle;

@@ -26,13 +26,15 @@ struct ClipVertex {
     Vec3d t, b, n;
     double w;
     Vec3d eyeTangent;  // the vertex's eye vector in its own frame (FragmentInputs::viewVertex)
+    Vec3d bary;        // its barycentrics in the mesh's triangle (FragmentInputs::bary)
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
     return {a.cam + (c.cam - a.cam) * s, a.world + (c.world - a.world) * s,
             a.uv + (c.uv - a.uv) * s,    a.t + (c.t - a.t) * s,
             a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s,
-            a.w + (c.w - a.w) * s,       a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s};
+            a.w + (c.w - a.w) * s,       a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s,
+            a.bary + (c.bary - a.bary) * s};
 }
 
 // Top-left rule in a y-down raster, for edges oriented so that the interior is on the
@@ -103,7 +105,8 @@ ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camer
                            p->bitangent,
                            p->normal,
                            p->handedness,
-                           eyeVectors ? vertexEyeVector(*p, camera) : Vec3d(0)};
+                           eyeVectors ? vertexEyeVector(*p, camera) : Vec3d(0),
+                           Vec3d(i == 0, i == 1, i == 2)};
     }
     ClippedPolygon out;
     if (camera.isOrthographic()) {
@@ -273,6 +276,7 @@ void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
     f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
     f.viewTangentExact = f.viewTangent;
     if (in) {
+        in->bary = c[0]->bary * b[0] + c[1]->bary * b[1] + c[2]->bary * b[2];
         in->viewVertex = f.viewTangent;
         if (o.perVertexView)
             in->viewVertex = glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] +
@@ -475,7 +479,8 @@ void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterSta
     const int W = camera_.width();
     // Cleared once (in parallel), then each bin of columns writes its own pixels in place.
     resetImage(out, W, y1 - y0);
-    const bool wantInputs = inputs && (options_.perVertexView || options_.engineInputs);
+    const bool wantInputs =
+        inputs && (options_.perVertexView || options_.engineInputs || options_.barycentrics);
     if (wantInputs) resetImage(*inputs, W, y1 - y0);
     const int bins = (W + kBin - 1) / kBin;
     const bool wantHelpers = helpers && options_.quadHelpers;

@@ -52,6 +52,10 @@ struct FragmentInputs {
     // flat triangle with one frame.
     Vec3d viewVertex{0};
     EngineInputs engine;
+    // The drawn point's barycentrics in its mesh triangle (Fragment::triangle's vertices in
+    // index order): perspective-correct, so any per-vertex value (an engine's vertex stage's
+    // outputs) interpolates as a GPU's varyings do. Made with RasterOptions::barycentrics.
+    Vec3d bary{0};
 };
 
 struct RasterOptions {
@@ -65,6 +69,8 @@ struct RasterOptions {
     // The helper lanes of the frame's 2x2 quads (HelperLane), for a GL draw that lays the
     // fragments out on the screen (a GLSL or HLSL method).
     bool quadHelpers = false;
+    // FragmentInputs::bary (an engine's vertex stage: methods/shader/vertex_stage.h).
+    bool barycentrics = false;
 };
 
 // A helper invocation of a 2x2 quad, as a GPU runs one (docs/model.md §6): where a quad holds

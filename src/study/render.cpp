@@ -16,7 +16,9 @@
 #include "core/overloaded.h"
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
+#include "methods/shader/vertex_stage.h"
 #include "study/truth_source.h"
+#include "study/vertex_inputs.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -74,6 +76,7 @@ struct MethodRun {
     MethodChecks checks;
     Image2D<MethodPixel> pixels;
     Image2D<float> errTexels;
+    std::optional<VertexOutputs> vertex;  // its engine vertex stage's, where it has one
 };
 
 // The truth's depth offsets (docs/model.md §5b): where the rasteriser covers a pixel the truth
@@ -141,9 +144,25 @@ class BandPipeline {
 
     void run() {
         auto t0 = Clock::now();
-        // The drawn mesh culled and binned, unless the fragments are prepared.
-        const BaseMesh mesh =
-            truth_.prepared() ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
+        // The drawn mesh culled and binned, unless the fragments are prepared; the engine
+        // vertex stages run on it.
+        const bool vertexStages = std::any_of(runs_.begin(), runs_.end(), [](const MethodRun& m) {
+            return m.config->shader() && m.config->shader()->vertexStage();
+        });
+        const BaseMesh mesh = truth_.prepared() && !vertexStages
+                                  ? BaseMesh{}
+                                  : drawnBaseMesh(scene_.base, r_.camera);
+        r_.timings.add(Stage::Raster, msSince(t0));
+        t0 = Clock::now();
+        if (vertexStages) {
+            const VertexStageInputs in = vertexStageInputs(mesh, r_.camera);
+            for (MethodRun& m : runs_)
+                if (m.config->shader() && m.config->shader()->vertexStage())
+                    m.vertex = runVertexStage(*m.config->shader(), in, m.textures->scale,
+                                              m.textures->bias);
+            r_.timings.add(Stage::VertexStage, msSince(t0));
+            t0 = Clock::now();
+        }
         std::optional<Rasterizer> raster;
         if (!truth_.prepared()) {
             const RasterOptions o = rasterOptions(scene_, configs_);
@@ -218,7 +237,8 @@ class BandPipeline {
         if (frags_->pixel.empty())  // nothing in this band
             out = Image2D<MethodPixel>(W, H);
         else
-            evaluateMethod(*m.config, *frags_, *m.textures, W, H, exactFrame, out);
+            evaluateMethod(*m.config, *frags_, *m.textures, W, H, exactFrame, out,
+                           m.vertex ? &*m.vertex : nullptr);
     }
 
     // The band's GLSL methods drawn together, in one call of FrameOptions::glDraw when given
@@ -373,8 +393,11 @@ class BandPipeline {
     }
 
     // The band's FragmentInputs where the rasteriser made them (a method reads them), else null.
+    // (Made for an engine vertex stage's barycentrics alone, they are not the frame's.)
     const Image2D<FragmentInputs>* madeInputs() const {
-        return inputs_ && inputs_->width == fragments_->width ? inputs_ : nullptr;
+        return inputs_ && inputs_->width == fragments_->width && readsFragmentInputs(configs_)
+                   ? inputs_
+                   : nullptr;
     }
 
     const Scene& scene_;
@@ -433,6 +456,7 @@ RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>&
         o.perVertexView = o.perVertexView || c.viewPerVertex;
         o.engineInputs = o.engineInputs || readsEngineInputs(c);
         o.quadHelpers = o.quadHelpers || runsInGl(c);
+        o.barycentrics = o.barycentrics || (c.shader() && c.shader()->vertexStage());
     }
     return o;
 }

@@ -19,6 +19,7 @@
 #include "methods/registry.h"
 #include "methods/shader/glsl_method.h"
 #include "methods/shader/glsl_spec.h"
+#include "methods/shader/vertex_stage.h"
 
 namespace pgt {
 
@@ -247,7 +248,7 @@ GlslMaps glslMaps(const MethodConfig& cfg, const MethodTextures& tex) {
 // The fragments as a GL draw of `cfg` takes them (V in the exact frame or not, and an
 // engine's inputs where its shader reads them); in screen layout when `width` > 0.
 GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool exactFrame,
-                      int width = 0, int height = 0) {
+                      int width = 0, int height = 0, const VertexOutputs* vertex = nullptr) {
     GlslInputs in;
     in.uv0 = toFloat<Vec2f>(frags.uv0);
     in.view = toFloat<Vec3f>(methodViews(cfg, frags, exactFrame));
@@ -272,6 +273,16 @@ GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool e
                                   Vec3f(view), h.inputs.engine});
         }
     }
+    if (vertex) {  // the vertex stage's outputs at each fragment's and helper's barycentrics
+        PGT_CHECK(frags.triangle.size() == frags.size() && frags.bary.size() == frags.size());
+        in.links = int(vertex->offset.size());
+        for (size_t k = 0; k < frags.size(); ++k)
+            for (size_t l = 0; l < vertex->offset.size(); ++l)
+                in.varyings.push_back(vertex->at(frags.triangle[k], frags.bary[k], l));
+        for (const HelperLane& h : frags.helpers)
+            for (size_t l = 0; l < vertex->offset.size(); ++l)
+                in.helperVaryings.push_back(vertex->at(h.fragment.triangle, h.inputs.bary, l));
+    }
     return in;
 }
 
@@ -281,10 +292,10 @@ namespace {
 
 Image2D<MethodPixel> evaluateShader(const MethodConfig& cfg, const GlslSpec& spec,
                                     const FragmentList& frags, const MethodTextures& tex, int width,
-                                    int height, bool exactFrame) {
+                                    int height, bool exactFrame, const VertexOutputs* vertex) {
     Image2D<MethodPixel> out(width, height);
-    GlslRun run =
-        runGlsl(spec, glslMaps(cfg, tex), glslInputs(cfg, frags, exactFrame, width, height));
+    GlslRun run = runGlsl(spec, glslMaps(cfg, tex),
+                          glslInputs(cfg, frags, exactFrame, width, height, vertex));
     for (size_t k = 0; k < frags.pixel.size(); ++k) {
         MethodPixel& p = out.data[size_t(frags.pixel[k])];
         p.covered = true;
@@ -319,13 +330,14 @@ void evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const Frag
 }  // namespace
 
 void evaluateMethod(const MethodConfig& cfg, const FragmentList& frags, const MethodTextures& tex,
-                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out) {
+                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out,
+                    const VertexOutputs* vertex) {
     std::visit(Overloaded{[&](const BuiltinMethod& b) {
                               evaluateBuiltin(cfg, b, frags, tex, width, height, exactFrame, out);
                           },
                           [&](const ShaderMethod& m) {
                               out = evaluateShader(cfg, *m.spec, frags, tex, width, height,
-                                                   exactFrame);
+                                                   exactFrame, vertex);
                           }},
                cfg.method);
 }
@@ -416,6 +428,9 @@ MethodTiming timeBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const 
 
 MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
                         const MethodTextures& tex, const TimingSpec& spec) {
+    // Not measured with an engine vertex stage: the timing workload is packed fragments
+    // without its outputs (docs/methods.md "The engine's vertex stage").
+    if (cfg.shader() && cfg.shader()->vertexStage()) return {};
     if (frags.size() == 0 || spec.repeats < 1) return {};
     return std::visit(
         Overloaded{

@@ -20,6 +20,8 @@
 
 namespace pgt {
 
+struct VertexOutputs;  // methods/shader/vertex_stage.h
+
 class GlMapUploads;  // methods/shader/glsl_method.h
 
 // The maps (methods/maps.h) methods read at one (s, b): the height map, and the others the
@@ -115,9 +117,12 @@ double estimateMapBytes(const Texture& height, const std::vector<MethodConfig>& 
 Image2D<MethodPixel> evaluateMethod(const MethodConfig& cfg, const FragmentList& frags,
                                     const MethodTextures& tex, int width, int height,
                                     bool exactFrame = false);
-// The same into `out`, reusing its storage when it has the size (a frame's bands).
+// The same into `out`, reusing its storage when it has the size (a frame's bands); a shader
+// with an engine vertex stage gets its outputs from `vertex` (methods/shader/vertex_stage.h;
+// `frags` then has the triangles and barycentrics).
 void evaluateMethod(const MethodConfig& cfg, const FragmentList& frags, const MethodTextures& tex,
-                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out);
+                    int width, int height, bool exactFrame, Image2D<MethodPixel>& out,
+                    const VertexOutputs* vertex = nullptr);
 
 // What differs between a built-in and a shader for running them (the rest is
 // methods/config.h's, runsInGl among it): a shader runs in OpenGL, over the fragments in

@@ -129,6 +129,10 @@ struct GlslInputs {
     };
     std::vector<uint32_t> triangle;
     std::vector<Helper> helpers;
+    // The engine's vertex stage's outputs (GlslSpec::VertexStage links; 0: none): fragment k's
+    // link l at varyings[k * links + l], helper j's at helperVaryings[j * links + l].
+    int links = 0;
+    std::vector<glm::vec4> varyings, helperVaryings;
 };
 
 // Compiles and links the spec's shader (cached, as runGlsl does) without drawing: a study

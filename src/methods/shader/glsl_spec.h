@@ -115,6 +115,27 @@ struct GlslSpec {
     // them as a GPU has them, so that a frame built from derivatives or a V computed from the
     // camera runs as the engine runs it; "tangent" (default): uv and V only.
     bool engineInputs = false;
+    // "vertex": the engine's own vertex shader (GLSL, Vulkan-style or GL), run on the base
+    // mesh's vertices (methods/shader/vertex_stage.h; docs/methods.md "The engine's vertex
+    // stage"). Its attributes are bound to pgt's vertex data and its matrix uniforms to pgt's
+    // camera by name; each of the fragment code's stage inputs is the vertex output of its
+    // location (or, without locations, its name), interpolated as a GPU's varyings are.
+    struct VertexStage {
+        std::string path, source;  // the file, read when the scene is parsed
+        // Its attribute -> "position", "normal", "tangent" (w: the handedness sign) or "uv".
+        std::vector<std::pair<std::string, std::string>> attributes;
+        // Its uniform -> "model", "view", "projection", "model_view", "view_projection",
+        // "model_view_projection", "normal_matrix" or "camera_position".
+        std::vector<std::pair<std::string, std::string>> matrices;
+        // A vertex output and the fragment stage input it reaches (float or vecN).
+        struct Link {
+            std::string output, input;
+            int components = 0;
+        };
+        std::vector<Link> links;
+    };
+    std::vector<VertexStage> vertex;  // at most one; empty: pgt's own inputs only
+    const VertexStage* vertexStage() const { return vertex.empty() ? nullptr : &vertex[0]; }
     // "defines": #define NAME VALUE lines put before the source, in the entry's order.
     std::vector<std::pair<std::string, std::string>> defines;
     // Uniforms set by name: 1 value -> float (int when written as an integer), 2-4 -> vecN;

@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "methods/shader/hlsl.h"
+#include "methods/shader/prelude.h"
 #include "methods/shader/shader_gate.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
@@ -17,81 +18,6 @@
 namespace pgt::gl {
 
 namespace {
-
-// The wrapper: a prelude that counts texture() calls, the user's file (its #version line
-// blanked, so its lines keep their numbers), and a main() that feeds the function one
-// fragment per output pixel.
-constexpr const char* kPrelude = R"(#version 450 core
-int pgt_fetches = 0;
-uniform int pgt_lod_grad;  // the method's "lod": 1 = "grad", 0 = "zero"
-vec2 pgt_uv_dx = vec2(0.0), pgt_uv_dy = vec2(0.0);  // uv0's derivatives (the rasteriser's)
-// How pgt's built-in shaders sample a map: level 0, or textureGrad with uv0's derivatives.
-vec4 pgt_sample(sampler2D s, vec2 p) {
-    pgt_fetches++;
-    return pgt_lod_grad != 0 ? textureGrad(s, p, pgt_uv_dx, pgt_uv_dy) : textureLod(s, p, 0.0);
-}
-vec4 pgt_texture(sampler2D s, vec2 p) { pgt_fetches++; return texture(s, p); }
-vec4 pgt_texture(sampler2D s, vec2 p, float b) { pgt_fetches++; return texture(s, p, b); }
-vec4 pgt_textureLod(sampler2D s, vec2 p, float l) { pgt_fetches++; return textureLod(s, p, l); }
-vec4 pgt_textureGrad(sampler2D s, vec2 p, vec2 dx, vec2 dy) {
-    pgt_fetches++; return textureGrad(s, p, dx, dy); }
-vec4 pgt_texelFetch(sampler2D s, ivec2 p, int l) { pgt_fetches++; return texelFetch(s, p, l); }
-)";
-constexpr const char* kTextureNames = R"(#define texture pgt_texture
-#define textureLod pgt_textureLod
-#define textureGrad pgt_textureGrad
-#define texelFetch pgt_texelFetch
-)";
-
-// The counting functions for every other sampler type a file may declare (a Vulkan shader's
-// array of layers, a cube map, a shadow map, integer textures), so that a `texture()` on them
-// compiles under kTextureNames' names, and counts: the sampler, texture()'s coordinate, the
-// derivatives' type, texelFetch's coordinate ("" where GLSL has none) and what it returns.
-struct SamplerOverload {
-    const char *type, *coord, *grad, *fetch, *value;
-    bool bias = true, lod = true;
-};
-constexpr SamplerOverload kSamplerOverloads[] = {
-    {"sampler1D", "float", "float", "int", "vec4"},
-    {"sampler1DArray", "vec2", "float", "ivec2", "vec4"},
-    {"sampler2DArray", "vec3", "vec2", "ivec3", "vec4"},
-    {"sampler3D", "vec3", "vec3", "ivec3", "vec4"},
-    {"samplerCube", "vec3", "vec3", "", "vec4"},
-    {"samplerCubeArray", "vec4", "vec3", "", "vec4"},
-    {"isampler2D", "vec2", "vec2", "ivec2", "ivec4"},
-    {"usampler2D", "vec2", "vec2", "ivec2", "uvec4"},
-    {"sampler2DShadow", "vec3", "vec2", "", "float"},
-    {"samplerCubeShadow", "vec4", "vec3", "", "float", true, false},
-    {"sampler2DArrayShadow", "vec4", "vec2", "", "float", false, false},
-};
-
-std::string samplerOverloads() {
-    std::string out;
-    for (const SamplerOverload& o : kSamplerOverloads) {
-        const std::string t = o.type, c = o.coord, g = o.grad, v = o.value;
-        const std::string head = v + " pgt_";
-        out +=
-            head + "texture(" + t + " s, " + c + " p) { pgt_fetches++; return texture(s, p); }\n";
-        if (o.bias)
-            out += head + "texture(" + t + " s, " + c +
-                   " p, float b) { pgt_fetches++; return texture(s, p, b); }\n";
-        if (o.lod)
-            out += head + "textureLod(" + t + " s, " + c +
-                   " p, float l) { pgt_fetches++; return textureLod(s, p, l); }\n";
-        out += head + "textureGrad(" + t + " s, " + c + " p, " + g + " dx, " + g +
-               " dy) { pgt_fetches++; return textureGrad(s, p, dx, dy); }\n";
-        if (*o.fetch)
-            out += head + "texelFetch(" + t + " s, " + o.fetch +
-                   " p, int l) { pgt_fetches++; return texelFetch(s, p, l); }\n";
-    }
-    return out;
-}
-
-// pgt's prelude: the counting functions of every sampler type, then their names.
-const std::string& preludeText() {
-    static const std::string text = std::string(kPrelude) + samplerOverloads() + kTextureNames;
-    return text;
-}
 
 // The legacy dialects' texture functions (GLSL ES 1.00 and desktop 1.10/1.20, with the lod
 // extensions ES 1.00 code enables), counted as the modern ones are.
@@ -158,6 +84,9 @@ void main() {
     pgt_set_engine(texelFetch(pgt_engine_position, p, 0).xyz, texelFetch(pgt_engine_normal, p, 0).xyz,
                    texelFetch(pgt_engine_tangent, p, 0), texelFetch(pgt_engine_camera, p, 0).xyz);
 #endif
+#ifdef PGT_VARYINGS
+    pgt_set_varyings(p);
+#endif
     pgt_fetches = 0;
     pgt_out_uv = PGT_FUNCTION(uv0, v);
     pgt_out_fetches = float(pgt_fetches);
@@ -173,6 +102,8 @@ void main() {  // one triangle covering the viewport
 
 // The user's file as the wrapper holds it: its #version line and the #extension lines of
 // kCoreExtensions blanked, so every other line keeps its number.
+}  // namespace
+
 std::string userLines(const std::string& src) {
     std::istringstream in(src);
     std::ostringstream out;
@@ -189,6 +120,8 @@ std::string userLines(const std::string& src) {
     }
     return out.str();
 }
+
+namespace {
 
 int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
 
@@ -299,7 +232,8 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
 // user's file, unless `status` (compile or link) succeeded.
 template <class GetIv, class GetLog, class Delete>
 void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
-                   const std::string& file, const char* verb, int userFirst, int userCount,
+                   const std::string& file, const std::string& field, const char* verb,
+                   int userFirst, int userCount,
                    const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins,
                    const std::vector<std::string>& declared) {
     GLint ok = 0;
@@ -307,7 +241,7 @@ void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Del
     if (ok) return;
     std::string log = infoLog(object, getIv, getLog);
     remove(object);
-    throw InputError(file, "glsl", "",
+    throw InputError(file, field, "",
                      std::string("the shader does not ") + verb + ":\n" +
                          translateLog(log, file, userFirst, userCount, entry, origins, declared));
 }
@@ -316,13 +250,13 @@ void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Del
 GLuint compile(GLenum type, const std::string& src, const std::string& file, int userFirst = 0,
                int userCount = 1 << 30, const EntryLines& entry = {},
                const std::vector<GlslSpec::LineOrigin>& origins = {},
-               const std::vector<std::string>& declared = {}) {
+               const std::vector<std::string>& declared = {}, const std::string& field = "glsl") {
     GLuint s = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(s, 1, &p, nullptr);
     glCompileShader(s);
     requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, file,
-                  "compile", userFirst, userCount, entry, origins, declared);
+                  field, "compile", userFirst, userCount, entry, origins, declared);
     return s;
 }
 
@@ -396,6 +330,15 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     if (std::find(mains.begin(), mains.end(), "void") != mains.end()) {
         p.prelude += kOwnMain;
         p.glue = kOwnMainEnd;
+    }
+    if (const GlslSpec::VertexStage* v = spec.vertexStage()) {
+        // The vertex stage's outputs: one layer each of a float image array (unit 13).
+        p.glue += "uniform sampler2DArray pgt_varyings;\nvoid pgt_set_varyings(ivec2 p) {\n";
+        const char* swizzle[5] = {"", ".x", ".xy", ".xyz", ""};
+        for (size_t l = 0; l < v->links.size(); ++l)
+            p.glue += "    " + v->links[l].input + " = texelFetch(pgt_varyings, ivec3(p, " +
+                      std::to_string(l) + "), 0)" + swizzle[v->links[l].components] + ";\n";
+        p.glue += "}\n#define PGT_VARYINGS 1\n";
     }
     p.function = spec.function;
     if (!spec.call.empty()) {
@@ -566,7 +509,7 @@ GLuint programFor(const GlslSpec& spec) {
     glDeleteShader(vs);
     glDeleteShader(f);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                  spec.path, "link", first, count, entry, origins, declared);
+                  spec.path, "glsl", "link", first, count, entry, origins, declared);
     gPrograms.emplace(std::move(key), Program{prog, linkedValues(prog)});
     return prog;
 }
@@ -578,6 +521,20 @@ void restoreLinkedValues(GLuint prog) {
             drainGlErrors();
             return;
         }
+}
+
+GLuint vertexProgram(const std::string& text, const std::string& file,
+                     const std::vector<const char*>& captured) {
+    const GLuint vs = compile(GL_VERTEX_SHADER, text, file, 1, 1 << 30, {}, {}, {}, "vertex");
+    const GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glTransformFeedbackVaryings(prog, GLsizei(captured.size()), captured.data(),
+                                GL_INTERLEAVED_ATTRIBS);
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                  file, "vertex", "link", 1, 1 << 30, {}, {}, {});
+    return prog;
 }
 
 }  // namespace pgt::gl

@@ -4,6 +4,9 @@
 // program cache.
 #pragma once
 
+#include <string>
+#include <vector>
+
 #include "methods/shader/gl_api.h"
 
 namespace pgt::gl {
@@ -17,5 +20,14 @@ GLuint programFor(const GlslSpec& spec);
 // method sharing a program with another (the same text) never runs with the other's uniforms
 // or sampler units. Caller holds gMutex, with `prog` in use.
 void restoreLinkedValues(GLuint prog);
+
+// The user's file as the wrapper holds it: its #version line and the #extension lines GL 4.50
+// core has built in blanked, so every other line keeps its number.
+std::string userLines(const std::string& src);
+// A program of one vertex shader (`text`: "#version 450 core" on its first line, then `file`'s
+// lines) whose outputs `captured` transform feedback records, interleaved. Compile and link
+// errors throw InputError naming `file`'s lines and the field "vertex". Caller holds gMutex.
+GLuint vertexProgram(const std::string& text, const std::string& file,
+                     const std::vector<const char*>& captured);
 
 }  // namespace pgt::gl

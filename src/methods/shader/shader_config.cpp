@@ -19,6 +19,7 @@
 #include "methods/shader/glsl_spec.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
+#include "methods/shader/vertex_config.h"
 
 namespace pgt {
 
@@ -427,6 +428,7 @@ MethodConfig parseShaderMethod(JsonFields& f, const std::string& file) {
         spec->api =
             f.choice("api", {"gl", "d3d"}, "") == "gl" ? GlslSpec::Api::Gl : GlslSpec::Api::D3d;
     spec->engineInputs = f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
+    if (f.has("vertex")) readVertexStage(f, *spec, file, shaderPath(f, "vertex", file));
     if (f.has("uniforms")) spec->uniforms = parseUniforms(f);
     spec->stepsUniform = f.string("steps_uniform", "");
     if (!spec->stepsUniform.empty() && !mentionsIdentifier(spec->source, spec->stepsUniform))
@@ -491,6 +493,7 @@ void shaderJson(const GlslSpec& g, Json& j) {
     if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
     if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
     if (g.engineInputs) j["inputs"] = "engine";
+    if (const GlslSpec::VertexStage* v = g.vertexStage()) vertexStageJson(*v, j);
     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
     Json u = Json::object();

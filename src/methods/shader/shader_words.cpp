@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
 
 namespace pgt {
 
@@ -196,43 +197,89 @@ size_t editUniformBlock(const std::string& t, const std::vector<ShaderWord>& w, 
     return close + 1;
 }
 
-}  // namespace
+// An opening brace as a word's text (named: a literal brace in code confuses simple tools
+// that count a function's braces).
+constexpr const char* kOpenBrace = "{";
 
-std::string vulkanGlslForGl(const std::string& t) {
-    const std::vector<ShaderWord> w = shaderWords(t);
-    std::vector<TextEdit> edits;
+// A global declaration: words [k, end) up to its ';' or '{' (end), its layout groups, and the
+// first `in`/`out`/`varying` and `uniform` word among them (w.size(): none).
+struct GlobalDeclaration {
+    size_t k = 0, end = 0, stage = 0, uniform = 0;
+    std::vector<size_t> layouts;  // each layout group's first word
+    bool block = false;           // ends in '{'
+};
+
+// Every global declaration of `t`, in order; a function's body (or any other block) skipped.
+std::vector<GlobalDeclaration> globalDeclarations(const std::string& t,
+                                                  const std::vector<ShaderWord>& w) {
+    std::vector<GlobalDeclaration> out;
     size_t k = 0;
     while (k < w.size()) {
-        // A global declaration: its words up to ';' or '{' at this level.
-        size_t end = k;
-        while (end < w.size() && !is(t, w[end], ";") && !is(t, w[end], "{") && !boundary(t, w[end]))
-            end = is(t, w[end], "(") ? closing(t, w, end) + 1 : end + 1;
-        std::vector<size_t> layouts;  // each layout group's first word
-        size_t stage = w.size(), uniform = w.size();
-        for (size_t j = k; j < end; ++j) {
-            if (is(t, w[j], "layout") && j + 1 < end && is(t, w[j + 1], "(")) layouts.push_back(j);
-            if (oneOf(t, w[j], {"in", "out"}) && stage == w.size()) stage = j;
-            if (is(t, w[j], "uniform") && uniform == w.size()) uniform = j;
+        GlobalDeclaration d;
+        d.k = k, d.end = k, d.stage = w.size(), d.uniform = w.size();
+        while (d.end < w.size() && !is(t, w[d.end], ";") && !is(t, w[d.end], kOpenBrace) &&
+               !boundary(t, w[d.end]))
+            d.end = is(t, w[d.end], "(") ? closing(t, w, d.end) + 1 : d.end + 1;
+        for (size_t j = k; j < d.end; ++j) {
+            if (is(t, w[j], "layout") && j + 1 < d.end && is(t, w[j + 1], "("))
+                d.layouts.push_back(j);
+            if (oneOf(t, w[j], {"in", "out", "varying", "attribute"}) && d.stage == w.size())
+                d.stage = j;
+            if (is(t, w[j], "uniform") && d.uniform == w.size()) d.uniform = j;
             if (is(t, w[j], "(")) j = closing(t, w, j);
         }
-        const bool block = end < w.size() && is(t, w[end], "{");
-        if (block && uniform < end && end == uniform + 2) {  // uniform NAME { ... } [inst];
-            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
-            k = editUniformBlock(t, w, uniform, edits);
-            continue;
-        }
-        if (!block && stage < end && uniform == w.size()) {  // a stage variable: a plain global
-            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
-            for (size_t j = k; j < end; ++j)
+        d.block = d.end < w.size() && is(t, w[d.end], kOpenBrace);
+        k = d.block ? closing(t, w, d.end) + 1 : d.end + 1;
+        out.push_back(std::move(d));
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string vulkanGlslForGl(const std::string& t, bool keepStageVariables) {
+    const std::vector<ShaderWord> w = shaderWords(t);
+    std::vector<TextEdit> edits;
+    for (const GlobalDeclaration& d : globalDeclarations(t, w)) {
+        const bool inOut = d.stage < d.end && oneOf(t, w[d.stage], {"in", "out"});
+        if (d.block && d.uniform < d.end && d.end == d.uniform + 2) {  // uniform NAME {...} [inst];
+            for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
+            editUniformBlock(t, w, d.uniform, edits);
+        } else if (!d.block && inOut && d.uniform == w.size() && !keepStageVariables) {
+            // A stage variable: a plain global.
+            for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
+            for (size_t j = d.k; j < d.end; ++j)
                 if (oneOf(t, w[j], {"in", "out", "flat", "smooth", "noperspective", "centroid"}))
                     edits.push_back(blank(t, w[j].begin, w[j].end));
         } else {
-            for (size_t l : layouts) editLayout(t, w, l, closing(t, w, l + 1), false, edits);
+            for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), false, edits);
         }
-        // Past the declaration; a function's body (or any other block) is skipped whole.
-        k = block ? closing(t, w, end) + 1 : end + 1;
     }
     return applyEdits(t, std::move(edits));
+}
+
+std::vector<StageVariable> stageVariables(const std::string& t, const std::string& qualifier) {
+    const std::vector<ShaderWord> w = shaderWords(t);
+    std::vector<StageVariable> out;
+    for (const GlobalDeclaration& d : globalDeclarations(t, w)) {
+        if (d.block || d.stage >= d.end || d.uniform < d.end) continue;
+        const std::string q = wordText(t, w[d.stage]);
+        const bool wanted = q == qualifier || (qualifier == "in" && q == "varying") ||
+                            (qualifier == "in" && q == "attribute");
+        if (!wanted || d.end < d.stage + 3) continue;
+        StageVariable v;
+        v.type = wordText(t, w[d.end - 2]);
+        v.name = wordText(t, w[d.end - 1]);
+        if (!w[d.end - 1].ident || !w[d.end - 2].ident) continue;  // arrays: not handled
+        for (size_t l : d.layouts) {
+            const size_t close = closing(t, w, l + 1);
+            for (size_t j = l + 2; j + 2 < close; ++j)
+                if (is(t, w[j], "location") && is(t, w[j + 1], "="))
+                    v.location = std::atoi(wordText(t, w[j + 2]).c_str());
+        }
+        out.push_back(std::move(v));
+    }
+    return out;
 }
 
 std::vector<std::string> functionTypes(const std::string& t, const std::string& name) {

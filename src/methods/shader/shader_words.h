@@ -36,8 +36,18 @@ bool declaresGlobal(const std::string& text, const std::string& name,
 // location = 0) in vec2 inUV;`, `out vec4 outColor;`) made plain globals, which a "body" may
 // assign (pgt's own stage feeds the entry); a uniform or push-constant block with an instance
 // name made a struct and a uniform of it (its members set as "INSTANCE.MEMBER"), one without
-// an instance name made its members uniforms.
-std::string vulkanGlslForGl(const std::string& text);
+// an instance name made its members uniforms. `keepStageVariables` (a vertex stage pgt runs
+// as a vertex shader): stage inputs and outputs stay, their locations too.
+std::string vulkanGlslForGl(const std::string& text, bool keepStageVariables = false);
+// A global stage variable: `layout(location = 1) in vec3 inNormal;` is {"inNormal", "vec3",
+// 1}; location -1 where none is written.
+struct StageVariable {
+    std::string name, type;
+    int location = -1;
+};
+// The file's global stage variables of `qualifier` ("in": also legacy `varying` and
+// `attribute`; "out"), in order; blocks (gl_PerVertex) and arrays are left out.
+std::vector<StageVariable> stageVariables(const std::string& text, const std::string& qualifier);
 // The types of each function named `name` that `text` defines or declares (`T name(`, T a
 // word other than a statement's keyword).
 std::vector<std::string> functionTypes(const std::string& text, const std::string& name);

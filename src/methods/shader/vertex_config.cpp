@@ -1,0 +1,118 @@
+// A shader entry's "vertex", "attributes" and "matrices" (methods/shader/vertex_config.h).
+#include "methods/shader/vertex_config.h"
+
+#include <algorithm>
+#include <cctype>
+
+#include "core/error.h"
+#include "core/json_read.h"
+#include "methods/shader/shader_words.h"
+#include "methods/shader/source_text.h"
+
+namespace pgt {
+
+namespace {
+
+using Json = nlohmann::json;
+
+// A stage variable's floats (float or vecN); 0 for any other type.
+int components(const std::string& type) {
+    return type == "float" ? 1 : type == "vec2" ? 2 : type == "vec3" ? 3 : type == "vec4" ? 4 : 0;
+}
+
+std::string lower(std::string s) {
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// pgt's vertex data an attribute takes by its name alone (docs/methods.md "The engine's vertex
+// stage"): "" where the name says none.
+std::string conventionalAttribute(const std::string& name) {
+    const std::string n = lower(name);
+    if (n.find("pos") != std::string::npos) return "position";
+    if (n.find("norm") != std::string::npos) return "normal";
+    if (n.find("tang") != std::string::npos) return "tangent";
+    if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos)
+        return "uv";
+    return "";
+}
+
+// An object field of names mapped to one of `allowed`, in the entry's order.
+std::vector<std::pair<std::string, std::string>> namedChoices(
+    JsonFields& f, const std::string& key, const std::vector<std::string>& allowed) {
+    const Json& raw = f.raw(key);
+    if (!raw.is_object()) f.fail(key, "expected an object of names");
+    std::string list;
+    for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    std::vector<std::pair<std::string, std::string>> out;
+    for (const auto& [name, value] : raw.items()) {
+        if (!value.is_string() ||
+            std::find(allowed.begin(), allowed.end(), value.get<std::string>()) == allowed.end())
+            throw InputError(f.file(), f.fieldPath(key) + "." + name, shortDump(value),
+                             "expected one of " + list);
+        out.emplace_back(name, value.get<std::string>());
+    }
+    return out;
+}
+
+// Each of the fragment code's stage inputs and the vertex output that reaches it: the output
+// of its location, or, where either has none, of its name.
+void linkStages(JsonFields& f, GlslSpec& spec) {
+    GlslSpec::VertexStage& v = spec.vertex[0];
+    const std::vector<StageVariable> outs = stageVariables(v.source, "out");
+    for (const StageVariable& in : stageVariables(spec.source + "\n" + spec.body, "in")) {
+        auto match = std::find_if(outs.begin(), outs.end(), [&](const StageVariable& o) {
+            return in.location >= 0 && o.location >= 0 ? o.location == in.location
+                                                       : o.name == in.name;
+        });
+        const std::string what = "the fragment code's input " + in.type + " " + in.name +
+                                 (in.location >= 0 ? " (location " + std::to_string(in.location) +
+                                                         ")"
+                                                   : "");
+        if (match == outs.end())
+            f.fail("vertex", what + " has no output of that " +
+                                 (in.location >= 0 ? "location" : "name") + " in " + v.path);
+        if (components(in.type) == 0 || match->type != in.type)
+            f.fail("vertex", what + " and the vertex output " + match->type + " " + match->name +
+                                 ": pgt passes float and vec2-vec4 outputs of one type");
+        v.links.push_back({match->name, in.name, components(in.type)});
+    }
+}
+
+}  // namespace
+
+void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
+                     const std::string& path) {
+    if (spec.hlsl) f.fail("vertex", "runs with GLSL fragment code (an HLSL vertex stage: not yet)");
+    GlslSpec::VertexStage v;
+    v.path = path;
+    v.source = normaliseLineEnds(
+        readTextFile(path, file, f.fieldPath("vertex"), "vertex shader", kMaxShaderBytes));
+    if (f.has("attributes")) {
+        v.attributes = namedChoices(f, "attributes", {"position", "normal", "tangent", "uv"});
+    } else {  // by their names (docs/methods.md)
+        for (const StageVariable& a : stageVariables(v.source, "in")) {
+            const std::string what = conventionalAttribute(a.name);
+            if (what.empty())
+                f.fail("attributes", "the vertex shader's attribute " + a.name +
+                                         " has no name pgt reads as position, normal, tangent "
+                                         "or uv: bind it in \"attributes\"");
+            v.attributes.emplace_back(a.name, what);
+        }
+    }
+    if (f.has("matrices"))
+        v.matrices = namedChoices(f, "matrices",
+                                  {"model", "view", "projection", "model_view", "view_projection",
+                                   "model_view_projection", "normal_matrix", "camera_position"});
+    spec.vertex = {std::move(v)};
+    linkStages(f, spec);
+}
+
+void vertexStageJson(const GlslSpec::VertexStage& v, nlohmann::json& j) {
+    j["vertex"] = v.path;
+    j["vertex_sha1"] = textSha1(v.source);
+    for (const auto& [name, what] : v.attributes) j["attributes"][name] = what;
+    for (const auto& [name, what] : v.matrices) j["matrices"][name] = what;
+}
+
+}  // namespace pgt

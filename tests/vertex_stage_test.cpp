@@ -1,0 +1,163 @@
+// The engine's vertex stage as it ships (docs/methods.md "The engine's vertex stage"): a
+// Vulkan-style vertex file run on the base mesh's vertices, its outputs reaching the fragment
+// code's inputs by location. Held to a closed form (on a plane, V from the tangent-space
+// positions it interpolates is the per-pixel V) and to the defect it exists to show (a
+// bitangent cross(N, T) that ignores the tangent's w turns the offsets round on a mirrored
+// mesh's mirrored half). Runs in Mesa llvmpipe like tests/gl_test.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "methods/config.h"
+#include "scene/scene.h"
+#include "study/render.h"
+#include "test_util.h"
+
+namespace pgt {
+namespace {
+
+std::string data(const std::string& rel) { return test::testDataDir() + "/" + rel; }
+
+// tests/data/glsl/tangent_space.{vert,frag} with the bitangent's `handedness` 0 (as public
+// samples ship: w ignored) or 1.
+nlohmann::json vertexEntry(const std::string& name, double handedness) {
+    return {{"name", name},
+            {"glsl", data("glsl/tangent_space.frag")},
+            {"vertex", data("glsl/tangent_space.vert")},
+            {"sampler", "heightMap"},
+            {"api", "d3d"},
+            {"call", "offsetParallax(inUV, normalize(inTangentViewPos - inTangentFragPos))"},
+            {"matrices",
+             {{"ubo.projection", "projection"},
+              {"ubo.view", "view"},
+              {"ubo.model", "model"},
+              {"ubo.cameraPos", "camera_position"}}},
+            {"uniforms",
+             {{"params.heightScale", "scale"},
+              {"params.heightBias", "bias"},
+              {"options.handedness", handedness}}}};
+}
+
+// pgt's own parallax fed the per-pixel V of the base's frame.
+nlohmann::json perPixelEntry() {
+    return {{"name", "pixel_v"},
+            {"glsl", "pgt:parallax.glsl"},
+            {"sampler", "heightMap"},
+            {"call", "ParallaxMapping(uv, V)"},
+            {"uniforms", {{"height_scale", "scale"}, {"height_bias", "bias"}}}};
+}
+
+RenderResult render(const std::string& base, const std::string& camera,
+                    const nlohmann::json& methods) {
+    const auto dir = test::tempDir("vertex_stage");
+    const Scene s = parseScene(
+        nlohmann::json::parse(R"({"heightmap": {"procedural": "sine", "size": [64, 64]},
+            "address": "repeat", "displacement": {"scale": 0.05, "bias": -0.025},
+            "base": )" + base + R"(, "camera": )" + camera +
+                              R"(, "truth": {"rate": 1, "uncertainty": false}, "methods": )" +
+                              methods.dump() + "}"),
+        (dir / "s.json").string());
+    RenderResult r = renderFrame(s, {.timingRepeats = 0});
+    std::filesystem::remove_all(dir);
+    return r;
+}
+
+// On a plane every vertex has one frame, so the tangent-space eye and point it interpolates
+// give, per pixel, exactly the per-pixel V (float noise) under a pinhole camera; the
+// push-constant and uniform blocks of both stages are set by member. (Under an orthographic
+// camera a V taken from a camera position is a perspective from that point, in pgt as in an
+// engine: docs/methods.md.)
+TEST(VertexStage, OnAPlaneItsVIsThePerPixelV) {
+    for (const char* camera : {R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target": [0, 0, 0],
+              "up": [0, 0, 1], "fov": 50, "resolution": [64, 64]})",
+                               R"({"type": "pinhole", "eye": [-0.8, 0.2, 0.4], "target": [0.1, 0, 0],
+              "up": [0, 0, 1], "fov": 70, "resolution": [63, 49]})"}) {
+        const RenderResult r = render(R"({"type": "plane"})", camera,
+                                      {perPixelEntry(), vertexEntry("vertex_w", 1)});
+        ASSERT_EQ(r.methods.size(), 2u);
+        double worst = 0;
+        int n = 0;
+        const auto& a = r.methods[0].pixels.data;
+        const auto& b = r.methods[1].pixels.data;
+        for (size_t k = 0; k < a.size(); ++k)
+            if (a[k].covered && b[k].covered)
+                worst = std::max(worst, glm::length(a[k].uv - b[k].uv) * 64), ++n;
+        std::printf("vertex stage against per-pixel V: %d pixels, worst %.2e texel\n", n, worst);
+        EXPECT_GT(n, 1000);
+        EXPECT_LT(worst, 1e-4);
+    }
+}
+
+// Blender's glTF torus with mirrored UVs (its own tangents, w -1 on the mirrored half): the
+// vertex file as it ships (w ignored) and with w agree where w is +1 and part where it is -1,
+// where ignoring w costs about twice the error.
+TEST(VertexStage, IgnoringTheTangentsWFailsOnTheMirroredHalf) {
+    const RenderResult r = render(
+        R"({"type": "gltf", "file": ")" + data("gltf/torus_mirrored.gltf") +
+            R"(", "frames": "asset"})",
+        R"({"type": "pinhole", "eye": [0.2, -1.3, 0.9], "target": [0, 0, 0], "up": [0, 0, 1],
+            "fov": 45, "resolution": [128, 128]})",
+        {vertexEntry("shipped", 0), vertexEntry("with_w", 1)});
+    ASSERT_EQ(r.methods.size(), 2u);
+    const auto& shipped = r.methods[0];
+    const auto& withW = r.methods[1];
+    int same = 0, apart = 0;
+    double errShipped = 0, errWithW = 0;
+    for (size_t k = 0; k < shipped.pixels.data.size(); ++k) {
+        if (!shipped.pixels.data[k].covered || !withW.pixels.data[k].covered ||
+            !std::isfinite(shipped.errTexels.data[k]) || !std::isfinite(withW.errTexels.data[k]))
+            continue;
+        if (shipped.pixels.data[k].uv == withW.pixels.data[k].uv) {
+            ++same;
+            continue;
+        }
+        ++apart;
+        errShipped += shipped.errTexels.data[k];
+        errWithW += withW.errTexels.data[k];
+    }
+    std::printf("%d pixels alike, %d apart: mean error there %.3f (w ignored) vs %.3f texels\n",
+                same, apart, errShipped / apart, errWithW / apart);
+    EXPECT_GT(same, 1000);
+    EXPECT_GT(apart, 1000);
+    EXPECT_GT(errShipped, 1.5 * errWithW);  // measured 1.95x
+}
+
+// A fragment input no vertex output feeds, an attribute pgt cannot guess, a matrix name pgt
+// has not: each an error naming the field.
+TEST(VertexStage, FieldsAreChecked) {
+    const auto dir = test::tempDir("vertex_stage_fields");
+    std::ofstream(dir / "v.vert") << "#version 450\nlayout(location = 0) in vec3 inPos;\n"
+                                     "layout(location = 0) out vec2 outUV;\n"
+                                     "void main() { outUV = inPos.xy; }\n";
+    std::ofstream(dir / "w.vert") << "#version 450\nin vec3 corner;\nout vec2 vUV;\n"
+                                     "void main() { vUV = corner.xy; }\n";
+    std::ofstream(dir / "f.frag") << "#version 450\nlayout(location = 1) in vec2 inUV;\n"
+                                     "vec2 F(vec2 uv, vec3 V) { return inUV; }\n";
+    auto parse = [&](nlohmann::json e) {
+        e["glsl"] = "f.frag", e["function"] = "F", e["sampler"] = "";
+        return parseMethod(e, (dir / "s.json").string(), "methods[0]");
+    };
+    auto message = [&](const nlohmann::json& e) {
+        try {
+            parse(e);
+        } catch (const InputError& err) {
+            return std::string(err.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "v.vert"}}).find("location 1"),
+              std::string::npos);
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "w.vert"}}).find("corner"), std::string::npos);
+    EXPECT_NE(message({{"name", "a"},
+                       {"vertex", "v.vert"},
+                       {"attributes", {{"inPos", "place"}}}})
+                  .find("attributes.inPos"),
+              std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pgt
