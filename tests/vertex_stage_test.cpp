@@ -91,6 +91,48 @@ TEST(VertexStage, OnAPlaneItsVIsThePerPixelV) {
     }
 }
 
+// A GL-style pair: an interface block between the stages (`out VS_OUT {...} vs_out;` read as
+// `fs_in`), a bitangent attribute, plain matrix uniforms bound by convention-free names, a
+// depth map. On a plane its uv' is pgt's parallax with the per-pixel V on the depth map's
+// surface (s, b) = (k, -k), k its heightScale.
+TEST(VertexStage, InterfaceBlocksAndABitangentAttribute) {
+    nlohmann::json block = {
+        {"name", "block"},
+        {"glsl", data("glsl/interface_block.frag")},
+        {"vertex", data("glsl/interface_block.vert")},
+        {"sampler", "depthMap"},
+        {"texture", "depth"},
+        {"call", "ParallaxMapping(fs_in.TexCoords, normalize(fs_in.TangentViewPos - "
+                 "fs_in.TangentFragPos))"},
+        {"matrices",
+         {{"projection", "projection"},
+          {"view", "view"},
+          {"model", "model"},
+          {"viewPos", "camera_position"}}},
+        {"uniforms", {{"heightScale", "scale"}}},
+        {"scale", 0.05},
+        {"bias", -0.05}};
+    nlohmann::json pixel = perPixelEntry();
+    pixel["scale"] = 0.05, pixel["bias"] = -0.05;
+    const RenderResult r = render(R"({"type": "plane"})",
+                                  R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target":
+                                      [0, 0, 0], "up": [0, 0, 1], "fov": 50,
+                                      "resolution": [64, 64]})",
+                                  {pixel, block});
+    ASSERT_EQ(r.methods.size(), 2u);
+    double worst = 0;
+    int n = 0;
+    for (size_t k = 0; k < r.methods[0].pixels.data.size(); ++k) {
+        const MethodPixel& a = r.methods[0].pixels.data[k];
+        const MethodPixel& b = r.methods[1].pixels.data[k];
+        if (a.covered && b.covered) worst = std::max(worst, glm::length(a.uv - b.uv) * 64), ++n;
+    }
+    std::printf("interface-block pair against per-pixel V: %d pixels, worst %.2e texel\n", n,
+                worst);
+    EXPECT_GT(n, 1000);
+    EXPECT_LT(worst, 1e-4);
+}
+
 // Blender's glTF torus with mirrored UVs (its own tangents, w -1 on the mirrored half): the
 // vertex file as it ships (w ignored) and with w agree where w is +1 and part where it is -1,
 // where ignoring w costs about twice the error.

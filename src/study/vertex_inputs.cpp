@@ -12,11 +12,13 @@ VertexStageInputs vertexStageInputs(const BaseMesh& mesh, const Camera& camera) 
     VertexStageInputs in;
     const size_t n = mesh.vertices.size();
     in.position.reserve(n), in.normal.reserve(n), in.tangent.reserve(n), in.uv.reserve(n);
+    in.bitangent.reserve(n);
     double behind = 0;  // how far behind the target the farthest vertex from the eye lies
     for (const BaseVertex& v : mesh.vertices) {
         in.position.emplace_back(v.position);
         in.normal.emplace_back(v.normal);
         in.tangent.emplace_back(Vec3f(v.tangent), v.handedness < 0 ? -1.0f : 1.0f);
+        in.bitangent.emplace_back(v.bitangent);
         in.uv.emplace_back(v.uv);
         behind = std::max(behind, glm::dot(v.position - camera.target(), -camera.forward()));
     }

@@ -122,7 +122,8 @@ struct GlslSpec {
     // location (or, without locations, its name), interpolated as a GPU's varyings are.
     struct VertexStage {
         std::string path, source;  // the file, read when the scene is parsed
-        // Its attribute -> "position", "normal", "tangent" (w: the handedness sign) or "uv".
+        // Its attribute -> "position", "normal", "tangent" (w: the handedness sign),
+        // "bitangent" or "uv".
         std::vector<std::pair<std::string, std::string>> attributes;
         // Its uniform -> "model", "view", "projection", "model_view", "view_projection",
         // "model_view_projection", "normal_matrix" or "camera_position".

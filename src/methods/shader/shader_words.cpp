@@ -197,6 +197,36 @@ size_t editUniformBlock(const std::string& t, const std::vector<ShaderWord>& w, 
     return close + 1;
 }
 
+// The members `type name;` of the block whose '{' is word `open` (arrays left out).
+std::vector<std::pair<std::string, std::string>> blockMembers(const std::string& t,
+                                                              const std::vector<ShaderWord>& w,
+                                                              size_t open) {
+    std::vector<std::pair<std::string, std::string>> out;
+    const size_t close = closing(t, w, open);
+    size_t start = open + 1;
+    for (size_t k = start; k < close; ++k) {
+        if (!is(t, w[k], ";")) continue;
+        if (k >= start + 2 && w[k - 1].ident && w[k - 2].ident)
+            out.emplace_back(wordText(t, w[k - 2]), wordText(t, w[k - 1]));
+        start = k + 1;
+    }
+    return out;
+}
+
+// `in NAME { members } [inst];` from its `in` word (an interface block between stages): with an
+// instance name, `struct NAME { members }; NAME inst;`; without, its members plain globals.
+void editStageBlock(const std::string& t, const std::vector<ShaderWord>& w, size_t stage,
+                    size_t open, std::vector<TextEdit>& edits) {
+    const size_t close = closing(t, w, open);
+    if (close + 1 < w.size() && w[close + 1].ident) {
+        edits.push_back({w[stage].begin, w[stage].end, "struct"});
+        edits.push_back({w[close].end, w[close].end, "; " + wordText(t, w[stage + 1])});
+        return;
+    }
+    edits.push_back(blank(t, w[stage].begin, w[open].end));
+    edits.push_back(blank(t, w[close].begin, w[close].end));
+}
+
 // An opening brace as a word's text (named: a literal brace in code confuses simple tools
 // that count a function's braces).
 constexpr const char* kOpenBrace = "{";
@@ -245,6 +275,10 @@ std::string vulkanGlslForGl(const std::string& t, bool keepStageVariables) {
         if (d.block && d.uniform < d.end && d.end == d.uniform + 2) {  // uniform NAME {...} [inst];
             for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
             editUniformBlock(t, w, d.uniform, edits);
+        } else if (d.block && inOut && d.uniform == w.size() && !keepStageVariables &&
+                   d.end == d.stage + 2) {  // an interface block: a struct and its instance
+            for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
+            editStageBlock(t, w, d.stage, d.end, edits);
         } else if (!d.block && inOut && d.uniform == w.size() && !keepStageVariables) {
             // A stage variable: a plain global.
             for (size_t l : d.layouts) editLayout(t, w, l, closing(t, w, l + 1), true, edits);
@@ -262,8 +296,19 @@ std::vector<StageVariable> stageVariables(const std::string& t, const std::strin
     const std::vector<ShaderWord> w = shaderWords(t);
     std::vector<StageVariable> out;
     for (const GlobalDeclaration& d : globalDeclarations(t, w)) {
-        if (d.block || d.stage >= d.end || d.uniform < d.end) continue;
+        if (d.stage >= d.end || d.uniform < d.end) continue;
         const std::string q = wordText(t, w[d.stage]);
+        if (d.block && q == qualifier && d.end == d.stage + 2) {  // an interface block's members
+            const std::string block = wordText(t, w[d.stage + 1]);
+            const size_t close = closing(t, w, d.end);
+            const std::string inst =
+                close + 1 < w.size() && w[close + 1].ident ? wordText(t, w[close + 1]) : "";
+            for (const auto& [type, member] : blockMembers(t, w, d.end))
+                out.push_back({inst.empty() ? member : inst + "." + member, type, -1, block,
+                               member});
+            continue;
+        }
+        if (d.block) continue;
         const bool wanted = q == qualifier || (qualifier == "in" && q == "varying") ||
                             (qualifier == "in" && q == "attribute");
         if (!wanted || d.end < d.stage + 3) continue;

@@ -36,7 +36,8 @@ bool declaresGlobal(const std::string& text, const std::string& name,
 // location = 0) in vec2 inUV;`, `out vec4 outColor;`) made plain globals, which a "body" may
 // assign (pgt's own stage feeds the entry); a uniform or push-constant block with an instance
 // name made a struct and a uniform of it (its members set as "INSTANCE.MEMBER"), one without
-// an instance name made its members uniforms. `keepStageVariables` (a vertex stage pgt runs
+// an instance name made its members uniforms; an `in` interface block likewise a struct and
+// a global of it (or its members globals). `keepStageVariables` (a vertex stage pgt runs
 // as a vertex shader): stage inputs and outputs stay, their locations too.
 std::string vulkanGlslForGl(const std::string& text, bool keepStageVariables = false);
 // A global stage variable: `layout(location = 1) in vec3 inNormal;` is {"inNormal", "vec3",
@@ -44,9 +45,13 @@ std::string vulkanGlslForGl(const std::string& text, bool keepStageVariables = f
 struct StageVariable {
     std::string name, type;
     int location = -1;
+    // A member of an interface block (`out VS_OUT { vec2 uv; } vs_out;`): the block's name and
+    // the member's; `name` is then how the file reads it ("vs_out.uv", or "uv" without an
+    // instance name).
+    std::string block, member;
 };
 // The file's global stage variables of `qualifier` ("in": also legacy `varying` and
-// `attribute`; "out"), in order; blocks (gl_PerVertex) and arrays are left out.
+// `attribute`; "out"), in order, an interface block's members each; arrays are left out.
 std::vector<StageVariable> stageVariables(const std::string& text, const std::string& qualifier);
 // The types of each function named `name` that `text` defines or declares (`T name(`, T a
 // word other than a statement's keyword).

@@ -31,6 +31,7 @@ std::string conventionalAttribute(const std::string& name) {
     const std::string n = lower(name);
     if (n.find("pos") != std::string::npos) return "position";
     if (n.find("norm") != std::string::npos) return "normal";
+    if (n.find("bitan") != std::string::npos) return "bitangent";
     if (n.find("tang") != std::string::npos) return "tangent";
     if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos)
         return "uv";
@@ -61,7 +62,11 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
     GlslSpec::VertexStage& v = spec.vertex[0];
     const std::vector<StageVariable> outs = stageVariables(v.source, "out");
     for (const StageVariable& in : stageVariables(spec.source + "\n" + spec.body, "in")) {
+        // GL's matching: a block's member by its block's and its own name; a plain variable
+        // by its location, else its name.
         auto match = std::find_if(outs.begin(), outs.end(), [&](const StageVariable& o) {
+            if (!in.block.empty() || !o.block.empty())
+                return o.block == in.block && o.member == in.member;
             return in.location >= 0 && o.location >= 0 ? o.location == in.location
                                                        : o.name == in.name;
         });
@@ -75,7 +80,10 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
         if (components(in.type) == 0 || match->type != in.type)
             f.fail("vertex", what + " and the vertex output " + match->type + " " + match->name +
                                  ": pgt passes float and vec2-vec4 outputs of one type");
-        v.links.push_back({match->name, in.name, components(in.type)});
+        // Transform feedback names a block's member BLOCK.MEMBER.
+        const std::string captured =
+            match->block.empty() ? match->name : match->block + "." + match->member;
+        v.links.push_back({captured, in.name, components(in.type)});
     }
 }
 
@@ -89,14 +97,15 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
     v.source = normaliseLineEnds(
         readTextFile(path, file, f.fieldPath("vertex"), "vertex shader", kMaxShaderBytes));
     if (f.has("attributes")) {
-        v.attributes = namedChoices(f, "attributes", {"position", "normal", "tangent", "uv"});
+        v.attributes =
+            namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});
     } else {  // by their names (docs/methods.md)
         for (const StageVariable& a : stageVariables(v.source, "in")) {
             const std::string what = conventionalAttribute(a.name);
             if (what.empty())
                 f.fail("attributes", "the vertex shader's attribute " + a.name +
-                                         " has no name pgt reads as position, normal, tangent "
-                                         "or uv: bind it in \"attributes\"");
+                                         " has no name pgt reads as position, normal, tangent, "
+                                         "bitangent or uv: bind it in \"attributes\"");
             v.attributes.emplace_back(a.name, what);
         }
     }

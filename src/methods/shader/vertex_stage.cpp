@@ -58,6 +58,7 @@ std::pair<const float*, int> attributeData(const VertexStageInputs& in, const st
     if (what == "position") return {&in.position[0].x, 3};
     if (what == "normal") return {&in.normal[0].x, 3};
     if (what == "tangent") return {&in.tangent[0].x, 4};
+    if (what == "bitangent") return {&in.bitangent[0].x, 3};
     return {&in.uv[0].x, 2};  // "uv" (the only other name the scene parser lets through)
 }
 

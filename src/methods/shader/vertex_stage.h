@@ -19,7 +19,7 @@ namespace pgt {
 // mesh is in world space), and the eye (orthographic: a point behind every vertex on the
 // view's axis).
 struct VertexStageInputs {
-    std::vector<Vec3f> position, normal;
+    std::vector<Vec3f> position, normal, bitangent;
     std::vector<glm::vec4> tangent;
     std::vector<Vec2f> uv;
     std::vector<uint32_t> indices;  // triangles, as Fragment::triangle counts them
