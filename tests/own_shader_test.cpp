@@ -15,6 +15,8 @@
 #include "core/error.h"
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
+#include "core/json_read.h"
+#include "methods/shader/shader_config.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
 #include "study/render.h"
@@ -825,6 +827,26 @@ TEST(OwnShader, TheDefaultScenesMethodsInAnyOrderGiveTheSameRows) {
     for (const auto& [label, stats] : forward) {
         ASSERT_TRUE(other.count(label)) << label;
         EXPECT_EQ(other.at(label), stats) << label;
+    }
+}
+
+// A shader entry's own fields come from one table (methods/shader/shader_fields.cpp) that
+// reads each and writes it into the study's identity: every key it reads is named in
+// docs/methods.md, and a key it does not know is refused by name, with the nearest one.
+TEST(ShaderFields, EveryKeyIsDocumentedAndAnUnknownOneIsRefused) {
+    const std::string path = test::testSourceDir() + "/../docs/methods.md";
+    const std::string text = readTextFile(path, path, "", "the documentation", 1 << 22);
+    const std::vector<std::string> keys = shaderEntryKeys();
+    EXPECT_GE(keys.size(), 20u);
+    for (const std::string& key : keys)
+        EXPECT_NE(text.find("\"" + key + "\""), std::string::npos) << key << " is not in methods.md";
+    try {
+        parseMethod(nlohmann::json{{"name", "a"}, {"body", "return uv;"}, {"unifroms", 1}},
+                    "scene.json", "methods[0]");
+        ADD_FAILURE() << "an unknown key was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("unifroms"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("uniforms"), std::string::npos) << e.what();
     }
 }
 

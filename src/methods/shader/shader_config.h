@@ -6,12 +6,16 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "core/json_fields.h"
 #include "methods/method.h"
 
 namespace pgt {
 
+// The keys of a shader entry's own fields, from the one table that reads them and writes
+// their identity (docs/methods.md names each).
+std::vector<std::string> shaderEntryKeys();
 // Parses a shader method's entry (its file is read now); the caller's `f` holds the entry.
 MethodConfig parseShaderMethod(JsonFields& f, const std::string& file);
 // Sets the uniform `name` of a shader as a study varies it or a preset entry overrides it (a
