@@ -6,17 +6,14 @@ import os
 import re
 import sys
 
-ORDER = ["core", "heightfield", "mesh", "methods", "scene", "raster", "compare", "truth",
-         "methods/runtime", "study", "verdict", "cli", "python"]
+ORDER = ["core", "io", "heightfield", "mesh", "methods", "scene", "raster", "compare", "truth",
+         "evaluate", "frame", "study", "verdict", "cli", "python"]
 RANK = {u: i for i, u in enumerate(ORDER)}
 SRC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "src")
 
 
 def layer(path):
-    parts = os.path.relpath(path, SRC).split(os.sep)
-    if parts[0] == "methods" and len(parts) > 2 and parts[1] == "runtime":
-        return "methods/runtime"
-    return parts[0]
+    return os.path.relpath(path, SRC).split(os.sep)[0]
 
 
 upward = []

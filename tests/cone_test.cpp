@@ -9,7 +9,7 @@
 
 #include "heightfield/cone_map.h"
 #include "methods/registry.h"
-#include "methods/runtime/evaluate.h"
+#include "evaluate/evaluate.h"
 #include "test_util.h"
 
 namespace pgt {

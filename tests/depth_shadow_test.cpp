@@ -8,8 +8,8 @@
 #include <random>
 
 #include "methods/builtin/shadow.h"
-#include "methods/runtime/evaluate.h"
-#include "study/render.h"
+#include "evaluate/evaluate.h"
+#include "frame/render.h"
 #include "test_util.h"
 #include "truth/truth.h"
 

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "methods/registry.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

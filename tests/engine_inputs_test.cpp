@@ -14,7 +14,7 @@
 #include "methods/shader/glsl_spec.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

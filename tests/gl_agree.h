@@ -12,7 +12,7 @@
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_method.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 #include "truth/builder.h"
 

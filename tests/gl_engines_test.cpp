@@ -15,7 +15,7 @@
 #include "methods/shader/glsl_method.h"
 #include "preset_twins.h"
 #include "scene/scene.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

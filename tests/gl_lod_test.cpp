@@ -13,7 +13,7 @@
 #include "methods/shader/glsl_method.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 #include "truth/builder.h"
 

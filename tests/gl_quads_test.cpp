@@ -12,7 +12,7 @@
 #include "methods/shader/gl_api.h"
 #include "scene/base_surface.h"
 #include "scene/scene.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

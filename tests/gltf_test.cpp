@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "mesh/gltf_mesh.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 #include "truth/tessellation.h"
 

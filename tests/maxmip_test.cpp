@@ -9,7 +9,7 @@
 #include "heightfield/minmax_pyramid.h"
 #include "methods/config.h"
 #include "methods/registry.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

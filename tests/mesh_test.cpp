@@ -9,7 +9,7 @@
 #include "mesh/refine.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

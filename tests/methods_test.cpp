@@ -10,7 +10,7 @@
 #include "methods/config.h"
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

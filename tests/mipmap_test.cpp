@@ -8,7 +8,7 @@
 
 #include "heightfield/mipmaps.h"
 #include "methods/registry.h"
-#include "methods/runtime/evaluate.h"
+#include "evaluate/evaluate.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "test_util.h"

@@ -19,7 +19,7 @@
 #include "methods/shader/shader_config.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

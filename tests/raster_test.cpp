@@ -9,7 +9,7 @@
 #include "raster/fragment_list.h"
 #include "raster_reference.h"
 #include "scene/scene.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -10,7 +10,7 @@
 #include "compare/statistics.h"
 #include "methods/config.h"
 #include "methods/registry.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 #include "truth/truth.h"
 

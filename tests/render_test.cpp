@@ -1,6 +1,6 @@
 // The frame pipeline end to end: head-on symmetry, closed-form error, convergence with layers,
 // frame.exr and summary.json round trips.
-#include "study/render.h"
+#include "frame/render.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -15,7 +15,7 @@
 #include "core/json_read.h"
 #include "methods/config.h"
 #include "study/outputs.h"
-#include "study/view_memory.h"
+#include "frame/view_memory.h"
 #include "test_util.h"
 #include "truth/builder.h"
 
@@ -146,7 +146,7 @@ TEST(Render, OutputsRoundTrip) {
     auto in = OIIO::ImageInput::open((dir / "frame.exr").string());
     ASSERT_TRUE(in);
     const OIIO::ImageSpec& spec = in->spec();
-    // Every channel of the schema (study/frame_channels.h): the frame's own, five per method,
+    // Every channel of the schema (frame/frame_channels.h): the frame's own, five per method,
     // no base.Vvertex (no method reads V per vertex).
     const std::vector<std::string> want = frameChannelNames(s.methods);
     ASSERT_EQ(want.size(), 14u + 5 * 3);
@@ -474,7 +474,7 @@ namespace {
 // pixel for pixel; where the scene's b is another (-s/2), it runs at b = -s, its configuration
 // says so and the warnings name the mismatch; "amplitude": "shipped" keeps the shipped (0.1,
 // -0.1) under the label learnopengl_pom_shipped.
-// frame.exr's schema (study/frame_channels.h) against docs/outputs.md and its own rules:
+// frame.exr's schema (frame/frame_channels.h) against docs/outputs.md and its own rules:
 // every channel and group is documented (a method's as `M.suffix`, x/y/z triples as
 // `NAME.x/y/z`), names are unique, a method's channels sit together in the configurations'
 // order, and the count without building the layout agrees.

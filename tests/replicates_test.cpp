@@ -7,7 +7,7 @@
 #include <map>
 
 #include "core/error.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/plan.h"
 #include "study/result_columns.h"
 #include "study/sweep.h"

@@ -8,7 +8,7 @@
 
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "methods/registry.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

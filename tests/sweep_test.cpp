@@ -13,8 +13,8 @@
 #include "core/error.h"
 #include "core/json_read.h"
 #include "methods/shader/glsl_spec.h"
-#include "study/csv_table.h"
-#include "study/staged_files.h"
+#include "io/csv_table.h"
+#include "io/staged_files.h"
 #include "study/study_dir.h"
 #include "test_util.h"
 

@@ -10,8 +10,8 @@
 #include "compare/compare.h"
 #include "compare/uncertainty.h"
 #include "core/error.h"
-#include "study/csv_table.h"
-#include "study/staged_files.h"
+#include "io/csv_table.h"
+#include "io/staged_files.h"
 #include "test_util.h"
 
 namespace pgt {

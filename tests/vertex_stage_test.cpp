@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "methods/config.h"
 #include "scene/scene.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

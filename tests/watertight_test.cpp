@@ -8,7 +8,7 @@
 #include <cmath>
 #include <string>
 
-#include "study/render.h"
+#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

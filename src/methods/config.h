@@ -48,7 +48,7 @@ void assignLabels(std::vector<MethodConfig>& configs, const std::string& file,
 nlohmann::json toJson(const MethodConfig& cfg);
 
 // What differs between a built-in and a shader for parsing, JSON, studies and fits (the
-// rest is methods/runtime/evaluate.h's: running, timing, compiling).
+// rest is evaluate/evaluate.h's: running, timing, compiling).
 // The maps a configuration reads: a built-in's from its row of the method table
 // (methods/registry.h), a shader's the kinds whose samplers its entry names.
 MapSet needs(const MethodConfig& cfg);

@@ -2,7 +2,7 @@
 // Every place that holds, builds, binds, checks, estimates or names maps loops over this one
 // list (docs/layout.md "A new map"): the method table says which kinds a built-in reads, a
 // GLSL method reads the kinds whose samplers it names, the method-texture cache
-// (methods/runtime/evaluate.h) builds them, methods/shader/glsl_method.cpp binds them.
+// (evaluate/evaluate.h) builds them, methods/shader/glsl_method.cpp binds them.
 #pragma once
 
 #include <array>

@@ -81,7 +81,7 @@ inline const char* storageFormatName(StorageFormat f) {
 // One method as a scene lists it: what every method has (its name, label, own (s, b), the
 // preset it came from, discard and level of detail), and the method itself, a built-in or a
 // shader. What differs by the two is decided in two places: methods/config.h (parse, JSON,
-// labels, parameters a study varies, step counts, maps) and methods/runtime/evaluate.h (running,
+// labels, parameters a study varies, step counts, maps) and evaluate/evaluate.h (running,
 // timing, compiling).
 struct MethodConfig {
     std::string name;             // "pom"

@@ -25,8 +25,8 @@
 #include "scene/scene.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "study/render.h"
-#include "study/staged_files.h"
+#include "frame/render.h"
+#include "io/staged_files.h"
 #include "study/sweep.h"
 #include "verdict/study_compare.h"
 

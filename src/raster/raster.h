@@ -62,7 +62,7 @@ struct RasterOptions {
     bool cullBackFaces = true;
     double worldPerUv = 1;  // l (docs/model.md §2): the height axis of the exact frame
     // What the frame's methods read beyond uv0, V and uv0's derivatives, each computed per pixel
-    // only when asked (study/render.h rasterOptions): V in the exact frame (off:
+    // only when asked (frame/render.h rasterOptions): V in the exact frame (off:
     // viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
     // FragmentInputs image a caller passes; off: not made).
     bool exactFrame = true, perVertexView = true, engineInputs = true;

@@ -136,7 +136,7 @@ void parseTruth(Scene& s, JsonFields& root) {
     if (const PlaneBase* plane = s.plane()) {
         // Segments across the plane's lattice (the 2x-rate one's when the uncertainty is asked
         // for), each side an int. What a view builds is its window of it, which the memory
-        // estimate counts (study/view_memory.h).
+        // estimate counts (frame/view_memory.h).
         const PlaneLattice lattice(*plane, s.height, s.truth.rate * (s.truth.uncertainty ? 2 : 1));
         const double side = std::max(lattice.nu, lattice.nv);
         // A view framing the whole plane builds all of it: refused here, from the map's size

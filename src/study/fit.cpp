@@ -12,7 +12,7 @@
 #include "methods/registry.h"
 #include "methods/shader/glsl_spec.h"
 #include "study/provenance.h"
-#include "study/render.h"
+#include "frame/render.h"
 
 namespace pgt {
 
@@ -129,7 +129,7 @@ class FitScorer {
             }
     }
 
-    // The configuration measured on every view by the one per-view pipeline (study/render.h).
+    // The configuration measured on every view by the one per-view pipeline (frame/render.h).
     Score score(const MethodConfig& cfg) {
         Score sc;
         const std::vector<MethodConfig> one = {cfg};

@@ -13,12 +13,12 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "core/memory.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/plan.h"
 #include "study/provenance.h"
 #include "study/result_columns.h"
 #include "study/row_check.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 #include "study/study_dir.h"
 
 namespace pgt {

@@ -1,5 +1,5 @@
 // Output writers: frame.exr, summary.json (nlohmann), the PNG error maps with their legends
-// (the images through study/image_files.h; the legend's text needs DejaVu Sans, without which
+// (the images through io/image_files.h; the legend's text needs DejaVu Sans, without which
 // it has no words but keeps its colour bar).
 #include "study/outputs.h"
 
@@ -17,10 +17,10 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "methods/config.h"
-#include "study/image_files.h"
+#include "io/image_files.h"
 #include "study/provenance.h"
 #include "study/result_columns.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 namespace pgt {
 

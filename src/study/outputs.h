@@ -1,5 +1,5 @@
 // Writers for `pgt render`: frame.exr (named float channels), summary.json, and the
-// false-colour error maps for people. All go through staged files (study/staged_files.h):
+// false-colour error maps for people. All go through staged files (io/staged_files.h):
 // written whole to temporaries, renamed into place together.
 #pragma once
 
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "scene/scene.h"
-#include "study/frame_channels.h"
-#include "study/render.h"
+#include "frame/frame_channels.h"
+#include "frame/render.h"
 
 namespace pgt {
 
@@ -20,7 +20,7 @@ class ExrWriter;
 class StagedFiles;
 class StagedStream;
 
-// The channel groups (study/frame_channels.h) a frame.exr holds (docs/outputs.md; `pgt render
+// The channel groups (frame/frame_channels.h) a frame.exr holds (docs/outputs.md; `pgt render
 // --channels`); none of them: no frame.exr (and no rows interleaved). A group left out is
 // dropped from the interleaved rows before the encoder sees them.
 struct FrameChannelSet {

@@ -11,7 +11,7 @@
 #include "core/json_read.h"
 #include "methods/config.h"
 #include "methods/presets/presets.h"
-#include "study/render.h"
+#include "frame/render.h"
 
 namespace pgt {
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "methods/method.h"
-#include "methods/runtime/evaluate.h"
+#include "evaluate/evaluate.h"
 #include "scene/scene.h"
 
 namespace pgt {

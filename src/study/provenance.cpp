@@ -19,7 +19,7 @@
 #include "build_id.h"
 #include "core/json_read.h"
 #include "methods/shader/glsl_method.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 #define PGT_STRINGIFY2(x) #x
 #define PGT_STRINGIFY(x) PGT_STRINGIFY2(x)

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "methods/config.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/outputs.h"
 
 namespace pgt {

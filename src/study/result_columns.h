@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "study/plan.h"
-#include "study/render.h"
+#include "frame/render.h"
 
 namespace pgt {
 

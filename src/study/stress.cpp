@@ -10,11 +10,11 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "scene/scene.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "study/render.h"
-#include "study/staged_files.h"
+#include "frame/render.h"
+#include "io/staged_files.h"
 
 namespace pgt {
 

@@ -15,7 +15,7 @@
 #include "core/clock.h"
 #include "scene/scene.h"
 #include "study/plan.h"
-#include "study/render.h"
+#include "frame/render.h"
 
 namespace pgt {
 

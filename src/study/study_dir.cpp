@@ -18,10 +18,10 @@
 #include "core/error.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/result_columns.h"
 #include "study/row_check.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 namespace pgt {
 

@@ -34,7 +34,7 @@
 #include "methods/shader/glsl_method.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 #include "study/study_cases.h"
 #include "study/study_dir.h"
 

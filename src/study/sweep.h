@@ -12,7 +12,7 @@
 #include "core/clock.h"
 #include "scene/scene.h"
 #include "study/plan.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "study/result_columns.h"  // results.csv's columns
 
 namespace pgt {

@@ -165,7 +165,7 @@ double drawnTruthVertices(const Texture& height, const BaseMesh& drawn, int rate
 // memory limit: every drawn edge split at rate points per texel of its UV length (a tiled
 // floor, UVs 0..20, on a large map asks for millions of vertices), and at 2 x rate for the
 // uncertainty. Planes and limit truths: nothing (their own estimates). Called by every
-// command before any work (study/view_memory.h checkViewMemory).
+// command before any work (frame/view_memory.h checkViewMemory).
 void checkMeshTruthMemory(const Scene& scene);
 
 std::shared_ptr<const BaseTessellation> tessellateDrawnMesh(const Texture& height,

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "core/format.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/provenance.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 namespace pgt {
 

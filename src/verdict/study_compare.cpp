@@ -12,9 +12,9 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/json_read.h"
-#include "study/csv_table.h"
+#include "io/csv_table.h"
 #include "study/result_columns.h"
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 #include "verdict/compare_report.h"
 
 namespace pgt {

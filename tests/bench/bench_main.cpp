@@ -15,7 +15,7 @@
 #include "methods/shader/glsl_method.h"
 #include "methods/shader/hlsl.h"
 #include "scene/scene.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "truth/truth.h"
 
 namespace {

@@ -16,10 +16,10 @@
 
 #include "core/clock.h"
 #include "methods/config.h"
-#include "methods/runtime/evaluate.h"
+#include "evaluate/evaluate.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "truth/builder.h"
 #include "truth/truth.h"
 

@@ -41,7 +41,7 @@ std::optional<GlInfo> glContextIfMade();
 void setGlDevice(const std::string& device);
 
 // The GL textures of one owner's maps, uploaded on first use and deleted with this object.
-// A study keeps one per (s, b) beside its method textures (methods/runtime/evaluate.h), so each map
+// A study keeps one per (s, b) beside its method textures (evaluate/evaluate.h), so each map
 // is uploaded once per (s, b) and no texture outlives its map. Keyed by the map's address: the
 // owner keeps its maps alive and unchanged while it holds this.
 class GlMapUploads {

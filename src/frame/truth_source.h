@@ -1,11 +1,11 @@
-// Where a frame's truth comes from, band by band (study/render.cpp's band pipeline): the
+// Where a frame's truth comes from, band by band (frame/render.cpp's band pipeline): the
 // frame's surfaces traced per band, frames traced block by block beforehand, or a prepared
 // view's bands.
 #pragma once
 
 #include "core/image.h"
 #include "scene/camera.h"
-#include "study/render.h"
+#include "frame/render.h"
 #include "truth/builder.h"
 
 namespace pgt {

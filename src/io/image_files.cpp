@@ -1,6 +1,6 @@
 // frame.exr through OpenEXR, the error maps through libpng and FreeType
-// (study/image_files.h).
-#include "study/image_files.h"
+// (io/image_files.h).
+#include "io/image_files.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>

@@ -1,5 +1,5 @@
-// RFC 4180 quoting and reading for the CSV tables of study/csv_table.h.
-#include "study/csv_table.h"
+// RFC 4180 quoting and reading for the CSV tables of io/csv_table.h.
+#include "io/csv_table.h"
 
 namespace pgt {
 

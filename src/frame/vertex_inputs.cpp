@@ -1,5 +1,5 @@
-// A view's vertex stage inputs (study/vertex_inputs.h).
-#include "study/vertex_inputs.h"
+// A view's vertex stage inputs (frame/vertex_inputs.h).
+#include "frame/vertex_inputs.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // Method evaluation over fragment lists, C++ and GLSL, and method timing
-// (methods/runtime/evaluate.h).
-#include "methods/runtime/evaluate.h"
+// (evaluate/evaluate.h).
+#include "evaluate/evaluate.h"
 
 #include <tbb/parallel_for.h>
 

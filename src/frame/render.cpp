@@ -1,6 +1,6 @@
 // The frame pipeline in bands: raster -> truth -> methods -> comparison -> sinks, with stage
 // timings.
-#include "study/render.h"
+#include "frame/render.h"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -17,8 +17,8 @@
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
 #include "methods/shader/vertex_stage.h"
-#include "study/truth_source.h"
-#include "study/vertex_inputs.h"
+#include "frame/truth_source.h"
+#include "frame/vertex_inputs.h"
 #include "truth/tessellation.h"
 
 namespace pgt {

@@ -1,5 +1,5 @@
 // One view end to end: truth (truth/builder.h, two rates for its uncertainty), rasterisation
-// (raster/), every method (methods/runtime/evaluate.h), comparison (compare/). `pgt render` runs
+// (raster/), every method (evaluate/evaluate.h), comparison (compare/). `pgt render` runs
 // one; studies (study/sweep.h) run many, reusing the truth per (s, b) and the method textures,
 // which is why the pieces are separate.
 #pragma once
@@ -18,11 +18,11 @@
 #include "core/clock.h"
 #include "core/image.h"
 #include "heightfield/heightfield.h"
-#include "methods/runtime/evaluate.h"
+#include "evaluate/evaluate.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
-#include "study/view_memory.h"
+#include "frame/view_memory.h"
 #include "truth/builder.h"
 #include "truth/truth.h"
 
@@ -52,7 +52,7 @@ struct MethodFrame {
     // once per map, shared by every view and (s, b) of a run; 0 for methods without any.
     double precomputeMs = 0;
     // "cpu", or for GLSL methods "gl timer query: RENDERER" or "gl wall clock: RENDERER
-    // (software renderer, not a GPU time)" (methods/runtime/evaluate.h timingBackend).
+    // (software renderer, not a GPU time)" (evaluate/evaluate.h timingBackend).
     std::string timingBackend;
     // Silent mistakes its output shows on this frame (compare/warnings.h).
     std::vector<MethodWarning> warnings;

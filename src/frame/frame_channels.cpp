@@ -1,5 +1,5 @@
-// frame.exr's channel schema (study/frame_channels.h) and the interleaving it drives.
-#include "study/frame_channels.h"
+// frame.exr's channel schema (frame/frame_channels.h) and the interleaving it drives.
+#include "frame/frame_channels.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "methods/config.h"
-#include "study/render.h"
+#include "frame/render.h"
 
 namespace pgt {
 

@@ -1,6 +1,6 @@
-// Staged output files (study/staged_files.h): hidden temporaries, checked writes, renamed
+// Staged output files (io/staged_files.h): hidden temporaries, checked writes, renamed
 // into place together.
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 #include <fcntl.h>
 #include <signal.h>

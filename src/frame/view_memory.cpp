@@ -1,12 +1,12 @@
-// The memory a view needs (study/view_memory.h).
-#include "study/view_memory.h"
+// The memory a view needs (frame/view_memory.h).
+#include "frame/view_memory.h"
 
 #include <algorithm>
 
 #include "core/error.h"
 #include "core/memory.h"
-#include "study/outputs.h"
-#include "study/render.h"
+#include "frame/frame_channels.h"
+#include "frame/render.h"
 #include "truth/builder.h"
 #include "truth/tessellation.h"
 

@@ -1,5 +1,5 @@
 // The memory a view needs, estimated before anything is allocated: its frame's bands, its
-// kept images, its methods' maps and its truth (study/render.h runs the view; this decides
+// kept images, its methods' maps and its truth (frame/render.h runs the view; this decides
 // whether it may, and how a plane's truth is split into blocks to fit).
 #pragma once
 

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "study/staged_files.h"
+#include "io/staged_files.h"
 
 namespace pgt {
 
