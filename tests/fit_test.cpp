@@ -32,8 +32,7 @@ TEST(Fit, ParallaxOnConstantHeightReachesZero) {
     EXPECT_LT(r.methods[0].nativeObjective, 1e-3);
     // Neither grid point lies on the line s'c + b' = sc + b; refinement must approach it.
     EXPECT_LT(r.methods[0].bestObjective, 0.05);
-    double sb =
-        r.methods[0].best["scale"].get<double>() * 0.4 + r.methods[0].best["bias"].get<double>();
+    double sb = *r.methods[0].scale * 0.4 + *r.methods[0].bias;
     EXPECT_NEAR(sb, 0.06 * 0.4 - 0.03, 2e-3);
 }
 
@@ -58,9 +57,9 @@ TEST(Fit, DensePomRecoversTheTrueScaleAndBias) {
                            "methods": [{"name": "pom", "layers": 64}]})");
     FitReport r = runFit(s, false);
     ASSERT_EQ(r.methods.size(), 1u);
-    const auto& best = r.methods[0].best;
-    EXPECT_NEAR(best["scale"].get<double>(), 0.06, 0.06 * 0.05) << best.dump();
-    EXPECT_NEAR(best["bias"].get<double>(), -0.03, 0.06 * 0.1) << best.dump();
+    const FitResult& best = r.methods[0];
+    EXPECT_NEAR(*best.scale, 0.06, 0.06 * 0.05) << best.entry().dump();
+    EXPECT_NEAR(*best.bias, -0.03, 0.06 * 0.1) << best.entry().dump();
     EXPECT_LE(r.methods[0].bestObjective, r.methods[0].nativeObjective + 1e-9);
 }
 
@@ -85,16 +84,15 @@ TEST(Fit, HlslMethodIsFittedLikeTheBuiltIn) {
     const auto& hlsl = r.methods[1];
     EXPECT_EQ(hlsl.method, "pom_hlsl");
     EXPECT_EQ(hlsl.steps, 64);
-    EXPECT_EQ(hlsl.best["uniforms"]["max_layers"], 64) << hlsl.best.dump();
-    EXPECT_NEAR(hlsl.best["scale"].get<double>(), 0.06, 0.06 * 0.05) << hlsl.best.dump();
-    EXPECT_NEAR(hlsl.best["bias"].get<double>(), -0.03, 0.06 * 0.1) << hlsl.best.dump();
+    EXPECT_EQ(hlsl.entry()["uniforms"]["max_layers"], 64) << hlsl.entry().dump();
+    EXPECT_NEAR(*hlsl.scale, 0.06, 0.06 * 0.05) << hlsl.entry().dump();
+    EXPECT_NEAR(*hlsl.bias, -0.03, 0.06 * 0.1) << hlsl.entry().dump();
     EXPECT_NEAR(hlsl.bestObjective, builtIn.bestObjective, 1e-3 + 0.05 * builtIn.bestObjective);
     std::printf(
         "fit: built-in pom best %.5f at s %.5f b %.5f; HLSL twin best %.5f at s %.5f "
         "b %.5f\n",
-        builtIn.bestObjective, builtIn.best["scale"].get<double>(),
-        builtIn.best["bias"].get<double>(), hlsl.bestObjective, hlsl.best["scale"].get<double>(),
-        hlsl.best["bias"].get<double>());
+        builtIn.bestObjective, *builtIn.scale, *builtIn.bias, hlsl.bestObjective, *hlsl.scale,
+        *hlsl.bias);
 }
 
 // A call that reads s but not b: the fit varies the scale alone and reports no bias (a "best"
@@ -117,9 +115,10 @@ TEST(Fit, OnlyWhatReachesTheShaderIsFitted) {
                            "]}");
     FitReport r = runFit(s, false);
     ASSERT_EQ(r.methods.size(), 2u);
-    EXPECT_TRUE(r.methods[0].best.contains("scale")) << r.methods[0].best.dump();
-    EXPECT_FALSE(r.methods[0].best.contains("bias")) << r.methods[0].best.dump();
-    EXPECT_TRUE(r.methods[1].best.contains("bias")) << r.methods[1].best.dump();
+    EXPECT_TRUE(r.methods[0].scale.has_value()) << r.methods[0].entry().dump();
+    EXPECT_FALSE(r.methods[0].bias.has_value()) << r.methods[0].entry().dump();
+    EXPECT_FALSE(r.methods[0].entry().contains("bias")) << r.methods[0].entry().dump();
+    EXPECT_TRUE(r.methods[1].bias.has_value()) << r.methods[1].entry().dump();
     // Each bias ratio of the grid gives the scale-only method the same score: only the
     // scale factors (and the refinement's) are candidates.
     EXPECT_LT(r.methods[0].candidates, r.methods[1].candidates);
@@ -150,7 +149,7 @@ TEST(Fit, ObjectiveIsAJitteredRenderAtTheFittedPoint) {
     for (double theta : r.thetas) {
         Scene view = s;
         view.methods =
-            parseMethods(nlohmann::json::array({fr.best}), s.file, "methods", s.worldPerUv());
+            parseMethods(nlohmann::json::array({fr.entry()}), s.file, "methods", s.worldPerUv());
         view.camera.theta = theta;
         view.camera.width = view.camera.height = 24;
         view.camera.jitter = true, view.camera.jitterSeed = 7;

@@ -200,20 +200,19 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
     std::printf("%-16s %5s %10s %10s %10s %10s %10s\n", "method", "steps", "scale", "bias",
                 rep.objective.c_str(), "p90", "as listed");
     for (const auto& m : rep.methods) {
-        if (!m.best.is_object()) {  // every candidate gave non-finite UVs or no pixels
+        if (!m.best) {  // every candidate gave non-finite UVs or no pixels
             std::printf("%-16s %5d %10s %10s %10s %10s %10.4f  no candidate with finite UVs\n",
                         m.method.c_str(), m.steps, "-", "-", "-", "-", m.nativeObjective);
             continue;
         }
         // A parameter that does not reach the shader is not fitted: "-" (fit.json leaves it out).
-        auto shown = [&](const char* key) {
+        auto shown = [](const std::optional<double>& v) {
             char text[32] = "-";
-            if (m.best.contains(key))
-                std::snprintf(text, sizeof text, "%.5f", m.best[key].get<double>());
+            if (v) std::snprintf(text, sizeof text, "%.5f", *v);
             return std::string(text);
         };
         std::printf("%-16s %5d %10s %10s %10.4f %10.4f %10.4f\n", m.method.c_str(), m.steps,
-                    shown("scale").c_str(), shown("bias").c_str(), m.bestObjective, m.bestP90,
+                    shown(m.scale).c_str(), shown(m.bias).c_str(), m.bestObjective, m.bestP90,
                     m.nativeObjective);
     }
     std::printf(

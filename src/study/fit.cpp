@@ -48,12 +48,21 @@ struct Score {
 
 }  // namespace
 
+nlohmann::json FitResult::entry() const {
+    if (!best) return nullptr;
+    Json out = toJson(*best);
+    out.erase("label");
+    if (!scale) out.erase("scale");
+    if (!bias) out.erase("bias");
+    return out;
+}
+
 nlohmann::json FitReport::toJson() const {
     Json ms = Json::array();
     for (const auto& m : methods)
         ms.push_back({{"method", m.method},
                       {"steps", m.steps},
-                      {"best", m.best},
+                      {"best", m.entry()},
                       {"objective_texels", m.bestObjective},
                       {"mean_texels", m.bestMean},
                       {"p90_texels", m.bestP90},
@@ -196,11 +205,9 @@ FitResult fitOne(const MethodConfig& listed, const FitPlan& plan, FitScorer& sco
         }
     }
     if (found) {
-        Json out = toJson(best);
-        out.erase("label");
-        if (!scaleReaches) out.erase("scale");
-        if (!biasReaches) out.erase("bias");
-        fr.best = out;
+        fr.best = best;
+        if (scaleReaches) fr.scale = best.scale;
+        if (biasReaches) fr.bias = best.bias;
         fr.bestObjective = bestScore.objective;
         fr.bestMean = bestScore.mean;
         fr.bestP90 = bestScore.p90;

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,13 +15,19 @@ namespace pgt {
 
 // The best own (scale, bias) of one method at one step count (or the only one).
 struct FitResult {
-    std::string method;          // method label in the scene
-    int steps = 0;               // the step parameter's value (0: the method has none)
-    nlohmann::json best;         // the best configuration (with its own scale and bias)
-    double bestObjective = NAN;  // mean over views of the per-view objective (texels)
+    std::string method;  // method label in the scene
+    int steps = 0;       // the step parameter's value (0: the method has none)
+    // The best configuration, its own scale and bias set where they reach the method; none
+    // when every candidate gave non-finite UVs or no pixels.
+    std::optional<MethodConfig> best;
+    std::optional<double> scale, bias;  // the fitted values (none: s or b does not reach it)
+    double bestObjective = NAN;         // mean over views of the per-view objective (texels)
     double bestMean = NAN, bestP90 = NAN;
     double nativeObjective = NAN;  // the same method with the truth's (s, b), as listed
     int candidates = 0;
+    // The best as a method entry, as fit.json writes it ("scale" and "bias" only where
+    // fitted, no label): a scene's methods list takes it as it is. Null when there is none.
+    nlohmann::json entry() const;
 };
 
 struct FitReport {
