@@ -17,7 +17,8 @@
 namespace pgt {
 
 struct MethodWarning {
-    // "no_offset", "constant_offset", "toward_eye", "worse_than_none", "nonfinite_head_on"
+    // "no_offset", "constant_offset", "toward_eye", "worse_than_none", "nonfinite_head_on",
+    // "grazing_breakdown"
     std::string kind;
     std::string text;  // one line, without the method's label
 };
