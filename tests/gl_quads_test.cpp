@@ -64,7 +64,10 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
         const double z = cam.toCamera(mesh.vertices[i].position).z;
         zMin = std::min(zMin, z), zMax = std::max(zMax, z);
     }
-    EXPECT_GT(zMin, 0.0);
+    const bool ortho = cam.isOrthographic();
+    if (!ortho) {
+        EXPECT_GT(zMin, 0.0);
+    }
     const double n = 0.5 * zMin, f = 2 * zMax;
     for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
         const BaseVertex* v[3] = {&mesh.vertices[mesh.indices[t]],
@@ -72,14 +75,18 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
                                   &mesh.vertices[mesh.indices[t + 2]]};
         const Vec3d faceN = glm::cross(v[1]->position - v[0]->position,
                                        v[2]->position - v[0]->position);
-        if (glm::dot(faceN, cam.eye() - v[0]->position) <= 0) continue;  // pgt culls it
+        const Vec3d toEye = ortho ? -cam.forward() : cam.eye() - v[0]->position;
+        if (glm::dot(faceN, toEye) <= 0) continue;  // pgt culls it
         for (const BaseVertex* p : v) {
             const Vec3d c = cam.toCamera(p->position);
             const Vec2d s = cam.toScreen(c);
             const double x = 2 * s.x / cam.width() - 1, y = 2 * s.y / cam.height() - 1;
-            const double zc = (f + n) / (f - n) * c.z - 2 * f * n / (f - n);
-            const float values[13] = {float(x * c.z),       float(y * c.z),       float(zc),
-                                      float(c.z),           float(p->uv.x),       float(p->uv.y),
+            // Orthographic: w 1 and depth linear in the forward distance.
+            const double w = ortho ? 1 : c.z;
+            const double zc = ortho ? 1.8 * (c.z - zMin) / (zMax - zMin) - 0.9
+                                    : (f + n) / (f - n) * c.z - 2 * f * n / (f - n);
+            const float values[13] = {float(x * w),         float(y * w),         float(zc),
+                                      float(w),             float(p->uv.x),       float(p->uv.y),
                                       float(p->position.x), float(p->position.y), float(p->position.z),
                                       float(p->normal.x),   float(p->normal.y),   float(p->normal.z),
                                       float(t / 3)};
@@ -180,13 +187,13 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
     return out;
 }
 
-// A torus (seams in u and v, curvature of both signs) under a pinhole camera: at every pixel
+// A torus (seams in u and v, curvature of both signs) under a pinhole or an orthographic camera: at every pixel
 // where the GL's draw and pgt's rasteriser drew the same face, the derivatives pgt's GL path
 // hands a shader of uv, the world position and the interpolated normal are the GL's (fine and
 // coarse), within float noise. Laid out pixel by pixel as before per-triangle quads, the
 // neighbour across a triangle edge or seam is another triangle's: dFdx(uv) was the seam's
 // jump (about 1 in UV), far outside the tolerance.
-TEST(GlQuads, DerivativesAreTheGlsOwnDrawOfTheMesh) {
+void compareWithTheGlsDraw(const std::string& camera) {
     const auto dir = test::tempDir("gl_quads");
     std::ofstream(dir / "probe.glsl") << "// derivative probes (the methods' bodies)\n";
     nlohmann::json methods = nlohmann::json::array();
@@ -207,10 +214,8 @@ TEST(GlQuads, DerivativesAreTheGlsOwnDrawOfTheMesh) {
                          "minor_radius": 0.2, "segments": [12, 6], "tiling": [3, 2],
                          "scheme": "catmark", "refine": 1},
                 "displacement": {"scale": 0.02, "bias": -0.01},
-                "camera": {"type": "pinhole", "eye": [0.9, -1.3, 1.0], "target": [0, 0, 0],
-                           "up": [0, 0, 1], "fov": 45, "resolution": [127, 97]},
-                "truth": {"rate": 1, "uncertainty": false}, "methods": )" +
-            methods.dump() + "}"),
+                "truth": {"rate": 1, "uncertainty": false}, "camera": )" +
+            camera + R"(, "methods": )" + methods.dump() + "}"),
         (dir / "s.json").string());
     const RenderResult r = renderFrame(s, {.timingRepeats = 0});
     const Camera cam = makeCamera(s);
@@ -250,6 +255,16 @@ TEST(GlQuads, DerivativesAreTheGlsOwnDrawOfTheMesh) {
     // over steps of 0.005 and more: 1e-4 of it (measured up to 1.2e-4 in llvmpipe).
     for (int i = 0; i < 10; ++i) EXPECT_LT(worst[i], 5e-4) << kProbes[i];
     std::filesystem::remove_all(dir);
+}
+
+TEST(GlQuads, DerivativesAreTheGlsOwnDrawOfTheMesh) {
+    compareWithTheGlsDraw(R"({"type": "pinhole", "eye": [0.9, -1.3, 1.0], "target": [0, 0, 0],
+                             "up": [0, 0, 1], "fov": 45, "resolution": [127, 97]})");
+}
+
+TEST(GlQuads, DerivativesAreTheGlsOwnDrawOfTheMeshOrthographic) {
+    compareWithTheGlsDraw(
+        R"({"type": "orthographic", "theta": 55, "phi": 35, "resolution": [127, 97]})");
 }
 
 }  // namespace
