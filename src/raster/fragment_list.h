@@ -41,7 +41,8 @@ struct FragmentList {
         const std::vector<Vec3d>& l = exactFrame ? lightExact : light;
         return k < l.size() ? l[k] : Vec3d(0);
     }
-    // Appends `from`'s fragments, their pixel indices moved by `pixelOffset`.
+    // Appends `from`'s fragments, their pixel indices moved by `pixelOffset` (their triangles,
+    // barycentrics and helper lanes left out: lists joined this way are packed).
     void append(const FragmentList& from, int32_t pixelOffset = 0);
 };
 // The covered pixels of `frags`, row by row (pixel = y * width + x of that image); their

@@ -377,160 +377,162 @@ Json uniformsJson(const GlslSpec& g) {
     return u;
 }
 
+// The keys of the map kinds' samplers (methods/maps.h).
+std::vector<std::string> samplerKeys() {
+    std::vector<std::string> keys;
+    for (const MapKindInfo& m : kMapKindTable) keys.push_back(m.samplerKey);
+    return keys;
+}
+
+const std::vector<SpecField> kSpecFields = {
+    // "glsl": FILE or "hlsl": FILE (one of them); or no file: a "body" in the "language"
+    // named (GLSL by default), such as a generator's output (GlslSpec::ownFile), named
+    // after the scene file in messages.
+    {{"glsl", "hlsl", "language"},
+                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
+                     s.ownFile = f.has("glsl") || f.has("hlsl");
+                     s.hlsl = s.ownFile ? f.has("hlsl")
+                                        : f.choice("language", {"glsl", "hlsl"}, "glsl") ==
+                                              "hlsl";
+                     if (s.hlsl && f.has("glsl"))
+                         f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+                     if (!s.ownFile && !f.has("body"))
+                         f.fail("body",
+                                "a method without a \"glsl\" or \"hlsl\" file is its \"body\"");
+                     s.path = s.ownFile ? shaderPath(f, s.hlsl ? "hlsl" : "glsl", file) : file;
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (g.ownFile)
+                         j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+                     else
+                         j["language"] = g.hlsl ? "hlsl" : "glsl";
+                 }},
+    {{"defines"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     if (f.has("defines")) s.defines = parseDefines(f);
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
+                 }},
+    {{"include_paths"},
+                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
+                     if (f.has("include_paths")) s.includePaths = includePaths(f, file);
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
+                 }},
+    // The file's text (and an HLSL file's includes) is part of the identity: an edited
+    // file is another method. GLSL's includes are expanded into the source.
+    {{},
+                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
+                     if (s.ownFile)
+                         readShaderSource(s, file, f.fieldPath(s.hlsl ? "hlsl" : "glsl"));
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     j["source_sha1"] = textSha1(g.source);
+                     if (g.includeFiles.empty()) return;
+                     std::string all;
+                     for (const auto& [name, text] : g.includeFiles)
+                         all += name + '\0' + text + '\0';
+                     j["includes_sha1"] = textSha1(all);
+                 }},
+    {{"function"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     s.function = f.string("function", "ParallaxMapping");
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (g.call.empty() && g.body.empty()) j["function"] = g.function;
+                 }},
+    // HLSL reaches the GL as the GLSL 4.50 that methods/shader/hlsl.h makes of it; 110
+    // (GLSL's own default) is written as none.
+    {{"version"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     if (s.hlsl && f.has("version"))
+                         f.fail("version", "names a GLSL dialect; an HLSL method has none");
+                     s.version = s.hlsl ? "450" : glslVersion(f, s);
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.hlsl && g.version != "110") j["version"] = g.version;
+                 }},
+    // The sampler each map kind is bound to (methods/maps.h): the height map's
+    // "depthMap" unless named ("" says it reads none), the others only where named.
+    {samplerKeys(),
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     for (const MapKindInfo& m : kMapKindTable)
+                         s.samplers[size_t(m.kind)] =
+                             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     for (const MapKindInfo& m : kMapKindTable)
+                         if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
+                             j[m.samplerKey] = g.sampler(m.kind);
+                 }},
+    {{"texture"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) { readTexture(f, s); },
+                 [](const GlslSpec& g, Json& j) { j["texture"] = textureName(g); }},
+    {{"call", "body"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) { readEntryCode(f, s); },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.call.empty()) j["call"] = g.call;
+                     if (!g.body.empty()) j["body"] = g.body;
+                 }},
+    {{"sampler_state"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     readSamplerState(f, s);
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
+                 }},
+    {{"api"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     s.api = s.hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
+                     if (f.has("api"))
+                         s.api = f.choice("api", {"gl", "d3d"}, "") == "gl"
+                                     ? GlslSpec::Api::Gl
+                                     : GlslSpec::Api::D3d;
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
+                 }},
+    {{"inputs"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     s.engineInputs =
+                         f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (g.engineInputs) j["inputs"] = "engine";
+                 }},
+    {{"vertex", "attributes", "matrices"},
+                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
+                     if (f.has("vertex"))
+                         readVertexStage(f, s, file, shaderPath(f, "vertex", file));
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (const GlslSpec::VertexStage* v = g.vertexStage())
+                         vertexStageJson(*v, j);
+                 }},
+    {{"uniforms"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     if (f.has("uniforms")) s.uniforms = parseUniforms(f);
+                 },
+                 [](const GlslSpec& g, Json& j) { j["uniforms"] = uniformsJson(g); }},
+    {{"steps_uniform"},
+                 [](JsonFields& f, GlslSpec& s, const std::string&) {
+                     s.stepsUniform = f.string("steps_uniform", "");
+                     if (!s.stepsUniform.empty() &&
+                         !mentionsIdentifier(s.source, s.stepsUniform))
+                         f.fail("steps_uniform", "the shader " + s.path +
+                                                     " has no uniform \"" + s.stepsUniform +
+                                                     "\"");
+                 },
+                 [](const GlslSpec& g, Json& j) {
+                     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
+                 }},
+};
+
 }  // namespace
 
-const std::vector<SpecField>& specFields() {
-    static const std::vector<SpecField> rows = [] {
-        std::vector<SpecField> r;
-        // "glsl": FILE or "hlsl": FILE (one of them); or no file: a "body" in the "language"
-        // named (GLSL by default), such as a generator's output (GlslSpec::ownFile), named
-        // after the scene file in messages.
-        r.push_back({{"glsl", "hlsl", "language"},
-                     [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                         s.ownFile = f.has("glsl") || f.has("hlsl");
-                         s.hlsl = s.ownFile ? f.has("hlsl")
-                                            : f.choice("language", {"glsl", "hlsl"}, "glsl") ==
-                                                  "hlsl";
-                         if (s.hlsl && f.has("glsl"))
-                             f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
-                         if (!s.ownFile && !f.has("body"))
-                             f.fail("body",
-                                    "a method without a \"glsl\" or \"hlsl\" file is its \"body\"");
-                         s.path = s.ownFile ? shaderPath(f, s.hlsl ? "hlsl" : "glsl", file) : file;
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (g.ownFile)
-                             j[g.hlsl ? "hlsl" : "glsl"] = g.path;
-                         else
-                             j["language"] = g.hlsl ? "hlsl" : "glsl";
-                     }});
-        r.push_back({{"defines"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         if (f.has("defines")) s.defines = parseDefines(f);
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         for (const auto& [name, value] : g.defines) j["defines"][name] = value;
-                     }});
-        r.push_back({{"include_paths"},
-                     [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                         if (f.has("include_paths")) s.includePaths = includePaths(f, file);
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
-                     }});
-        // The file's text (and an HLSL file's includes) is part of the identity: an edited
-        // file is another method. GLSL's includes are expanded into the source.
-        r.push_back({{},
-                     [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                         if (s.ownFile)
-                             readShaderSource(s, file, f.fieldPath(s.hlsl ? "hlsl" : "glsl"));
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         j["source_sha1"] = textSha1(g.source);
-                         if (g.includeFiles.empty()) return;
-                         std::string all;
-                         for (const auto& [name, text] : g.includeFiles)
-                             all += name + '\0' + text + '\0';
-                         j["includes_sha1"] = textSha1(all);
-                     }});
-        r.push_back({{"function"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         s.function = f.string("function", "ParallaxMapping");
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (g.call.empty() && g.body.empty()) j["function"] = g.function;
-                     }});
-        // HLSL reaches the GL as the GLSL 4.50 that methods/shader/hlsl.h makes of it; 110
-        // (GLSL's own default) is written as none.
-        r.push_back({{"version"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         if (s.hlsl && f.has("version"))
-                             f.fail("version", "names a GLSL dialect; an HLSL method has none");
-                         s.version = s.hlsl ? "450" : glslVersion(f, s);
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.hlsl && g.version != "110") j["version"] = g.version;
-                     }});
-        // The sampler each map kind is bound to (methods/maps.h): the height map's
-        // "depthMap" unless named ("" says it reads none), the others only where named.
-        std::vector<std::string> samplerKeys;
-        for (const MapKindInfo& m : kMapKindTable) samplerKeys.push_back(m.samplerKey);
-        r.push_back({samplerKeys,
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         for (const MapKindInfo& m : kMapKindTable)
-                             s.samplers[size_t(m.kind)] =
-                                 f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         for (const MapKindInfo& m : kMapKindTable)
-                             if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
-                                 j[m.samplerKey] = g.sampler(m.kind);
-                     }});
-        r.push_back({{"texture"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) { readTexture(f, s); },
-                     [](const GlslSpec& g, Json& j) { j["texture"] = textureName(g); }});
-        r.push_back({{"call", "body"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) { readEntryCode(f, s); },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.call.empty()) j["call"] = g.call;
-                         if (!g.body.empty()) j["body"] = g.body;
-                     }});
-        r.push_back({{"sampler_state"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         readSamplerState(f, s);
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
-                     }});
-        r.push_back({{"api"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         s.api = s.hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
-                         if (f.has("api"))
-                             s.api = f.choice("api", {"gl", "d3d"}, "") == "gl"
-                                         ? GlslSpec::Api::Gl
-                                         : GlslSpec::Api::D3d;
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
-                     }});
-        r.push_back({{"inputs"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         s.engineInputs =
-                             f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (g.engineInputs) j["inputs"] = "engine";
-                     }});
-        r.push_back({{"vertex", "attributes", "matrices"},
-                     [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                         if (f.has("vertex"))
-                             readVertexStage(f, s, file, shaderPath(f, "vertex", file));
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (const GlslSpec::VertexStage* v = g.vertexStage())
-                             vertexStageJson(*v, j);
-                     }});
-        r.push_back({{"uniforms"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         if (f.has("uniforms")) s.uniforms = parseUniforms(f);
-                     },
-                     [](const GlslSpec& g, Json& j) { j["uniforms"] = uniformsJson(g); }});
-        r.push_back({{"steps_uniform"},
-                     [](JsonFields& f, GlslSpec& s, const std::string&) {
-                         s.stepsUniform = f.string("steps_uniform", "");
-                         if (!s.stepsUniform.empty() &&
-                             !mentionsIdentifier(s.source, s.stepsUniform))
-                             f.fail("steps_uniform", "the shader " + s.path +
-                                                         " has no uniform \"" + s.stepsUniform +
-                                                         "\"");
-                     },
-                     [](const GlslSpec& g, Json& j) {
-                         if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
-                     }});
-        return r;
-    }();
-    return rows;
-}
+const std::vector<SpecField>& specFields() { return kSpecFields; }
 
 // The dialect: the entry's "version" (a string, or a desktop number such as 330), else the
 // file's #version line ("#version 300 es", "#version 330 core"), else 110, GLSL's default.
