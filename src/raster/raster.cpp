@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "core/error.h"
@@ -519,36 +520,43 @@ void Rasterizer::quadHelpers(PixelRect rect, const Image2D<Fragment>& out, Vec2i
                 bool first = true;  // the quad's first fragment of t owns its helpers
                 for (int j = 0; j < i; ++j) first = first && !(lane[size_t(j)] && lane[size_t(j)]->triangle == t);
                 if (!first) continue;
-                const Vec2i owner(qx + (i & 1), qy + (i >> 1));
-                for (int j = 0; j < 4; ++j) {
-                    if (lane[size_t(j)] && lane[size_t(j)]->triangle == t) continue;
-                    const Vec2i l(qx + (j & 1), qy + (j >> 1));
-                    helpers.push_back(helperLane(t, owner, l));
-                    helpers.back().at = l - Vec2i(rect.x0, rect.y0) + at;
-                }
+                std::array<Vec2i, 3> others;
+                int n = 0;
+                for (int j = 0; j < 4; ++j)
+                    if (!(lane[size_t(j)] && lane[size_t(j)]->triangle == t))
+                        others[size_t(n++)] = Vec2i(qx + (j & 1), qy + (j >> 1));
+                helperLanes(t, Vec2i(qx + (i & 1), qy + (i >> 1)), {others.data(), size_t(n)},
+                            at - Vec2i(rect.x0, rect.y0), helpers);
             }
         }
 }
 
-HelperLane Rasterizer::helperLane(uint32_t t, Vec2i owner, Vec2i lane) const {
-    HelperLane h;
+void Rasterizer::helperLanes(uint32_t t, Vec2i owner, std::span<const Vec2i> lanes, Vec2i shift,
+                             std::vector<HelperLane>& out) const {
     const auto v = triangleVertices(mesh_, 3 * size_t(t));
     const ClippedPolygon poly = clipToNear(v, camera_, options_.perVertexView, nearZ_);
     // Any piece of the clipped polygon: they share the triangle's plane.
-    for (int k = 1; k + 1 < poly.size; ++k) {
-        ScreenTriangle screen;
-        if (!screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-            continue;
-        const Vec2d sample = camera_.samplePosition(owner.x, owner.y) + Vec2d(lane - owner);
-        shade(h.fragment, &h.inputs, screen, screen.barycentrics(sample), surfaceDerivatives(v),
-              camera_, camera_.ray(sample.x, sample.y), camera_.light().value_or(Vec3d(0)),
-              options_);
+    ScreenTriangle screen;
+    int k = 1;
+    while (k + 1 < poly.size &&
+           !screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
+        ++k;
+    const bool any = k + 1 < poly.size;
+    const SurfaceDerivatives d = surfaceDerivatives(v);
+    const Vec3d light = camera_.light().value_or(Vec3d(0));
+    const Vec2d ownerSample = camera_.samplePosition(owner.x, owner.y);
+    for (Vec2i lane : lanes) {
+        HelperLane& h = out.emplace_back();
+        h.at = lane + shift;
+        h.fragment.triangle = t;
+        if (!any) continue;
+        const Vec2d sample = ownerSample + Vec2d(lane - owner);
+        shade(h.fragment, &h.inputs, screen, screen.barycentrics(sample), d, camera_,
+              camera_.ray(sample.x, sample.y), light, options_);
         quadDerivatives(h.fragment, options_.engineInputs ? &h.inputs : nullptr, screen, lane.x,
                         lane.y, !camera_.jittered());
-        break;
+        h.fragment.triangle = t;
     }
-    h.fragment.triangle = t;
-    return h;
 }
 
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,

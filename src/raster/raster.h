@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/engine_inputs.h"
@@ -134,8 +135,10 @@ class Rasterizer {
     // The helper lanes of rect's quads (rect's corner even), drawn into `out` at `at`.
     void quadHelpers(PixelRect rect, const Image2D<Fragment>& out, Vec2i at,
                      std::vector<HelperLane>& helpers) const;
-    // Triangle t's lane `lane` of the quad whose first fragment of t is at `owner`.
-    HelperLane helperLane(uint32_t t, Vec2i owner, Vec2i lane) const;
+    // Triangle t's `lanes` of the quad whose first fragment of t is at `owner`, set up once,
+    // appended to `out` at lane + `shift`.
+    void helperLanes(uint32_t t, Vec2i owner, std::span<const Vec2i> lanes, Vec2i shift,
+                     std::vector<HelperLane>& out) const;
     const BaseMesh& mesh_;
     const Camera& camera_;
     RasterOptions options_;

@@ -112,11 +112,8 @@ void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
         throw InputError(spec.path, "uniforms." + un.name, "",
                          "is not an active uniform of the shader (misspelt, or unused by " +
                              spec.entryName() + ")");
-    std::vector<float> f(un.values.begin(), un.values.end());
+    std::vector<float> f = un.at(maps.scale, maps.bias);
     drainGlErrors();  // only this uniform's own error may be blamed on it
-    if (un.bind == "scale") f = {float(un.factor * maps.scale)};
-    if (un.bind == "bias") f = {float(un.factor * maps.bias)};
-    if (un.bind == "offset_bias") f = {maps.scale != 0 ? float(1 + maps.bias / maps.scale) : 0.0f};
     // One number sets a float or an int uniform alike where it is a whole number (32 and
     // 32.0 both set `float steps` and `int steps`).
     const bool whole = f.size() == 1 && un.bind.empty() &&

@@ -149,6 +149,13 @@ struct GlslSpec {
         bool isInt = false;
         std::string bind;  // "", "scale", "bias" or "offset_bias"
         double factor = 1;
+        // What the uniform is set to at the case's (or method's) s and b.
+        std::vector<float> at(double s, double b) const {
+            if (bind == "scale") return {float(factor * s)};
+            if (bind == "bias") return {float(factor * b)};
+            if (bind == "offset_bias") return {s != 0 ? float(1 + b / s) : 0.0f};
+            return std::vector<float>(values.begin(), values.end());
+        }
     };
     std::vector<Uniform> uniforms;
     // "steps_uniform": the integer uniform that is the method's step count, which `pgt fit`

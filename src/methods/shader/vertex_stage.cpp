@@ -105,10 +105,7 @@ void setUniforms(GLuint prog, const GlslSpec& spec, double scale, double bias) {
                                      spec.vertexStage()->path + " nor the fragment code");
             continue;
         }
-        std::vector<float> f(un.values.begin(), un.values.end());
-        if (un.bind == "scale") f = {float(un.factor * scale)};
-        if (un.bind == "bias") f = {float(un.factor * bias)};
-        if (un.bind == "offset_bias") f = {scale != 0 ? float(1 + bias / scale) : 0.0f};
+        std::vector<float> f = un.at(scale, bias);
         drainGlErrors();
         if (f.size() == 1 && un.bind.empty() && un.values[0] == std::floor(un.values[0])) {
             glUniform1i(u, int(un.values[0]));
