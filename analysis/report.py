@@ -27,8 +27,10 @@ from report_engines import engine_lines  # noqa: E402
 
 
 def pareto_front(points):
-    """Indices of points not dominated in (x, y), both to be minimised."""
-    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    """Indices of points not dominated in (x, y), both to be minimised; a point with a
+    coordinate not measured (nan: an untimed method) is on no front."""
+    finite = [i for i in range(len(points)) if all(math.isfinite(v) for v in points[i])]
+    order = sorted(finite, key=lambda i: (points[i][0], points[i][1]))
     front, best = [], math.inf
     for i in order:
         if points[i][1] < best:
