@@ -7,9 +7,9 @@
 #include <cfloat>
 #include <random>
 
+#include "evaluate/evaluate.h"
 #include "heightfield/cone_map.h"
 #include "methods/registry.h"
-#include "evaluate/evaluate.h"
 #include "test_util.h"
 
 namespace pgt {

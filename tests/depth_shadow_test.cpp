@@ -7,9 +7,9 @@
 #include <cmath>
 #include <random>
 
-#include "methods/builtin/shadow.h"
 #include "evaluate/evaluate.h"
 #include "frame/render.h"
+#include "methods/builtin/shadow.h"
 #include "test_util.h"
 #include "truth/truth.h"
 

@@ -3,8 +3,8 @@
 // oracles the methods must reproduce; docs/model.md §3 gives the (s, b) each document implies.
 #include <gtest/gtest.h>
 
-#include "methods/registry.h"
 #include "frame/render.h"
+#include "methods/registry.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -11,10 +11,10 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "frame/render.h"
 #include "methods/shader/glsl_spec.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "methods/config.h"
 #include "frame/render.h"
+#include "methods/config.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -8,11 +8,11 @@
 #include <cstdlib>
 
 #include "compare/statistics.h"
+#include "frame/render.h"
 #include "heightfield/heightfield.h"
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_method.h"
-#include "frame/render.h"
 #include "test_util.h"
 #include "truth/builder.h"
 

@@ -10,12 +10,12 @@
 #include <filesystem>
 #include <functional>
 
+#include "frame/render.h"
 #include "methods/config.h"
 #include "methods/presets/presets.h"
 #include "methods/shader/glsl_method.h"
 #include "preset_twins.h"
 #include "scene/scene.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

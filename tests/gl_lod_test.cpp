@@ -7,13 +7,13 @@
 #include <fstream>
 #include <random>
 
+#include "frame/render.h"
 #include "heightfield/mipmaps.h"
 #include "methods/config.h"
 #include "methods/presets/presets.h"
 #include "methods/shader/glsl_method.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
-#include "frame/render.h"
 #include "test_util.h"
 #include "truth/builder.h"
 

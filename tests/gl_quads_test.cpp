@@ -9,10 +9,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "frame/render.h"
 #include "methods/shader/gl_api.h"
 #include "scene/base_surface.h"
 #include "scene/scene.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -73,8 +73,8 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
         const BaseVertex* v[3] = {&mesh.vertices[mesh.indices[t]],
                                   &mesh.vertices[mesh.indices[t + 1]],
                                   &mesh.vertices[mesh.indices[t + 2]]};
-        const Vec3d faceN = glm::cross(v[1]->position - v[0]->position,
-                                       v[2]->position - v[0]->position);
+        const Vec3d faceN =
+            glm::cross(v[1]->position - v[0]->position, v[2]->position - v[0]->position);
         const Vec3d toEye = ortho ? -cam.forward() : cam.eye() - v[0]->position;
         if (glm::dot(faceN, toEye) <= 0) continue;  // pgt culls it
         for (const BaseVertex* p : v) {
@@ -85,10 +85,18 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
             const double w = ortho ? 1 : c.z;
             const double zc = ortho ? 1.8 * (c.z - zMin) / (zMax - zMin) - 0.9
                                     : (f + n) / (f - n) * c.z - 2 * f * n / (f - n);
-            const float values[13] = {float(x * w),         float(y * w),         float(zc),
-                                      float(w),             float(p->uv.x),       float(p->uv.y),
-                                      float(p->position.x), float(p->position.y), float(p->position.z),
-                                      float(p->normal.x),   float(p->normal.y),   float(p->normal.z),
+            const float values[13] = {float(x * w),
+                                      float(y * w),
+                                      float(zc),
+                                      float(w),
+                                      float(p->uv.x),
+                                      float(p->uv.y),
+                                      float(p->position.x),
+                                      float(p->position.y),
+                                      float(p->position.z),
+                                      float(p->normal.x),
+                                      float(p->normal.y),
+                                      float(p->normal.z),
                                       float(t / 3)};
             vertexData.insert(vertexData.end(), values, values + 13);
         }
@@ -100,8 +108,8 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
         fs += "layout(location = " + std::to_string(i) + ") out vec4 o" + std::to_string(i) + ";\n";
     fs += "void main() {\n";
     for (int i = 0; i < 5; ++i)
-        fs += "    o" + std::to_string(i) + " = vec4(" + kProbes[2 * i] + ", " + kProbes[2 * i + 1] +
-              ");\n";
+        fs += "    o" + std::to_string(i) + " = vec4(" + kProbes[2 * i] + ", " +
+              kProbes[2 * i + 1] + ");\n";
     fs += "    o5 = vec4(face);\n}\n";
     const std::string vs =
         "#version 450 core\n"
@@ -130,8 +138,9 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
         const int sizes[5] = {4, 2, 3, 3, 1}, offsets[5] = {0, 4, 6, 9, 12};
         for (GLuint a = 0; a < 5; ++a) {
             glEnableVertexAttribArray(a);
-            glVertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, 13 * sizeof(float),
-                                  reinterpret_cast<const void*>(size_t(offsets[a]) * sizeof(float)));
+            glVertexAttribPointer(
+                a, sizes[a], GL_FLOAT, GL_FALSE, 13 * sizeof(float),
+                reinterpret_cast<const void*>(size_t(offsets[a]) * sizeof(float)));
         }
         // Five float targets, the face in a sixth (cleared to -1), and a depth buffer.
         GLuint targets[6];
@@ -187,9 +196,9 @@ GlDraw drawMesh(const BaseMesh& mesh, const Camera& cam) {
     return out;
 }
 
-// A torus (seams in u and v, curvature of both signs) under a pinhole or an orthographic camera: at every pixel
-// where the GL's draw and pgt's rasteriser drew the same face, the derivatives pgt's GL path
-// hands a shader of uv, the world position and the interpolated normal are the GL's (fine and
+// A torus (seams in u and v, curvature of both signs) under a pinhole or an orthographic camera: at
+// every pixel where the GL's draw and pgt's rasteriser drew the same face, the derivatives pgt's GL
+// path hands a shader of uv, the world position and the interpolated normal are the GL's (fine and
 // coarse), within float noise. Laid out pixel by pixel as before per-triangle quads, the
 // neighbour across a triangle edge or seam is another triangle's: dFdx(uv) was the seam's
 // jump (about 1 in UV), far outside the tolerance.
@@ -206,17 +215,17 @@ void compareWithTheGlsDraw(const std::string& camera) {
                            {"body", std::string("vec3 P = pgt_world_position;\n"
                                                 "vec3 Nrm = pgt_world_normal;\nreturn ") +
                                         kProbes[i] + ";"}});
-    const Scene s = parseScene(
-        nlohmann::json::parse(
-            R"({"heightmap": {"procedural": "constant", "value": 0.5, "size": [16, 16]},
+    const Scene s =
+        parseScene(nlohmann::json::parse(
+                       R"({"heightmap": {"procedural": "constant", "value": 0.5, "size": [16, 16]},
                 "address": "repeat",
                 "base": {"type": "mesh", "cage": "torus", "major_radius": 0.5,
                          "minor_radius": 0.2, "segments": [12, 6], "tiling": [3, 2],
                          "scheme": "catmark", "refine": 1},
                 "displacement": {"scale": 0.02, "bias": -0.01},
                 "truth": {"rate": 1, "uncertainty": false}, "camera": )" +
-            camera + R"(, "methods": )" + methods.dump() + "}"),
-        (dir / "s.json").string());
+                       camera + R"(, "methods": )" + methods.dump() + "}"),
+                   (dir / "s.json").string());
     const RenderResult r = renderFrame(s, {.timingRepeats = 0});
     const Camera cam = makeCamera(s);
     const GlDraw gl = drawMesh(drawnBaseMesh(s.base, cam), cam);
@@ -240,13 +249,14 @@ void compareWithTheGlsDraw(const std::string& camera) {
             for (int i = 0; i < 10; ++i) {
                 const Vec2d want(gl.probes[k][size_t(2 * i)], gl.probes[k][size_t(2 * i + 1)]);
                 const double scale = std::max(1e-3, glm::length(want));
-                worst[i] = std::max(worst[i], glm::length(r.methods[size_t(i)].pixels.data[k].uv -
-                                                          want) / scale);
+                worst[i] = std::max(
+                    worst[i], glm::length(r.methods[size_t(i)].pixels.data[k].uv - want) / scale);
             }
         }
-    std::printf("%d covered pixels, %d of the same face in the GL's draw (%d beside another "
-                "triangle in their quad's row, %d across a seam)\n",
-                covered, same, edges, seams);
+    std::printf(
+        "%d covered pixels, %d of the same face in the GL's draw (%d beside another "
+        "triangle in their quad's row, %d across a seam)\n",
+        covered, same, edges, seams);
     for (int i = 0; i < 10; ++i) std::printf("%-40s worst %.2e (relative)\n", kProbes[i], worst[i]);
     EXPECT_GT(same, covered * 95 / 100);
     EXPECT_GT(edges, same / 10);

@@ -10,8 +10,8 @@
 #include <map>
 
 #include "core/error.h"
-#include "mesh/gltf_mesh.h"
 #include "frame/render.h"
+#include "mesh/gltf_mesh.h"
 #include "test_util.h"
 #include "truth/tessellation.h"
 

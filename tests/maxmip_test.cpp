@@ -6,10 +6,10 @@
 #include <fstream>
 #include <random>
 
+#include "frame/render.h"
 #include "heightfield/minmax_pyramid.h"
 #include "methods/config.h"
 #include "methods/registry.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -5,11 +5,11 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "frame/render.h"
 #include "mesh/control_mesh.h"
 #include "mesh/refine.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "methods/registry.h"
 #include "frame/render.h"
+#include "methods/registry.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -6,11 +6,11 @@
 #include <sstream>
 
 #include "core/json_read.h"
+#include "frame/render.h"
 #include "methods/builtin/layered.h"
 #include "methods/config.h"
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

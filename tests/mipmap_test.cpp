@@ -6,9 +6,9 @@
 
 #include <random>
 
+#include "evaluate/evaluate.h"
 #include "heightfield/mipmaps.h"
 #include "methods/registry.h"
-#include "evaluate/evaluate.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "test_util.h"

@@ -13,13 +13,13 @@
 #include <random>
 
 #include "core/error.h"
+#include "core/json_read.h"
+#include "frame/render.h"
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
-#include "core/json_read.h"
 #include "methods/shader/shader_config.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -839,7 +839,8 @@ TEST(ShaderFields, EveryKeyIsDocumentedAndAnUnknownOneIsRefused) {
     const std::vector<std::string> keys = shaderEntryKeys();
     EXPECT_GE(keys.size(), 20u);
     for (const std::string& key : keys)
-        EXPECT_NE(text.find("\"" + key + "\""), std::string::npos) << key << " is not in methods.md";
+        EXPECT_NE(text.find("\"" + key + "\""), std::string::npos)
+            << key << " is not in methods.md";
     try {
         parseMethod(nlohmann::json{{"name", "a"}, {"body", "return uv;"}, {"unifroms", 1}},
                     "scene.json", "methods[0]");

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "frame/render.h"
 #include "raster/fragment_list.h"
 #include "raster_reference.h"
 #include "scene/scene.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -8,9 +8,9 @@
 #include <fstream>
 
 #include "compare/statistics.h"
+#include "frame/render.h"
 #include "methods/config.h"
 #include "methods/registry.h"
-#include "frame/render.h"
 #include "test_util.h"
 #include "truth/truth.h"
 

@@ -13,9 +13,9 @@
 
 #include "core/error.h"
 #include "core/json_read.h"
+#include "frame/view_memory.h"
 #include "methods/config.h"
 #include "study/outputs.h"
-#include "frame/view_memory.h"
 #include "test_util.h"
 #include "truth/builder.h"
 

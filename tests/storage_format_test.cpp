@@ -6,9 +6,9 @@
 
 #include <cmath>
 
+#include "frame/render.h"
 #include "gl_agree.h"
 #include "heightfield/mipmaps.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {

@@ -12,9 +12,9 @@
 
 #include "core/error.h"
 #include "core/json_read.h"
-#include "methods/shader/glsl_spec.h"
 #include "io/csv_table.h"
 #include "io/staged_files.h"
+#include "methods/shader/glsl_spec.h"
 #include "study/study_dir.h"
 #include "test_util.h"
 

@@ -11,9 +11,9 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "frame/render.h"
 #include "methods/config.h"
 #include "scene/scene.h"
-#include "frame/render.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -56,7 +56,8 @@ RenderResult render(const std::string& base, const std::string& camera,
     const Scene s = parseScene(
         nlohmann::json::parse(R"({"heightmap": {"procedural": "sine", "size": [64, 64]},
             "address": "repeat", "displacement": {"scale": 0.05, "bias": -0.025},
-            "base": )" + base + R"(, "camera": )" + camera +
+            "base": )" + base +
+                              R"(, "camera": )" + camera +
                               R"(, "truth": {"rate": 1, "uncertainty": false}, "methods": )" +
                               methods.dump() + "}"),
         (dir / "s.json").string());
@@ -71,12 +72,13 @@ RenderResult render(const std::string& base, const std::string& camera,
 // camera a V taken from a camera position is a perspective from that point, in pgt as in an
 // engine: docs/methods.md.)
 TEST(VertexStage, OnAPlaneItsVIsThePerPixelV) {
-    for (const char* camera : {R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target": [0, 0, 0],
+    for (const char* camera :
+         {R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target": [0, 0, 0],
               "up": [0, 0, 1], "fov": 50, "resolution": [64, 64]})",
-                               R"({"type": "pinhole", "eye": [-0.8, 0.2, 0.4], "target": [0.1, 0, 0],
+          R"({"type": "pinhole", "eye": [-0.8, 0.2, 0.4], "target": [0.1, 0, 0],
               "up": [0, 0, 1], "fov": 70, "resolution": [63, 49]})"}) {
-        const RenderResult r = render(R"({"type": "plane"})", camera,
-                                      {perPixelEntry(), vertexEntry("vertex_w", 1)});
+        const RenderResult r =
+            render(R"({"type": "plane"})", camera, {perPixelEntry(), vertexEntry("vertex_w", 1)});
         ASSERT_EQ(r.methods.size(), 2u);
         double worst = 0;
         int n = 0;
@@ -96,22 +98,22 @@ TEST(VertexStage, OnAPlaneItsVIsThePerPixelV) {
 // depth map. On a plane its uv' is pgt's parallax with the per-pixel V on the depth map's
 // surface (s, b) = (k, -k), k its heightScale.
 TEST(VertexStage, InterfaceBlocksAndABitangentAttribute) {
-    nlohmann::json block = {
-        {"name", "block"},
-        {"glsl", data("glsl/interface_block.frag")},
-        {"vertex", data("glsl/interface_block.vert")},
-        {"sampler", "depthMap"},
-        {"texture", "depth"},
-        {"call", "ParallaxMapping(fs_in.TexCoords, normalize(fs_in.TangentViewPos - "
-                 "fs_in.TangentFragPos))"},
-        {"matrices",
-         {{"projection", "projection"},
-          {"view", "view"},
-          {"model", "model"},
-          {"viewPos", "camera_position"}}},
-        {"uniforms", {{"heightScale", "scale"}}},
-        {"scale", 0.05},
-        {"bias", -0.05}};
+    nlohmann::json block = {{"name", "block"},
+                            {"glsl", data("glsl/interface_block.frag")},
+                            {"vertex", data("glsl/interface_block.vert")},
+                            {"sampler", "depthMap"},
+                            {"texture", "depth"},
+                            {"call",
+                             "ParallaxMapping(fs_in.TexCoords, normalize(fs_in.TangentViewPos - "
+                             "fs_in.TangentFragPos))"},
+                            {"matrices",
+                             {{"projection", "projection"},
+                              {"view", "view"},
+                              {"model", "model"},
+                              {"viewPos", "camera_position"}}},
+                            {"uniforms", {{"heightScale", "scale"}}},
+                            {"scale", 0.05},
+                            {"bias", -0.05}};
     nlohmann::json pixel = perPixelEntry();
     pixel["scale"] = 0.05, pixel["bias"] = -0.05;
     const RenderResult r = render(R"({"type": "plane"})",
@@ -137,12 +139,12 @@ TEST(VertexStage, InterfaceBlocksAndABitangentAttribute) {
 // vertex file as it ships (w ignored) and with w agree where w is +1 and part where it is -1,
 // where ignoring w costs about twice the error.
 TEST(VertexStage, IgnoringTheTangentsWFailsOnTheMirroredHalf) {
-    const RenderResult r = render(
-        R"({"type": "gltf", "file": ")" + data("gltf/torus_mirrored.gltf") +
-            R"(", "frames": "asset"})",
-        R"({"type": "pinhole", "eye": [0.2, -1.3, 0.9], "target": [0, 0, 0], "up": [0, 0, 1],
+    const RenderResult r =
+        render(R"({"type": "gltf", "file": ")" + data("gltf/torus_mirrored.gltf") +
+                   R"(", "frames": "asset"})",
+               R"({"type": "pinhole", "eye": [0.2, -1.3, 0.9], "target": [0, 0, 0], "up": [0, 0, 1],
             "fov": 45, "resolution": [128, 128]})",
-        {vertexEntry("shipped", 0), vertexEntry("with_w", 1)});
+               {vertexEntry("shipped", 0), vertexEntry("with_w", 1)});
     ASSERT_EQ(r.methods.size(), 2u);
     const auto& shipped = r.methods[0];
     const auto& withW = r.methods[1];
@@ -190,12 +192,9 @@ TEST(VertexStage, FieldsAreChecked) {
         }
         return std::string("no error");
     };
-    EXPECT_NE(message({{"name", "a"}, {"vertex", "v.vert"}}).find("location 1"),
-              std::string::npos);
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "v.vert"}}).find("location 1"), std::string::npos);
     EXPECT_NE(message({{"name", "a"}, {"vertex", "w.vert"}}).find("corner"), std::string::npos);
-    EXPECT_NE(message({{"name", "a"},
-                       {"vertex", "v.vert"},
-                       {"attributes", {{"inPos", "place"}}}})
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "v.vert"}, {"attributes", {{"inPos", "place"}}}})
                   .find("attributes.inPos"),
               std::string::npos);
     std::filesystem::remove_all(dir);

@@ -42,8 +42,8 @@ enum class Stage {
 inline constexpr size_t kStages = size_t(Stage::Count);
 // Their names (summary.json's timings_ms keys), in the enum's order.
 inline constexpr std::array<const char*, kStages> kStageNames = {
-    "raster",        "trace",       "trace_fine", "methods_eval",  "methods",         "statistics",
-    "method_timing", "write",       "tessellate", "build",         "tessellate_fine", "build_fine",
+    "raster",        "trace",       "trace_fine", "methods_eval",   "methods",         "statistics",
+    "method_timing", "write",       "tessellate", "build",          "tessellate_fine", "build_fine",
     "truth_total",   "truth_build", "cases_wall", "gl_timing_wall", "vertex_stage"};
 
 // Milliseconds per stage; a stage never added or set is absent (the frame did not run it).

@@ -266,9 +266,10 @@ GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool e
         in.helpers.reserve(frags.helpers.size());
         for (const HelperLane& h : frags.helpers) {
             const Fragment& f = h.fragment;
-            const Vec3d view = exactFrame               ? f.viewTangentExact
-                               : frags.viewVertex.empty() || !cfg.viewPerVertex ? f.viewTangent
-                                                                               : h.inputs.viewVertex;
+            const Vec3d view = exactFrame ? f.viewTangentExact
+                               : frags.viewVertex.empty() || !cfg.viewPerVertex
+                                   ? f.viewTangent
+                                   : h.inputs.viewVertex;
             in.helpers.push_back({h.at, f.triangle, Vec2f(f.uv0), Vec2f(f.uvDx), Vec2f(f.uvDy),
                                   Vec3f(view), h.inputs.engine});
         }

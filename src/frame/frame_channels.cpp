@@ -6,8 +6,8 @@
 
 #include <cmath>
 
-#include "methods/config.h"
 #include "frame/render.h"
+#include "methods/config.h"
 
 namespace pgt {
 

@@ -14,11 +14,11 @@
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/overloaded.h"
+#include "frame/truth_source.h"
+#include "frame/vertex_inputs.h"
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
 #include "methods/shader/vertex_stage.h"
-#include "frame/truth_source.h"
-#include "frame/vertex_inputs.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -149,9 +149,8 @@ class BandPipeline {
         const bool vertexStages = std::any_of(runs_.begin(), runs_.end(), [](const MethodRun& m) {
             return m.config->shader() && m.config->shader()->vertexStage();
         });
-        const BaseMesh mesh = truth_.prepared() && !vertexStages
-                                  ? BaseMesh{}
-                                  : drawnBaseMesh(scene_.base, r_.camera);
+        const BaseMesh mesh =
+            truth_.prepared() && !vertexStages ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         r_.timings.add(Stage::Raster, msSince(t0));
         t0 = Clock::now();
         if (vertexStages) {

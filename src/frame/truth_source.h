@@ -4,8 +4,8 @@
 #pragma once
 
 #include "core/image.h"
-#include "scene/camera.h"
 #include "frame/render.h"
+#include "scene/camera.h"
 #include "truth/builder.h"
 
 namespace pgt {

@@ -22,11 +22,11 @@
 #include "core/interrupt.h"
 #include "core/json_read.h"
 #include "core/memory.h"
+#include "frame/render.h"
+#include "io/staged_files.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "frame/render.h"
-#include "io/staged_files.h"
 #include "study/sweep.h"
 #include "verdict/study_compare.h"
 

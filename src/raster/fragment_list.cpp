@@ -11,8 +11,7 @@
 
 namespace pgt {
 
-FragmentList compactFragments(const Image2D<Fragment>& frags,
-                              const Image2D<FragmentInputs>* inputs,
+FragmentList compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
                               std::vector<HelperLane>* helpers) {
     FragmentList list;
     compactFragments(frags, inputs, true, list, helpers);

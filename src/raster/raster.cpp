@@ -31,10 +31,10 @@ struct ClipVertex {
 };
 
 ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
-    return {a.cam + (c.cam - a.cam) * s, a.world + (c.world - a.world) * s,
-            a.uv + (c.uv - a.uv) * s,    a.t + (c.t - a.t) * s,
-            a.b + (c.b - a.b) * s,       a.n + (c.n - a.n) * s,
-            a.w + (c.w - a.w) * s,       a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s,
+    return {a.cam + (c.cam - a.cam) * s,   a.world + (c.world - a.world) * s,
+            a.uv + (c.uv - a.uv) * s,      a.t + (c.t - a.t) * s,
+            a.b + (c.b - a.b) * s,         a.n + (c.n - a.n) * s,
+            a.w + (c.w - a.w) * s,         a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s,
             a.bary + (c.bary - a.bary) * s};
 }
 
@@ -518,7 +518,8 @@ void Rasterizer::quadHelpers(PixelRect rect, const Image2D<Fragment>& out, Vec2i
                 if (!lane[size_t(i)]) continue;
                 const uint32_t t = lane[size_t(i)]->triangle;
                 bool first = true;  // the quad's first fragment of t owns its helpers
-                for (int j = 0; j < i; ++j) first = first && !(lane[size_t(j)] && lane[size_t(j)]->triangle == t);
+                for (int j = 0; j < i; ++j)
+                    first = first && !(lane[size_t(j)] && lane[size_t(j)]->triangle == t);
                 if (!first) continue;
                 std::array<Vec2i, 3> others;
                 int n = 0;

@@ -8,11 +8,11 @@
 
 #include "core/format.h"
 #include "core/json_fields.h"
+#include "frame/render.h"
 #include "methods/config.h"
 #include "methods/registry.h"
 #include "methods/shader/glsl_spec.h"
 #include "study/provenance.h"
-#include "frame/render.h"
 
 namespace pgt {
 

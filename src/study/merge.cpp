@@ -14,11 +14,11 @@
 #include "core/json_read.h"
 #include "core/memory.h"
 #include "io/csv_table.h"
+#include "io/staged_files.h"
 #include "study/plan.h"
 #include "study/provenance.h"
 #include "study/result_columns.h"
 #include "study/row_check.h"
-#include "io/staged_files.h"
 #include "study/study_dir.h"
 
 namespace pgt {

@@ -16,11 +16,11 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "core/json_fields.h"
-#include "methods/config.h"
 #include "io/image_files.h"
+#include "io/staged_files.h"
+#include "methods/config.h"
 #include "study/provenance.h"
 #include "study/result_columns.h"
-#include "io/staged_files.h"
 
 namespace pgt {
 

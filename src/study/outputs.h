@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene.h"
 #include "frame/frame_channels.h"
 #include "frame/render.h"
+#include "scene/scene.h"
 
 namespace pgt {
 

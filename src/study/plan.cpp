@@ -9,9 +9,9 @@
 #include "core/format.h"
 #include "core/json_fields.h"
 #include "core/json_read.h"
+#include "frame/render.h"
 #include "methods/config.h"
 #include "methods/presets/presets.h"
-#include "frame/render.h"
 
 namespace pgt {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "methods/method.h"
 #include "evaluate/evaluate.h"
+#include "methods/method.h"
 #include "scene/scene.h"
 
 namespace pgt {

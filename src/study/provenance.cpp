@@ -18,8 +18,8 @@
 
 #include "build_id.h"
 #include "core/json_read.h"
-#include "methods/shader/glsl_method.h"
 #include "io/staged_files.h"
+#include "methods/shader/glsl_method.h"
 
 #define PGT_STRINGIFY2(x) #x
 #define PGT_STRINGIFY(x) PGT_STRINGIFY2(x)

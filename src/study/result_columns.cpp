@@ -9,8 +9,8 @@
 #include "compare/warnings.h"
 #include "core/error.h"
 #include "core/format.h"
-#include "methods/config.h"
 #include "io/csv_table.h"
+#include "methods/config.h"
 #include "study/outputs.h"
 
 namespace pgt {

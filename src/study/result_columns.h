@@ -11,8 +11,8 @@
 #include <variant>
 #include <vector>
 
-#include "study/plan.h"
 #include "frame/render.h"
+#include "study/plan.h"
 
 namespace pgt {
 

@@ -9,12 +9,12 @@
 
 #include "core/error.h"
 #include "core/format.h"
-#include "scene/scene.h"
+#include "frame/render.h"
 #include "io/csv_table.h"
+#include "io/staged_files.h"
+#include "scene/scene.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "frame/render.h"
-#include "io/staged_files.h"
 
 namespace pgt {
 

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "core/clock.h"
+#include "frame/render.h"
 #include "scene/scene.h"
 #include "study/plan.h"
-#include "frame/render.h"
 
 namespace pgt {
 

@@ -19,9 +19,9 @@
 #include "core/json_fields.h"
 #include "core/json_read.h"
 #include "io/csv_table.h"
+#include "io/staged_files.h"
 #include "study/result_columns.h"
 #include "study/row_check.h"
-#include "io/staged_files.h"
 
 namespace pgt {
 

@@ -30,11 +30,11 @@
 #include "core/interrupt.h"
 #include "core/json_read.h"
 #include "core/process.h"
+#include "io/staged_files.h"
 #include "methods/config.h"
 #include "methods/shader/glsl_method.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
-#include "io/staged_files.h"
 #include "study/study_cases.h"
 #include "study/study_dir.h"
 

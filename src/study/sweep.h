@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/clock.h"
+#include "frame/render.h"
 #include "scene/scene.h"
 #include "study/plan.h"
-#include "frame/render.h"
 #include "study/result_columns.h"  // results.csv's columns
 
 namespace pgt {

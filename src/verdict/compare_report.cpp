@@ -9,8 +9,8 @@
 
 #include "core/format.h"
 #include "io/csv_table.h"
-#include "study/provenance.h"
 #include "io/staged_files.h"
+#include "study/provenance.h"
 
 namespace pgt {
 

@@ -13,8 +13,8 @@
 #include "core/format.h"
 #include "core/json_read.h"
 #include "io/csv_table.h"
-#include "study/result_columns.h"
 #include "io/staged_files.h"
+#include "study/result_columns.h"
 #include "verdict/compare_report.h"
 
 namespace pgt {

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "frame/render.h"
 #include "heightfield/heightfield.h"
 #include "mesh/gltf_mesh.h"
 #include "methods/config.h"
@@ -15,7 +16,6 @@
 #include "methods/shader/glsl_method.h"
 #include "methods/shader/hlsl.h"
 #include "scene/scene.h"
-#include "frame/render.h"
 #include "truth/truth.h"
 
 namespace {

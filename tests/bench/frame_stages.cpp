@@ -15,11 +15,11 @@
 #include <vector>
 
 #include "core/clock.h"
-#include "methods/config.h"
 #include "evaluate/evaluate.h"
+#include "frame/render.h"
+#include "methods/config.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
-#include "frame/render.h"
 #include "truth/builder.h"
 #include "truth/truth.h"
 

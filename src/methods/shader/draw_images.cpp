@@ -121,7 +121,7 @@ namespace {
 // Where each fragment of a screen tile is drawn: the origin of its triangle's quad in the draw
 // image (GlslInputs), and the rows the quads moved below the tile take.
 struct QuadLayout {
-    std::vector<Vec2i> origin;  // per fragment of the tile, in the tile's order
+    std::vector<Vec2i> origin;                   // per fragment of the tile, in the tile's order
     std::unordered_map<uint64_t, Vec2i> blocks;  // (quad << 32 | triangle) -> origin
     int rows = 0;                                // the image's height
 };
@@ -165,8 +165,9 @@ std::unique_ptr<DrawImages> screenTile(const GlslInputs& in, const std::vector<s
     };
     for (size_t i = 0; i < inTile.size(); ++i) {
         const size_t k = inTile[i];
-        img->put(texelOf(layout.origin[i], in.pixel[k] % in.frameWidth, in.pixel[k] / in.frameWidth),
-                 in, k, 2.0f);
+        img->put(
+            texelOf(layout.origin[i], in.pixel[k] % in.frameWidth, in.pixel[k] / in.frameWidth), in,
+            k, 2.0f);
     }
     for (size_t j : helpersInTile) {
         const GlslInputs::Helper& hl = in.helpers[j];

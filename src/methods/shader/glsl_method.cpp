@@ -344,8 +344,8 @@ void drawAll(const GlslSpec& spec, const DrawMaps& maps, const GlslInputs& in, G
             const int x0 = tx * kTile, y0 = ty * kTile;
             const int w = std::min(kTile, (in.frameWidth - x0 + 1) & ~1);
             const int h = std::min(kTile, (in.frameHeight - y0 + 1) & ~1);
-            auto img = screenTile(in, inTile, helpersByTile[size_t(ty) * size_t(tilesX) + size_t(tx)],
-                                  x0, y0, w, h);
+            auto img = screenTile(
+                in, inTile, helpersByTile[size_t(ty) * size_t(tilesX) + size_t(tx)], x0, y0, w, h);
             drawImages(spec, maps, *img, nullptr, 0, true, run);
         }
 }

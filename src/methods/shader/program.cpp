@@ -233,8 +233,8 @@ std::string infoLog(GLuint object, GetIv getIv, GetLog getLog) {
 template <class GetIv, class GetLog, class Delete>
 void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete remove,
                    const std::string& file, const std::string& field, const char* verb,
-                   int userFirst, int userCount,
-                   const EntryLines& entry, const std::vector<GlslSpec::LineOrigin>& origins,
+                   int userFirst, int userCount, const EntryLines& entry,
+                   const std::vector<GlslSpec::LineOrigin>& origins,
                    const std::vector<std::string>& declared) {
     GLint ok = 0;
     getIv(object, status, &ok);
@@ -532,8 +532,8 @@ GLuint vertexProgram(const std::string& text, const std::string& file,
                                 GL_INTERLEAVED_ATTRIBS);
     glLinkProgram(prog);
     glDeleteShader(vs);
-    requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
-                  file, "vertex", "link", 1, 1 << 30, {}, {}, {});
+    requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram, file,
+                  "vertex", "link", 1, 1 << 30, {}, {}, {});
     return prog;
 }
 

@@ -20,7 +20,8 @@ namespace pgt {
 
 std::vector<std::string> shaderEntryKeys() {
     std::vector<std::string> keys;
-    for (const SpecField& row : specFields()) keys.insert(keys.end(), row.keys.begin(), row.keys.end());
+    for (const SpecField& row : specFields())
+        keys.insert(keys.end(), row.keys.begin(), row.keys.end());
     return keys;
 }
 

@@ -267,7 +267,6 @@ bool knownGlslVersion(const std::string& v) {
     return std::find(kGlslVersions.begin(), kGlslVersions.end(), v) != kGlslVersions.end();
 }
 
-
 std::string glslVersion(JsonFields& f, const GlslSpec& spec) {
     if (f.has("version")) {
         const Json& v = f.raw("version");
@@ -389,145 +388,132 @@ const std::vector<SpecField> kSpecFields = {
     // named (GLSL by default), such as a generator's output (GlslSpec::ownFile), named
     // after the scene file in messages.
     {{"glsl", "hlsl", "language"},
-                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                     s.ownFile = f.has("glsl") || f.has("hlsl");
-                     s.hlsl = s.ownFile ? f.has("hlsl")
-                                        : f.choice("language", {"glsl", "hlsl"}, "glsl") ==
-                                              "hlsl";
-                     if (s.hlsl && f.has("glsl"))
-                         f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
-                     if (!s.ownFile && !f.has("body"))
-                         f.fail("body",
-                                "a method without a \"glsl\" or \"hlsl\" file is its \"body\"");
-                     s.path = s.ownFile ? shaderPath(f, s.hlsl ? "hlsl" : "glsl", file) : file;
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (g.ownFile)
-                         j[g.hlsl ? "hlsl" : "glsl"] = g.path;
-                     else
-                         j["language"] = g.hlsl ? "hlsl" : "glsl";
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string& file) {
+         s.ownFile = f.has("glsl") || f.has("hlsl");
+         s.hlsl =
+             s.ownFile ? f.has("hlsl") : f.choice("language", {"glsl", "hlsl"}, "glsl") == "hlsl";
+         if (s.hlsl && f.has("glsl")) f.fail("hlsl", "a method has \"glsl\" or \"hlsl\", not both");
+         if (!s.ownFile && !f.has("body"))
+             f.fail("body", "a method without a \"glsl\" or \"hlsl\" file is its \"body\"");
+         s.path = s.ownFile ? shaderPath(f, s.hlsl ? "hlsl" : "glsl", file) : file;
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (g.ownFile)
+             j[g.hlsl ? "hlsl" : "glsl"] = g.path;
+         else
+             j["language"] = g.hlsl ? "hlsl" : "glsl";
+     }},
     {{"defines"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     if (f.has("defines")) s.defines = parseDefines(f);
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     for (const auto& [name, value] : g.defines) j["defines"][name] = value;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         if (f.has("defines")) s.defines = parseDefines(f);
+     },
+     [](const GlslSpec& g, Json& j) {
+         for (const auto& [name, value] : g.defines) j["defines"][name] = value;
+     }},
     {{"include_paths"},
-                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                     if (f.has("include_paths")) s.includePaths = includePaths(f, file);
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string& file) {
+         if (f.has("include_paths")) s.includePaths = includePaths(f, file);
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.includePaths.empty()) j["include_paths"] = g.includePaths;
+     }},
     // The file's text (and an HLSL file's includes) is part of the identity: an edited
     // file is another method. GLSL's includes are expanded into the source.
     {{},
-                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                     if (s.ownFile)
-                         readShaderSource(s, file, f.fieldPath(s.hlsl ? "hlsl" : "glsl"));
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     j["source_sha1"] = textSha1(g.source);
-                     if (g.includeFiles.empty()) return;
-                     std::string all;
-                     for (const auto& [name, text] : g.includeFiles)
-                         all += name + '\0' + text + '\0';
-                     j["includes_sha1"] = textSha1(all);
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string& file) {
+         if (s.ownFile) readShaderSource(s, file, f.fieldPath(s.hlsl ? "hlsl" : "glsl"));
+     },
+     [](const GlslSpec& g, Json& j) {
+         j["source_sha1"] = textSha1(g.source);
+         if (g.includeFiles.empty()) return;
+         std::string all;
+         for (const auto& [name, text] : g.includeFiles) all += name + '\0' + text + '\0';
+         j["includes_sha1"] = textSha1(all);
+     }},
     {{"function"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     s.function = f.string("function", "ParallaxMapping");
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (g.call.empty() && g.body.empty()) j["function"] = g.function;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         s.function = f.string("function", "ParallaxMapping");
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (g.call.empty() && g.body.empty()) j["function"] = g.function;
+     }},
     // HLSL reaches the GL as the GLSL 4.50 that methods/shader/hlsl.h makes of it; 110
     // (GLSL's own default) is written as none.
     {{"version"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     if (s.hlsl && f.has("version"))
-                         f.fail("version", "names a GLSL dialect; an HLSL method has none");
-                     s.version = s.hlsl ? "450" : glslVersion(f, s);
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.hlsl && g.version != "110") j["version"] = g.version;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         if (s.hlsl && f.has("version"))
+             f.fail("version", "names a GLSL dialect; an HLSL method has none");
+         s.version = s.hlsl ? "450" : glslVersion(f, s);
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.hlsl && g.version != "110") j["version"] = g.version;
+     }},
     // The sampler each map kind is bound to (methods/maps.h): the height map's
     // "depthMap" unless named ("" says it reads none), the others only where named.
     {samplerKeys(),
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     for (const MapKindInfo& m : kMapKindTable)
-                         s.samplers[size_t(m.kind)] =
-                             f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     for (const MapKindInfo& m : kMapKindTable)
-                         if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
-                             j[m.samplerKey] = g.sampler(m.kind);
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         for (const MapKindInfo& m : kMapKindTable)
+             s.samplers[size_t(m.kind)] =
+                 f.string(m.samplerKey, m.kind == MapKind::Height ? "depthMap" : "");
+     },
+     [](const GlslSpec& g, Json& j) {
+         for (const MapKindInfo& m : kMapKindTable)
+             if (m.kind == MapKind::Height || !g.sampler(m.kind).empty())
+                 j[m.samplerKey] = g.sampler(m.kind);
+     }},
     {{"texture"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) { readTexture(f, s); },
-                 [](const GlslSpec& g, Json& j) { j["texture"] = textureName(g); }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) { readTexture(f, s); },
+     [](const GlslSpec& g, Json& j) { j["texture"] = textureName(g); }},
     {{"call", "body"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) { readEntryCode(f, s); },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.call.empty()) j["call"] = g.call;
-                     if (!g.body.empty()) j["body"] = g.body;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) { readEntryCode(f, s); },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.call.empty()) j["call"] = g.call;
+         if (!g.body.empty()) j["body"] = g.body;
+     }},
     {{"sampler_state"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     readSamplerState(f, s);
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) { readSamplerState(f, s); },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.samplerState.empty()) j["sampler_state"] = g.samplerState;
+     }},
     {{"api"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     s.api = s.hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
-                     if (f.has("api"))
-                         s.api = f.choice("api", {"gl", "d3d"}, "") == "gl"
-                                     ? GlslSpec::Api::Gl
-                                     : GlslSpec::Api::D3d;
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         s.api = s.hlsl ? GlslSpec::Api::D3d : GlslSpec::Api::Gl;
+         if (f.has("api"))
+             s.api = f.choice("api", {"gl", "d3d"}, "") == "gl" ? GlslSpec::Api::Gl
+                                                                : GlslSpec::Api::D3d;
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.defaultApi()) j["api"] = g.api == GlslSpec::Api::Gl ? "gl" : "d3d";
+     }},
     {{"inputs"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     s.engineInputs =
-                         f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (g.engineInputs) j["inputs"] = "engine";
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         s.engineInputs = f.choice("inputs", {"tangent", "engine"}, "tangent") == "engine";
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (g.engineInputs) j["inputs"] = "engine";
+     }},
     {{"vertex", "attributes", "matrices"},
-                 [](JsonFields& f, GlslSpec& s, const std::string& file) {
-                     if (f.has("vertex"))
-                         readVertexStage(f, s, file, shaderPath(f, "vertex", file));
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (const GlslSpec::VertexStage* v = g.vertexStage())
-                         vertexStageJson(*v, j);
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string& file) {
+         if (f.has("vertex")) readVertexStage(f, s, file, shaderPath(f, "vertex", file));
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (const GlslSpec::VertexStage* v = g.vertexStage()) vertexStageJson(*v, j);
+     }},
     {{"uniforms"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     if (f.has("uniforms")) s.uniforms = parseUniforms(f);
-                 },
-                 [](const GlslSpec& g, Json& j) { j["uniforms"] = uniformsJson(g); }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         if (f.has("uniforms")) s.uniforms = parseUniforms(f);
+     },
+     [](const GlslSpec& g, Json& j) { j["uniforms"] = uniformsJson(g); }},
     {{"steps_uniform"},
-                 [](JsonFields& f, GlslSpec& s, const std::string&) {
-                     s.stepsUniform = f.string("steps_uniform", "");
-                     if (!s.stepsUniform.empty() &&
-                         !mentionsIdentifier(s.source, s.stepsUniform))
-                         f.fail("steps_uniform", "the shader " + s.path +
-                                                     " has no uniform \"" + s.stepsUniform +
-                                                     "\"");
-                 },
-                 [](const GlslSpec& g, Json& j) {
-                     if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
-                 }},
+     [](JsonFields& f, GlslSpec& s, const std::string&) {
+         s.stepsUniform = f.string("steps_uniform", "");
+         if (!s.stepsUniform.empty() && !mentionsIdentifier(s.source, s.stepsUniform))
+             f.fail("steps_uniform",
+                    "the shader " + s.path + " has no uniform \"" + s.stepsUniform + "\"");
+     },
+     [](const GlslSpec& g, Json& j) {
+         if (!g.stepsUniform.empty()) j["steps_uniform"] = g.stepsUniform;
+     }},
 };
 
 }  // namespace

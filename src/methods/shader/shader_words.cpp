@@ -304,8 +304,8 @@ std::vector<StageVariable> stageVariables(const std::string& t, const std::strin
             const std::string inst =
                 close + 1 < w.size() && w[close + 1].ident ? wordText(t, w[close + 1]) : "";
             for (const auto& [type, member] : blockMembers(t, w, d.end))
-                out.push_back({inst.empty() ? member : inst + "." + member, type, -1, block,
-                               member});
+                out.push_back(
+                    {inst.empty() ? member : inst + "." + member, type, -1, block, member});
             continue;
         }
         if (d.block) continue;

@@ -33,8 +33,7 @@ std::string conventionalAttribute(const std::string& name) {
     if (n.find("norm") != std::string::npos) return "normal";
     if (n.find("bitan") != std::string::npos) return "bitangent";
     if (n.find("tang") != std::string::npos) return "tangent";
-    if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos)
-        return "uv";
+    if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos) return "uv";
     return "";
 }
 
@@ -70,10 +69,9 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
             return in.location >= 0 && o.location >= 0 ? o.location == in.location
                                                        : o.name == in.name;
         });
-        const std::string what = "the fragment code's input " + in.type + " " + in.name +
-                                 (in.location >= 0 ? " (location " + std::to_string(in.location) +
-                                                         ")"
-                                                   : "");
+        const std::string what =
+            "the fragment code's input " + in.type + " " + in.name +
+            (in.location >= 0 ? " (location " + std::to_string(in.location) + ")" : "");
         if (match == outs.end())
             f.fail("vertex", what + " has no output of that " +
                                  (in.location >= 0 ? "location" : "name") + " in " + v.path);

@@ -112,7 +112,7 @@ void setUniforms(GLuint prog, const GlslSpec& spec, double scale, double bias) {
             if (glGetError() != GL_NO_ERROR) glUniform1f(u, f[0]);
         } else {
             void (*set[4])(GLint, GLsizei, const GLfloat*) = {glUniform1fv, glUniform2fv,
-                                                               glUniform3fv, glUniform4fv};
+                                                              glUniform3fv, glUniform4fv};
             set[std::min<size_t>(f.size(), 4) - 1](u, 1, f.data());
         }
         if (glGetError() != GL_NO_ERROR)
@@ -154,8 +154,8 @@ std::vector<float> capture(GLuint prog, const GlslSpec::VertexStage& v, const Ve
     glDrawArrays(GL_POINTS, 0, GLsizei(n));
     glEndTransformFeedback();
     glDisable(GL_RASTERIZER_DISCARD);
-    glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0,
-                       GLsizeiptr(values.size() * sizeof(float)), values.data());
+    glGetBufferSubData(GL_TRANSFORM_FEEDBACK_BUFFER, 0, GLsizeiptr(values.size() * sizeof(float)),
+                       values.data());
     checkGl("the vertex stage of " + v.path);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
