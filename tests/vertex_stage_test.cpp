@@ -11,9 +11,12 @@
 #include <fstream>
 
 #include "core/error.h"
+#include "core/json_read.h"
 #include "frame/render.h"
+#include "io/csv_table.h"
 #include "methods/config.h"
 #include "scene/scene.h"
+#include "study/sweep.h"
 #include "test_util.h"
 
 namespace pgt {
@@ -51,7 +54,7 @@ nlohmann::json perPixelEntry() {
 }
 
 RenderResult render(const std::string& base, const std::string& camera,
-                    const nlohmann::json& methods) {
+                    const nlohmann::json& methods, int timingRepeats = 0) {
     const auto dir = test::tempDir("vertex_stage");
     const Scene s = parseScene(
         nlohmann::json::parse(R"({"heightmap": {"procedural": "sine", "size": [64, 64]},
@@ -61,7 +64,7 @@ RenderResult render(const std::string& base, const std::string& camera,
                               R"(, "truth": {"rate": 1, "uncertainty": false}, "methods": )" +
                               methods.dump() + "}"),
         (dir / "s.json").string());
-    RenderResult r = renderFrame(s, {.timingRepeats = 0});
+    RenderResult r = renderFrame(s, {.timingRepeats = timingRepeats});
     std::filesystem::remove_all(dir);
     return r;
 }
@@ -167,6 +170,81 @@ TEST(VertexStage, IgnoringTheTangentsWFailsOnTheMirroredHalf) {
     EXPECT_GT(same, 1000);
     EXPECT_GT(apart, 1000);
     EXPECT_GT(errShipped, 1.5 * errWithW);  // measured 1.95x
+}
+
+const char* kPlaneCamera = R"({"type": "pinhole", "eye": [0.3, -0.9, 0.7], "target": [0, 0, 0],
+    "up": [0, 0, 1], "fov": 50, "resolution": [64, 64]})";
+
+// The vertex file's #include lines expanded as the fragment file's are: the same stage split
+// over two files gives the same uv' to the bit, and an error in the include names its file
+// and line.
+TEST(VertexStage, ItsIncludesAreExpanded) {
+    const auto dir = test::tempDir("vertex_stage_include");
+    std::string whole = readTextFile(data("glsl/tangent_space.vert"), "", "", "test", 1 << 20);
+    std::ofstream(dir / "part.glsl") << whole.substr(whole.find('\n') + 1);
+    std::ofstream(dir / "split.vert") << "#version 450\n#include \"part.glsl\"\n";
+    std::ofstream(dir / "bad.glsl") << "// broken\nvec3 broken = ;\n";
+    std::ofstream(dir / "broken.vert") << "#version 450\n#include \"bad.glsl\"\n"
+                                       << whole.substr(whole.find('\n') + 1);
+    nlohmann::json split = vertexEntry("split", 1);
+    split["vertex"] = (dir / "split.vert").string();
+    const RenderResult r =
+        render(R"({"type": "plane"})", kPlaneCamera, {vertexEntry("whole", 1), split});
+    ASSERT_EQ(r.methods.size(), 2u);
+    int n = 0;
+    for (size_t k = 0; k < r.methods[0].pixels.data.size(); ++k)
+        if (r.methods[0].pixels.data[k].covered) {
+            EXPECT_EQ(r.methods[0].pixels.data[k].uv, r.methods[1].pixels.data[k].uv);
+            ++n;
+        }
+    EXPECT_GT(n, 1000);
+    nlohmann::json broken = vertexEntry("broken", 1);
+    broken["vertex"] = (dir / "broken.vert").string();
+    try {
+        render(R"({"type": "plane"})", kPlaneCamera, nlohmann::json::array({broken}));
+        ADD_FAILURE() << "a broken include compiled";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("bad.glsl:2"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+}
+
+// Timed like any GL method: on the frame's timing subset (the outputs read at its fragments'
+// barycentrics) and once per view in a study.
+TEST(VertexStage, ItIsTimedInAFrameAndInAStudy) {
+    const RenderResult r = render(R"({"type": "plane"})", kPlaneCamera,
+                                  nlohmann::json::array({vertexEntry("vertex_w", 1)}), 1);
+    ASSERT_EQ(r.methods.size(), 1u);
+    EXPECT_TRUE(std::isfinite(r.methods[0].nsPerPixel) && r.methods[0].nsPerPixel > 0)
+        << r.methods[0].nsPerPixel;
+    const auto dir = test::tempDir("vertex_stage_study");
+    const Scene scene =
+        parseScene(nlohmann::json::parse(R"({"heightmap": {"procedural": "sine", "size": [32, 32]},
+            "base": {"type": "plane"}, "displacement": {"scale": 0.05, "bias": -0.025},
+            "camera": {"type": "orthographic", "theta": 40, "resolution": [32, 32]},
+            "truth": {"rate": 1, "uncertainty": false},
+            "sweep": {"theta": [30, 50], "timing": {"repeats": 1, "fragments": 256}},
+            "methods": )" + nlohmann::json::array({vertexEntry("vertex_w", 1)}).dump() +
+                                         "}"),
+                   (dir / "s.json").string());
+    SweepOptions opt;
+    opt.outDir = (dir / "study").string();
+    opt.progress = false;
+    ASSERT_TRUE(runSweep(scene, parseStudy(scene), opt).finished);
+    const std::string text =
+        readTextFile((dir / "study" / "results.csv").string(), "", "", "results", 1 << 24);
+    const std::vector<std::vector<std::string>> records = splitCsvRecords(text, 0, nullptr);
+    ASSERT_FALSE(records.empty());
+    const std::vector<std::string>& names = records[0];
+    const size_t ns = size_t(std::find(names.begin(), names.end(), "ns_per_px") - names.begin());
+    ASSERT_LT(ns, names.size());
+    int rows = 0;
+    for (size_t i = 1; i < records.size(); ++i, ++rows) {
+        ASSERT_LT(ns, records[i].size());
+        EXPECT_GT(std::stod(records[i][ns]), 0) << records[i][ns];
+    }
+    EXPECT_EQ(rows, 2);
+    std::filesystem::remove_all(dir);
 }
 
 // A fragment input no vertex output feeds, an attribute pgt cannot guess, a matrix name pgt

@@ -280,9 +280,10 @@ GlslInputs glslInputs(const MethodConfig& cfg, const FragmentList& frags, bool e
         for (size_t k = 0; k < frags.size(); ++k)
             for (size_t l = 0; l < vertex->offset.size(); ++l)
                 in.varyings.push_back(vertex->at(frags.triangle[k], frags.bary[k], l));
-        for (const HelperLane& h : frags.helpers)
+        for (size_t j = 0; j < in.helpers.size(); ++j)  // screen layout only
             for (size_t l = 0; l < vertex->offset.size(); ++l)
-                in.helperVaryings.push_back(vertex->at(h.fragment.triangle, h.inputs.bary, l));
+                in.helperVaryings.push_back(vertex->at(frags.helpers[j].fragment.triangle,
+                                                       frags.helpers[j].inputs.bary, l));
     }
     return in;
 }
@@ -393,7 +394,8 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const BuiltinMethod& b,
 namespace {
 
 MethodTiming timeShader(const MethodConfig& cfg, const GlslSpec& spec, const FragmentList& frags,
-                        const MethodTextures& tex, const TimingSpec& timing) {
+                        const MethodTextures& tex, const TimingSpec& timing,
+                        const VertexOutputs* vertex) {
     GlslTimingPlan plan;
     plan.minFragments = timing.glFragments;
     plan.minGpuMs = std::isfinite(timing.glMinMs) ? timing.glMinMs
@@ -401,7 +403,8 @@ MethodTiming timeShader(const MethodConfig& cfg, const GlslSpec& spec, const Fra
                                                   : kGlMinMsHardware;
     plan.minRepeats = timing.repeats;
     const GlslTiming g =
-        timeGlsl(spec, glslMaps(cfg, tex), glslInputs(cfg, frags, false), plan).timing;
+        timeGlsl(spec, glslMaps(cfg, tex), glslInputs(cfg, frags, false, 0, 0, vertex), plan)
+            .timing;
     MethodTiming t;
     t.median = g.nsPerPixel;
     t.p25 = g.p25;
@@ -428,15 +431,19 @@ MethodTiming timeBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const 
 }  // namespace
 
 MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
-                        const MethodTextures& tex, const TimingSpec& spec) {
-    // Not measured with an engine vertex stage: the timing workload is packed fragments
-    // without its outputs (docs/methods.md "The engine's vertex stage").
-    if (cfg.shader() && cfg.shader()->vertexStage()) return {};
+                        const MethodTextures& tex, const TimingSpec& spec,
+                        const VertexOutputs* vertex) {
+    // An engine vertex stage's outputs reach the timing workload at the fragments'
+    // barycentrics; without them (or the barycentrics) the method is not timed.
+    if (cfg.shader() && cfg.shader()->vertexStage() &&
+        (!vertex || frags.bary.size() != frags.size() || frags.triangle.size() != frags.size()))
+        return {};
     if (frags.size() == 0 || spec.repeats < 1) return {};
     return std::visit(
-        Overloaded{
-            [&](const BuiltinMethod& b) { return timeBuiltin(cfg, b, frags, tex, spec); },
-            [&](const ShaderMethod& m) { return timeShader(cfg, *m.spec, frags, tex, spec); }},
+        Overloaded{[&](const BuiltinMethod& b) { return timeBuiltin(cfg, b, frags, tex, spec); },
+                   [&](const ShaderMethod& m) {
+                       return timeShader(cfg, *m.spec, frags, tex, spec, vertex);
+                   }},
         cfg.method);
 }
 

@@ -156,8 +156,11 @@ struct MethodTiming {
     int repeats = 0;
     int64_t fragments = 0;
 };
+// A method with an engine vertex stage is timed with `vertex`, its outputs (the fragments'
+// triangles and barycentrics read them); not timed (NaN) without them.
 MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
-                        const MethodTextures& tex, const TimingSpec& spec);
+                        const MethodTextures& tex, const TimingSpec& spec,
+                        const VertexOutputs* vertex = nullptr);
 
 // Where a method's ns/px comes from: "cpu" (single thread) or "gl: <GL_RENDERER>".
 std::string timingBackend(const MethodConfig& cfg);

@@ -383,7 +383,8 @@ class BandPipeline {
             mf.timingBackend = timingBackend(*m.config);
             mf.precomputeMs = textures_.precomputeMs(*m.config, r_.view.displacement);
             if (timing_.repeats > 0 && !options_.deferTiming) {
-                mf.timing = timeMethod(*m.config, timed, *m.textures, timing_);
+                mf.timing = timeMethod(*m.config, timed, *m.textures, timing_,
+                                       m.vertex ? &*m.vertex : nullptr);
                 mf.nsPerPixel = mf.timing.median;
             }
         }
@@ -534,10 +535,22 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing) {
     const Camera camera = makeCamera(scene, view);
     Image2D<FragmentInputs> inputs;
+    const RasterOptions options = rasterOptions(scene, scene.methods);
     const Image2D<Fragment> frame =
-        rasterize(drawnBaseMesh(scene.base, camera), camera, rasterOptions(scene, scene.methods),
-                  nullptr, &inputs);
-    return sampleFragments(compactFragments(frame, &inputs), timing.maxFragments, timing.seed);
+        rasterize(drawnBaseMesh(scene.base, camera), camera, options, nullptr, &inputs);
+    // With an engine vertex stage, the triangles (its outputs are read there; no helper lanes).
+    std::vector<HelperLane> noHelpers;
+    return sampleFragments(
+        compactFragments(frame, &inputs, options.barycentrics ? &noHelpers : nullptr),
+        timing.maxFragments, timing.seed);
+}
+
+std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,
+                                               const MethodConfig& cfg, double scale, double bias) {
+    if (!cfg.shader() || !cfg.shader()->vertexStage()) return std::nullopt;
+    const Camera camera = makeCamera(scene, view);
+    return runVertexStage(
+        *cfg.shader(), vertexStageInputs(drawnBaseMesh(scene.base, camera), camera), scale, bias);
 }
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "evaluate/evaluate.h"
 #include "frame/view_memory.h"
 #include "heightfield/heightfield.h"
+#include "methods/shader/vertex_stage.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
@@ -145,6 +147,10 @@ void timeMethods(RenderResult& r, const MethodTextureCache& textures, const Timi
 // render of the view times (FragmentSampler), without tracing or evaluating anything.
 FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing);
+// The outputs of `cfg`'s engine vertex stage in a view at (s, b), which its timing on
+// viewTimingFragments reads; none where it has no vertex stage.
+std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,
+                                               const MethodConfig& cfg, double scale, double bias);
 
 // A view traced and rasterised once, then measured for any number of configurations (pgt
 // fit's candidates) by the same pipeline as renderView, its truth and fragments copied band by

@@ -42,7 +42,7 @@ std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, s
             cur += ch;
         }
     }
-    *torn = quoted || !cur.empty() || !fields.empty();
+    if (torn) *torn = quoted || !cur.empty() || !fields.empty();
     return records;
 }
 

@@ -14,7 +14,8 @@ std::string csvQuote(const std::string& s);
 std::string csvField(const std::string& s);
 
 // Splits CSV text from byte `from` into records of fields (quoted fields may hold commas,
-// quotes and line breaks). `torn` is set when the text does not end with a whole record.
+// quotes and line breaks). `torn` (where given) is set when the text does not end with a
+// whole record.
 std::vector<std::vector<std::string>> splitCsvRecords(const std::string& text, size_t from,
                                                       bool* torn);
 

@@ -105,6 +105,11 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.lightExact.push_back(from.lightAt(k, true));
     if (!from.viewVertex.empty()) to.viewVertex.push_back(from.viewVertexAt(k));
     if (!from.engine.empty()) to.engine.push_back(from.engineAt(k));
+    // A vertex stage's outputs are read at the triangle's barycentrics (timing them too).
+    if (from.bary.size() == from.size() && from.triangle.size() == from.size()) {
+        to.bary.push_back(from.bary[k]);
+        to.triangle.push_back(from.triangle[k]);
+    }
 }
 void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
@@ -117,6 +122,10 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.lightExact[slot] = from.lightAt(k, true);
     if (!from.viewVertex.empty()) to.viewVertex[slot] = from.viewVertexAt(k);
     if (!from.engine.empty()) to.engine[slot] = from.engineAt(k);
+    if (from.bary.size() == from.size() && from.triangle.size() == from.size()) {
+        to.bary[slot] = from.bary[k];
+        to.triangle[slot] = from.triangle[k];
+    }
 }
 }  // namespace
 

@@ -59,7 +59,8 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however
 // they were split into lists; each fragment kept with probability count / n). All of them
-// when count <= 0.
+// when count <= 0. Triangles and barycentrics are kept where the lists have both (an engine
+// vertex stage's outputs are read there); helper lanes are not.
 class FragmentSampler {
   public:
     FragmentSampler(int count, uint32_t seed) : count_(count), rng_(seed) {}

@@ -138,7 +138,11 @@ class GlTimings {
                 const MethodConfig& cfg = study.configs[k];
                 if (!runsInGl(cfg) || timed_.count(key(study, k, c))) continue;
                 const MethodTextures& tex = textures.get(cfg, {c.scale, c.bias});
-                timed_[key(study, k, c)] = {timeMethod(cfg, frags, tex, study.timing), c.index};
+                const std::optional<VertexOutputs> vertex =
+                    viewVertexOutputs(scene, caseView(scene, study, c), cfg, tex.scale, tex.bias);
+                timed_[key(study, k, c)] = {
+                    timeMethod(cfg, frags, tex, study.timing, vertex ? &*vertex : nullptr),
+                    c.index};
             }
         }
         stages.add(Stage::GlTimingWall, msSince(t0));

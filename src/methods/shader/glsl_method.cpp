@@ -427,7 +427,10 @@ GlslRun timeGlsl(const GlslSpec& spec, const GlslMaps& maps, const GlslInputs& i
     const size_t total = std::min(kChunkFragments, n * copies);
     GlslInputs work;
     work.uv0.reserve(total);
+    work.links = in.links;
     for (size_t k = 0; k < total; ++k) {
+        for (int l = 0; l < in.links; ++l)  // an engine vertex stage's outputs
+            work.varyings.push_back(in.varyings[(k % n) * size_t(in.links) + size_t(l)]);
         work.uv0.push_back(in.uv0[k % n]);
         work.view.push_back(in.view[k % n]);
         if (!in.engine.empty()) work.engine.push_back(in.engine[k % n]);

@@ -121,7 +121,8 @@ struct GlslSpec {
     // camera by name; each of the fragment code's stage inputs is the vertex output of its
     // location (or, without locations, its name), interpolated as a GPU's varyings are.
     struct VertexStage {
-        std::string path, source;  // the file, read when the scene is parsed
+        std::string path, source;         // the file, read when the scene is parsed (includes in)
+        std::vector<LineOrigin> origins;  // per line of `source` after an #include, else empty
         // Its attribute -> "position", "normal", "tangent" (w: the handedness sign),
         // "bitangent" or "uv".
         std::vector<std::pair<std::string, std::string>> attributes;

@@ -524,8 +524,10 @@ void restoreLinkedValues(GLuint prog) {
 }
 
 GLuint vertexProgram(const std::string& text, const std::string& file,
-                     const std::vector<const char*>& captured) {
-    const GLuint vs = compile(GL_VERTEX_SHADER, text, file, 1, 1 << 30, {}, {}, {}, "vertex");
+                     const std::vector<const char*>& captured, int userFirst,
+                     const std::vector<GlslSpec::LineOrigin>& origins) {
+    const GLuint vs =
+        compile(GL_VERTEX_SHADER, text, file, userFirst, 1 << 30, {}, origins, {}, "vertex");
     const GLuint prog = glCreateProgram();
     glAttachShader(prog, vs);
     glTransformFeedbackVaryings(prog, GLsizei(captured.size()), captured.data(),
@@ -533,7 +535,7 @@ GLuint vertexProgram(const std::string& text, const std::string& file,
     glLinkProgram(prog);
     glDeleteShader(vs);
     requireStatus(prog, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram, file,
-                  "vertex", "link", 1, 1 << 30, {}, {}, {});
+                  "vertex", "link", userFirst, 1 << 30, {}, origins, {});
     return prog;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "methods/shader/gl_api.h"
+#include "methods/shader/glsl_spec.h"
 
 namespace pgt::gl {
 
@@ -24,10 +25,13 @@ void restoreLinkedValues(GLuint prog);
 // The user's file as the wrapper holds it: its #version line and the #extension lines GL 4.50
 // core has built in blanked, so every other line keeps its number.
 std::string userLines(const std::string& src);
-// A program of one vertex shader (`text`: "#version 450 core" on its first line, then `file`'s
-// lines) whose outputs `captured` transform feedback records, interleaved. Compile and link
-// errors throw InputError naming `file`'s lines and the field "vertex". Caller holds gMutex.
+// A program of one vertex shader (`text`: `file`'s lines after its first `userFirst` lines,
+// which are pgt's: "#version 450 core" and the entry's defines) whose outputs `captured`
+// transform feedback records, interleaved. Compile and link errors throw InputError naming
+// `file`'s lines (an #included line by its `origins`) and the field "vertex". Caller holds
+// gMutex.
 GLuint vertexProgram(const std::string& text, const std::string& file,
-                     const std::vector<const char*>& captured);
+                     const std::vector<const char*>& captured, int userFirst,
+                     const std::vector<GlslSpec::LineOrigin>& origins);
 
 }  // namespace pgt::gl

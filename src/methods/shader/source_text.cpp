@@ -509,14 +509,20 @@ void readShaderSource(GlslSpec& spec, const std::string& owner, const std::strin
         spec.source = hlslSamplerDefaults(hlslEnumsAsConstants(text, spec.enums));
         return;
     }
-    GlslIncludes includes(spec.defines, spec.includePaths);
-    includes.expand(spec.path, text, 0);
-    if (!includes.any) {  // the file's own text, byte for byte (its SHA-1 names the study)
-        spec.source = std::move(text);
-        return;
-    }
-    spec.source = std::move(includes.text);
-    spec.origins = std::move(includes.origins);
+    spec.source = expandGlslIncludes(spec.path, std::move(text), spec.defines, spec.includePaths,
+                                     spec.origins);
+}
+
+std::string expandGlslIncludes(const std::string& path, std::string text,
+                               const std::vector<std::pair<std::string, std::string>>& defines,
+                               const std::vector<std::string>& searchPaths,
+                               std::vector<GlslSpec::LineOrigin>& origins) {
+    origins.clear();
+    GlslIncludes includes(defines, searchPaths);
+    includes.expand(path, text, 0);
+    if (!includes.any) return text;  // the file's own text, byte for byte (its SHA-1 names it)
+    origins = std::move(includes.origins);
+    return std::move(includes.text);
 }
 
 }  // namespace pgt

@@ -59,5 +59,12 @@ bool takePragmaOnce(std::string& text);
 // Reads spec.path into spec.source (and spec.origins) as above; `owner` and `field` name
 // where the path came from in messages.
 void readShaderSource(GlslSpec& spec, const std::string& owner, const std::string& field);
+// A GLSL file's `#include` lines expanded in place (conditionals judged with `defines`,
+// targets found as resolveInclude finds them), each line's origin in `origins` (left empty,
+// and the text returned as it is, where the file includes nothing).
+std::string expandGlslIncludes(const std::string& path, std::string text,
+                               const std::vector<std::pair<std::string, std::string>>& defines,
+                               const std::vector<std::string>& searchPaths,
+                               std::vector<GlslSpec::LineOrigin>& origins);
 
 }  // namespace pgt

@@ -92,8 +92,11 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
     if (spec.hlsl) f.fail("vertex", "runs with GLSL fragment code (an HLSL vertex stage: not yet)");
     GlslSpec::VertexStage v;
     v.path = path;
-    v.source = normaliseLineEnds(
-        readTextFile(path, file, f.fieldPath("vertex"), "vertex shader", kMaxShaderBytes));
+    // Its #include lines expanded and the entry's defines judged as in the fragment file.
+    v.source = expandGlslIncludes(path,
+                                  normaliseLineEnds(readTextFile(path, file, f.fieldPath("vertex"),
+                                                                 "vertex shader", kMaxShaderBytes)),
+                                  spec.defines, spec.includePaths, v.origins);
     if (f.has("attributes")) {
         v.attributes =
             namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});

@@ -30,14 +30,19 @@ using namespace gl;
 // Programs by their text and captured outputs (the vertex stage's of each method).
 std::map<std::string, GLuint> gVertexPrograms;
 
-GLuint programOf(const GlslSpec::VertexStage& v) {
-    const std::string text = "#version 450 core\n" + userLines(vulkanGlslForGl(v.source, true));
+GLuint programOf(const GlslSpec& spec, const GlslSpec::VertexStage& v) {
+    // The entry's defines after the #version line, then the file's lines (messages map them).
+    std::string text = "#version 450 core\n";
+    for (const auto& [name, value] : spec.defines) text += "#define " + name + " " + value + "\n";
+    const int first = 1 + int(spec.defines.size());
+    text += userLines(vulkanGlslForGl(v.source, true));
     std::vector<const char*> captured;
     std::string key = text;
     for (const auto& l : v.links) captured.push_back(l.output.c_str()), key += '\0' + l.output;
     auto it = gVertexPrograms.find(key);
     if (it == gVertexPrograms.end())
-        it = gVertexPrograms.emplace(key, vertexProgram(text, v.path, captured)).first;
+        it = gVertexPrograms.emplace(key, vertexProgram(text, v.path, captured, first, v.origins))
+                 .first;
     return it->second;
 }
 
@@ -185,7 +190,7 @@ VertexOutputs runVertexStage(const GlslSpec& spec, const VertexStageInputs& in, 
         std::lock_guard<std::mutex> lock(gMutex);
         ensureContext();
         drainGlErrors();
-        const GLuint prog = programOf(*v);
+        const GLuint prog = programOf(spec, *v);
         glUseProgram(prog);
         for (const auto& [name, what] : v->matrices) setMatrix(prog, *v, name, what, in);
         setUniforms(prog, spec, scale, bias);
