@@ -247,6 +247,161 @@ TEST(VertexStage, ItIsTimedInAFrameAndInAStudy) {
     std::filesystem::remove_all(dir);
 }
 
+// tests/data/hlsl/tangent_space.{vs,ps}.hlsl, the HLSL twin of vertexEntry's pair: structs
+// with semantics, a cbuffer's matrices applied as mul(M, v), the pixel stage's input struct
+// read by the call as `input`.
+nlohmann::json hlslVertexEntry(const std::string& name, double handedness) {
+    return {{"name", name},
+            {"hlsl", data("hlsl/tangent_space.ps.hlsl")},
+            {"vertex", data("hlsl/tangent_space.vs.hlsl")},
+            {"sampler", "heightMap"},
+            {"call",
+             "offsetParallax(input.UV, normalize(input.TangentViewPos - input.TangentFragPos))"},
+            {"matrices",
+             {{"ubo.projection", "projection"},
+              {"ubo.view", "view"},
+              {"ubo.model", "model"},
+              {"ubo.cameraPos", "camera_position"}}},
+            {"uniforms",
+             {{"params.heightScale", "scale"},
+              {"params.heightBias", "bias"},
+              {"options.handedness", handedness}}}};
+}
+
+// The HLSL pair (glslang's HLSL front end, SPIRV-Cross, semantics linking the stages) gives
+// the GLSL pair's uv' at every pixel, on the plane and on both halves of the mirrored torus:
+// two compilers, one answer, and the defect of the shipped bitangent in HLSL too.
+TEST(VertexStage, TheHlslPairIsTheGlslPair) {
+    for (const char* base : {R"({"type": "plane"})", "torus"}) {
+        const std::string b = std::string(base) == "torus" ? R"({"type": "gltf", "file": ")" +
+                                                                 data("gltf/torus_mirrored.gltf") +
+                                                                 R"(", "frames": "asset"})"
+                                                           : std::string(base);
+        const RenderResult r = render(
+            b,
+            R"({"type": "pinhole", "eye": [0.2, -1.3, 0.9], "target": [0, 0, 0], "up": [0, 0, 1],
+                "fov": 45, "resolution": [96, 96]})",
+            {vertexEntry("glsl_shipped", 0), hlslVertexEntry("hlsl_shipped", 0),
+             vertexEntry("glsl_w", 1), hlslVertexEntry("hlsl_w", 1)});
+        ASSERT_EQ(r.methods.size(), 4u);
+        for (size_t m : {0u, 2u}) {
+            // |uv'(GLSL) - uv'(HLSL)| in texels over (1 + |uv'| in texels): float rounding (the
+            // translation fuses h s + b into an fma) grows with the offset where V.z nears 0
+            // (measured: 9 grazing pixels of 5763 apart by up to 0.022 texel, on offsets of
+            // hundreds of texels; the ratio at most 9.6e-5).
+            double worst = 0, worstRatio = 0;
+            int n = 0, over = 0;
+            for (size_t k = 0; k < r.methods[m].pixels.data.size(); ++k) {
+                const MethodPixel& g = r.methods[m].pixels.data[k];
+                const MethodPixel& h = r.methods[m + 1].pixels.data[k];
+                ASSERT_EQ(g.covered, h.covered);
+                if (!g.covered) continue;
+                const double d = glm::length(g.uv - h.uv) * 64;
+                worst = std::max(worst, d), ++n, over += d > 1e-4;
+                worstRatio = std::max(worstRatio, d / (1 + glm::length(g.uv) * 64));
+            }
+            std::printf(
+                "%s, %s: HLSL against GLSL on %d pixels: worst %.2e texel, %d over "
+                "1e-4, worst ratio to the offset %.2e\n",
+                base, r.methods[m].config.label.c_str(), n, worst, over, worstRatio);
+            EXPECT_GT(n, 1000);
+            EXPECT_LT(worstRatio, 1e-3);
+            EXPECT_LE(over, n / 100);
+        }
+    }
+}
+
+// The matrices' orientation: the eye-space position, from the view matrix, handed to the
+// fragment code as uv' by a GLSL pair (view * p), an HLSL pair (mul(view, p)) and an HLSL pair
+// written for row vectors (mul(p, view), "vectors": "row") is one value; the row-vector file
+// read as column vectors is not.
+TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
+    const auto dir = test::tempDir("vertex_stage_matrices");
+    std::ofstream(dir / "eye.vert") << "#version 450\nin vec3 inPos;\nuniform mat4 view;\n"
+                                       "out vec3 vEye;\n"
+                                       "void main() { vEye = (view * vec4(inPos, 1.0)).xyz; }\n";
+    std::ofstream(dir / "eye.frag") << "#version 450\nin vec3 vEye;\n"
+                                       "vec2 F(vec2 uv, vec3 V) { return vEye.xy; }\n";
+    for (const char* order :
+         {"mul(view, float4(input.Pos, 1.0))", "mul(float4(input.Pos, 1.0), view)"})
+        std::ofstream(dir / (order[4] == 'v' ? "col.hlsl" : "row.hlsl"))
+            << "struct VIn { float3 Pos : POSITION; };\n"
+               "struct VOut { float4 Pos : SV_POSITION; float3 Eye : TEXCOORD0; };\n"
+               "float4x4 view;\n"
+               "VOut main(VIn input) { VOut o; o.Pos = float4(input.Pos, 1.0); o.Eye = "
+            << order << ".xyz; return o; }\n";
+    std::ofstream(dir / "eye.hlsl")
+        << "struct VOut { float4 Pos : SV_POSITION; float3 Eye : TEXCOORD0; };\n";
+    auto entry = [&](const std::string& name, const std::string& vertex, const char* vectors) {
+        nlohmann::json e = {{"name", name},
+                            {"vertex", (dir / vertex).string()},
+                            {"sampler", ""},
+                            {"matrices", {{"view", "view"}}}};
+        if (vertex == "eye.vert")
+            e["glsl"] = (dir / "eye.frag").string(), e["function"] = "F";
+        else
+            e["hlsl"] = (dir / "eye.hlsl").string(), e["call"] = "input.Eye.xy";
+        if (vectors) e["vectors"] = vectors;
+        return e;
+    };
+    const RenderResult r = render(
+        R"({"type": "plane"})", kPlaneCamera,
+        {entry("glsl", "eye.vert", nullptr), entry("hlsl", "col.hlsl", nullptr),
+         entry("hlsl_row", "row.hlsl", "row"), entry("hlsl_row_as_column", "row.hlsl", nullptr)});
+    ASSERT_EQ(r.methods.size(), 4u);
+    double worst = 0, apart = 0;
+    int n = 0;
+    for (size_t k = 0; k < r.methods[0].pixels.data.size(); ++k) {
+        if (!r.methods[0].pixels.data[k].covered) continue;
+        const Vec2d g = r.methods[0].pixels.data[k].uv;
+        ++n;
+        worst = std::max({worst, glm::length(g - r.methods[1].pixels.data[k].uv),
+                          glm::length(g - r.methods[2].pixels.data[k].uv)});
+        apart = std::max(apart, glm::length(g - r.methods[3].pixels.data[k].uv));
+    }
+    std::printf(
+        "eye-space xy on %d pixels: the three alike within %.2e, the misread file %.3f "
+        "away\n",
+        n, worst, apart);
+    EXPECT_GT(n, 1000);
+    EXPECT_LT(worst, 1e-5);
+    EXPECT_GT(apart, 0.1);
+    std::filesystem::remove_all(dir);
+}
+
+// An HLSL vertex stage's fields: an entry the file does not define, a pixel input no vertex
+// output carries, a field for another language; each an error naming the field.
+TEST(VertexStage, HlslFieldsAreChecked) {
+    auto message = [](nlohmann::json e) {
+        try {
+            parseMethod(e, data("hlsl/s.json"), "methods[0]");
+        } catch (const InputError& err) {
+            return std::string(err.what());
+        }
+        return std::string("no error");
+    };
+    nlohmann::json e = hlslVertexEntry("a", 1);
+    e["vertex_entry"] = "VSMain";
+    EXPECT_NE(message(e).find("vertex_entry"), std::string::npos) << message(e);
+    const auto dir = test::tempDir("vertex_stage_hlsl_fields");
+    std::ofstream(dir / "p.hlsl") << "struct PIn { float2 UV : TEXCOORD0; float3 Extra : "
+                                     "TEXCOORD7; };\n";
+    e = hlslVertexEntry("a", 1);
+    e["hlsl"] = (dir / "p.hlsl").string();
+    e["sampler"] = "";
+    e["uniforms"] = nlohmann::json::object();
+    e["call"] = "input.UV + input.Extra.xy";
+    e["stage_input"] = "PIn input";
+    EXPECT_NE(message(e).find("TEXCOORD7"), std::string::npos) << message(e);
+    std::filesystem::remove_all(dir);
+    e = vertexEntry("a", 1);
+    e["vertex_entry"] = "main";
+    EXPECT_NE(message(e).find("vertex_entry"), std::string::npos) << message(e);
+    e = perPixelEntry();
+    e["matrices"] = {{"m", "view"}};
+    EXPECT_NE(message(e).find("matrices"), std::string::npos) << message(e);
+}
+
 // A fragment input no vertex output feeds, an attribute pgt cannot guess, a matrix name pgt
 // has not: each an error naming the field.
 TEST(VertexStage, FieldsAreChecked) {

@@ -79,34 +79,10 @@ struct DrawMaps : GlslMaps {
     GlMapUploads& store;
 };
 
-// A uniform by the name the user knows: GLSL's own; in HLSL a global or cbuffer member, which
-// SPIRV-Cross makes a member of a plain uniform struct ("_12.NAME"), found among the active
-// uniforms by its member name. -1 where none is active.
-GLint uniformLocation(GLuint prog, const GlslSpec& spec, const std::string& name) {
-    GLint u = glGetUniformLocation(prog, name.c_str());
-    if (u >= 0 || !spec.hlsl) return u;
-    GLint count = 0, maxLen = 0;
-    glGetProgramiv(prog, GL_ACTIVE_UNIFORMS, &count);
-    glGetProgramiv(prog, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLen);
-    std::string buf(size_t(std::max(maxLen, 1)), '\0');
-    const std::string suffix = "." + name;
-    for (GLint i = 0; i < count; ++i) {
-        GLsizei len = 0;
-        GLint size = 0;
-        GLenum type = 0;
-        glGetActiveUniform(prog, GLuint(i), GLsizei(buf.size()), &len, &size, &type, buf.data());
-        const std::string active(buf.data(), size_t(len));
-        if (active.size() > suffix.size() &&
-            active.compare(active.size() - suffix.size(), suffix.size(), suffix) == 0)
-            return glGetUniformLocation(prog, active.c_str());
-    }
-    return -1;
-}
-
 // One user uniform: its value(s), or the case's s or b; a type mismatch names the uniform.
 void setUniform(GLuint prog, const GlslSpec& spec, const GlslSpec::Uniform& un,
                 const DrawMaps& maps) {
-    GLint u = uniformLocation(prog, spec, un.name);
+    GLint u = uniformLocation(prog, spec.hlsl, un.name);
     if (u < 0 && spec.vertexStage()) return;  // the vertex stage's (vertex_stage.cpp checks)
     if (u < 0)
         throw InputError(spec.path, "uniforms." + un.name, "",
@@ -229,8 +205,8 @@ void bindInputs(GLuint prog, const GlslSpec& spec, const DrawMaps& maps, const D
     glUniform1i(glGetUniformLocation(prog, "pgt_lod_grad"), maps.lodGrad ? 1 : 0);
     for (const GlslSpec::Uniform& un : spec.uniforms) setUniform(prog, spec, un, maps);
     // A call's s and b (uniforms of pgt's glue, inactive where the call reads neither).
-    glUniform1f(uniformLocation(prog, spec, "pgt_s"), float(maps.scale));
-    glUniform1f(uniformLocation(prog, spec, "pgt_b"), float(maps.bias));
+    glUniform1f(uniformLocation(prog, spec.hlsl, "pgt_s"), float(maps.scale));
+    glUniform1f(uniformLocation(prog, spec.hlsl, "pgt_b"), float(maps.bias));
 }
 
 // Draws `img` once, or times it: one warm-up draw, then draws (each between two glFinish and

@@ -135,6 +135,19 @@ struct GlslSpec {
             int components = 0;
         };
         std::vector<Link> links;
+        // "vectors": "row": the shader multiplies v * M (HLSL mul(v, M)), so each of
+        // "matrices" is set transposed; "column" (false): M * v, mul(M, v).
+        bool rowVectors = false;
+        // HLSL (the entry's language): "vertex_entry", the vertex file's entry function;
+        // "stage_input", the pixel stage's input as pgt's entry point declares it ("TYPE NAME",
+        // default: the vertex entry's return type, named `input`); the file's includes and
+        // enums as GlslSpec's; `glsl`, its translation (GLSL 4.50, made when the scene is
+        // parsed: attributes pgt_in_SEMANTIC, outputs pgt_out_SEMANTIC).
+        bool hlsl = false;
+        std::string entry = "main", stageInput;
+        std::vector<std::pair<std::string, std::string>> includeFiles;
+        std::vector<std::string> enums;
+        std::string glsl;
     };
     std::vector<VertexStage> vertex;  // at most one; empty: pgt's own inputs only
     const VertexStage* vertexStage() const { return vertex.empty() ? nullptr : &vertex[0]; }

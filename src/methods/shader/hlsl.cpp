@@ -1,6 +1,11 @@
 // HLSL to GLSL 4.50 through SPIR-V (methods/shader/hlsl.h): glslang, then SPIRV-Cross's C API.
 #include "methods/shader/hlsl.h"
 
+// Debian's glslang is built with its HLSL front end; its header shows the HLSL-only setters
+// (setEnvTargetHlslFunctionality1) to code that says so.
+#ifndef ENABLE_HLSL
+#define ENABLE_HLSL 1
+#endif
 #include <glslang/Public/ResourceLimits.h>
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
@@ -50,11 +55,13 @@ static float3 pgt_camera_position;
 )";
 // The entry point: its signature (with the engine's inputs 2-5 where asked), its opening, the
 // engine's globals set, and the names a call may use.
+// pgt's inputs carry semantics of their own (PGT_*), apart from any a vertex stage's outputs
+// and the pixel stage's input struct use.
 constexpr const char* kEntrySignature =
-    "float4 pgt_hlsl_entry(float2 pgt_uv : TEXCOORD0, float3 pgt_v : TEXCOORD1";
+    "float4 pgt_hlsl_entry(float2 pgt_uv : PGT_UV, float3 pgt_v : PGT_V";
 constexpr const char* kEngineSignature = R"(,
-                      float3 pgt_wp : TEXCOORD2, float3 pgt_wn : TEXCOORD3,
-                      float4 pgt_wt : TEXCOORD4, float3 pgt_wc : TEXCOORD5)";
+                      float3 pgt_wp : PGT_WP, float3 pgt_wn : PGT_WN,
+                      float4 pgt_wt : PGT_WT, float3 pgt_wc : PGT_WC)";
 constexpr const char* kEntryOpen = R"() : SV_Target {
 )";
 constexpr const char* kEngineAssign = R"(    pgt_world_position = pgt_wp;
@@ -251,28 +258,40 @@ std::string preambleFor(const GlslSpec& spec) {
     return preamble;
 }
 
-std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& preamble,
+// What one glslang compile reads: the stage and its entry function, the file (messages name
+// it and its field) and its includes as read with the scene.
+struct CompileUnit {
+    EShLanguage stage = EShLangFragment;
+    std::string entry = "pgt_hlsl_entry";
+    std::string path, field = "hlsl";
+    const std::vector<std::pair<std::string, std::string>>& includeFiles;
+    const std::vector<std::string>& enums;
+    const std::vector<std::string>& includePaths;
+};
+
+std::vector<uint32_t> compileInProcess(const CompileUnit& unit, const std::string& preamble,
                                        const std::string& text, const TextLines& lines) {
     static const bool initialised = glslang::InitializeProcess();
     (void)initialised;
-    glslang::TShader shader(EShLangFragment);
+    glslang::TShader shader(unit.stage);
     const char* strings[] = {text.c_str()};
     const int lengths[] = {int(text.size())};
-    const char* names[] = {spec.path.c_str()};
+    const char* names[] = {unit.path.c_str()};
     shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
     shader.setPreamble(preamble.c_str());
-    shader.setEntryPoint("pgt_hlsl_entry");
-    shader.setSourceEntryPoint("pgt_hlsl_entry");
-    shader.setEnvInput(glslang::EShSourceHlsl, EShLangFragment, glslang::EShClientVulkan, 100);
+    shader.setEntryPoint(unit.entry.c_str());
+    shader.setSourceEntryPoint(unit.entry.c_str());
+    shader.setEnvInput(glslang::EShSourceHlsl, unit.stage, glslang::EShClientVulkan, 100);
     shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_0);
     shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+    shader.setEnvTargetHlslFunctionality1();  // the stage variables' semantics, by name
     shader.setAutoMapBindings(true);
     shader.setAutoMapLocations(true);
     // DX9 compatibility: a `sampler2D` global is a texture and sampler in one, read with
     // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
                                       EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
-    Includer includer(spec.path, spec.enums, spec.includeFiles, spec.includePaths);
+    Includer includer(unit.path, unit.enums, unit.includeFiles, unit.includePaths);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {
@@ -281,16 +300,16 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
     }
     if (!ok)
         throw InputError(
-            spec.path, "hlsl", "",
+            unit.path, unit.field, "",
             "the shader does not compile:\n" +
                 translateMessages(std::string(shader.getInfoLog()) + program.getInfoLog(),
-                                  spec.path, lines.user, lines.call, lines.bodyFirst,
+                                  unit.path, lines.user, lines.call, lines.bodyFirst,
                                   lines.bodyCount, lines.declared));
     std::vector<uint32_t> spirv;
     glslang::SpvOptions options;
     options.disableOptimizer = false;  // HLSL's legalisation (inlining, textures by value)
     spv::SpvBuildLogger logger;
-    glslang::GlslangToSpv(*program.getIntermediate(EShLangFragment), spirv, &logger, &options);
+    glslang::GlslangToSpv(*program.getIntermediate(unit.stage), spirv, &logger, &options);
     return spirv;
 }
 
@@ -298,7 +317,7 @@ std::vector<uint32_t> compileInProcess(const GlslSpec& spec, const std::string& 
 // (`1.0 -- x`), and hostile input can make it run or grow without end; either must be an error
 // naming the file, not a crash or a hang of pgt. The child writes 'S' and the SPIR-V words, or
 // 'E' and the error message, to a pipe and exits; it is held to kCompileLimits.
-std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& preamble,
+std::vector<uint32_t> compileToSpirv(const CompileUnit& unit, const std::string& preamble,
                                      const std::string& text, const TextLines& lines) {
     std::string in;
     const ChildLimits limits = compileLimits();
@@ -306,7 +325,7 @@ std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& pr
         [&](int fd) {
             std::string out;
             try {
-                const std::vector<uint32_t> words = compileInProcess(spec, preamble, text, lines);
+                const std::vector<uint32_t> words = compileInProcess(unit, preamble, text, lines);
                 out.assign(1, 'S');
                 out.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
             } catch (const std::exception& e) {
@@ -323,12 +342,12 @@ std::vector<uint32_t> compileToSpirv(const GlslSpec& spec, const std::string& pr
     }
     if (st.end == ChildEnd::Exited && !in.empty() && in[0] == 'E') {
         // The child's InputError, rebuilt with its message (the file and field lead it).
-        const std::string prefix = spec.path + ": hlsl: ";
+        const std::string prefix = unit.path + ": " + unit.field + ": ";
         std::string message = in.substr(1);
         if (message.rfind(prefix, 0) == 0) message = message.substr(prefix.size());
-        throw InputError(spec.path, "hlsl", "", message);
+        throw InputError(unit.path, unit.field, "", message);
     }
-    throw InputError(spec.path, "hlsl", "",
+    throw InputError(unit.path, unit.field, "",
                      "glslang, the HLSL compiler, " + compileFailure(st, limits) +
                          " (glslang 12 also crashes on some malformed expressions, such as "
                          "1.0 -- x); check the syntax");
@@ -358,28 +377,48 @@ void nameCombinedSamplers(spvc_compiler comp) {
     }
 }
 
-// Gives the stage inputs and the output fixed names (by location), so that the wrapper can
-// make them plain globals.
-void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string& file) {
+// Gives the stage variables fixed names by their semantics, so that the wrapper can make them
+// plain globals and the stages meet by semantic: pgt's inputs (PGT_*) their own names, any other
+// input pgt_in_SEMANTIC and output pgt_out_SEMANTIC (a pixel stage's one output pgt_hlsl_out).
+// Their float sizes go to `inputs` and `outputs` where given.
+void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string& file, bool pixel,
+                        std::vector<HlslVarying>* inputs, std::vector<HlslVarying>* outputs) {
     spvc_resources res = nullptr;
     check(spvc_compiler_create_shader_resources(comp, &res), ctx, file);
-    const spvc_reflected_resource* list = nullptr;
-    size_t n = 0;
-    check(spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &n),
-          ctx, file);
-    const char* names[] = {"pgt_hlsl_uv", "pgt_hlsl_v",  "pgt_hlsl_wp",
-                           "pgt_hlsl_wn", "pgt_hlsl_wt", "pgt_hlsl_wc"};
-    for (size_t i = 0; i < n; ++i) {
-        const unsigned loc = spvc_compiler_get_decoration(comp, list[i].id, SpvDecorationLocation);
-        spvc_compiler_set_name(comp, list[i].id, names[std::min<unsigned>(loc, 5)]);
+    const std::map<std::string, const char*> own = {
+        {"PGT_UV0", "pgt_hlsl_uv"}, {"PGT_V0", "pgt_hlsl_v"},   {"PGT_WP0", "pgt_hlsl_wp"},
+        {"PGT_WN0", "pgt_hlsl_wn"}, {"PGT_WT0", "pgt_hlsl_wt"}, {"PGT_WC0", "pgt_hlsl_wc"}};
+    for (const bool in : {true, false}) {
+        const spvc_reflected_resource* list = nullptr;
+        size_t n = 0;
+        check(spvc_resources_get_resource_list_for_type(
+                  res, in ? SPVC_RESOURCE_TYPE_STAGE_INPUT : SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list,
+                  &n),
+              ctx, file);
+        for (size_t i = 0; i < n; ++i) {
+            const char* raw = spvc_compiler_get_decoration_string(comp, list[i].id,
+                                                                  SpvDecorationHlslSemanticGOOGLE);
+            const std::string semantic = semanticKey(raw ? raw : "");
+            const auto mine = own.find(semantic);
+            const std::string name = !in && pixel ? "pgt_hlsl_out"
+                                     : in && mine != own.end()
+                                         ? mine->second
+                                         : (in ? "pgt_in_" : "pgt_out_") + semantic;
+            spvc_compiler_set_name(comp, list[i].id, name.c_str());
+            std::vector<HlslVarying>* into = in ? inputs : outputs;
+            if (!into || (in && mine != own.end())) continue;
+            const spvc_type type = spvc_compiler_get_type_handle(comp, list[i].type_id);
+            const bool floats = spvc_type_get_basetype(type) == SPVC_BASETYPE_FP32 &&
+                                spvc_type_get_columns(type) == 1 &&
+                                spvc_type_get_num_array_dimensions(type) == 0;
+            into->push_back({semantic, floats ? int(spvc_type_get_vector_size(type)) : 0});
+        }
     }
-    check(
-        spvc_resources_get_resource_list_for_type(res, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &n),
-        ctx, file);
-    for (size_t i = 0; i < n; ++i) spvc_compiler_set_name(comp, list[i].id, "pgt_hlsl_out");
 }
 
-std::string spirvToGlsl(const std::vector<uint32_t>& spirv, const std::string& file) {
+std::string spirvToGlsl(const std::vector<uint32_t>& spirv, const std::string& file,
+                        bool pixel = true, std::vector<HlslVarying>* inputs = nullptr,
+                        std::vector<HlslVarying>* outputs = nullptr) {
     spvc_context ctx = nullptr;
     if (spvc_context_create(&ctx) != SPVC_SUCCESS)
         throw std::runtime_error("SPIRV-Cross: no context");
@@ -403,7 +442,7 @@ std::string spirvToGlsl(const std::vector<uint32_t>& spirv, const std::string& f
     check(spvc_compiler_build_dummy_sampler_for_combined_images(comp, &dummy), ctx, file);
     check(spvc_compiler_build_combined_image_samplers(comp), ctx, file);
     nameCombinedSamplers(comp);
-    nameStageVariables(comp, ctx, file);
+    nameStageVariables(comp, ctx, file, pixel, inputs, outputs);
     const char* out = nullptr;
     check(spvc_compiler_compile(comp, &out), ctx, file);
     return out;
@@ -459,8 +498,11 @@ std::string hlslToGlsl(const GlslSpec& spec) {
         text += spec.body + "    }\n    return uv;  // not reached: the body returns\n}\n";
         call = "pgt_body(uv, V)";
     }
+    // An HLSL vertex stage's outputs arrive as the pixel stage's input struct, by semantic.
+    const GlslSpec::VertexStage* vertex = spec.vertexStage();
+    const std::string stageInput = vertex && vertex->hlsl ? ", " + vertex->stageInput : "";
     text += std::string(kEntrySignature) + (spec.engineInputs ? kEngineSignature : "") +
-            kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
+            stageInput + kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
     lines.call = countLines(text) + 1;
     text += call + kEntryTail;
     // Translations by everything glslang reads: the preamble, the text, and the includes (found
@@ -475,9 +517,66 @@ std::string hlslToGlsl(const GlslSpec& spec) {
         if (auto it = translations.find(key); it != translations.end()) return it->second;
     }
     std::string glsl =
-        asWrapperPiece(spirvToGlsl(compileToSpirv(spec, preamble, text, lines), spec.path));
+        asWrapperPiece(spirvToGlsl(compileToSpirv(CompileUnit{.path = spec.path,
+                                                              .includeFiles = spec.includeFiles,
+                                                              .enums = spec.enums,
+                                                              .includePaths = spec.includePaths},
+                                                  preamble, text, lines),
+                                   spec.path));
     std::lock_guard<std::mutex> lock(mutex);
     return translations.emplace(std::move(key), std::move(glsl)).first->second;
+}
+
+HlslVertexStage hlslVertexToGlsl(const GlslSpec& spec) {
+    const GlslSpec::VertexStage& v = spec.vertex.at(0);
+    std::vector<std::string> declared;
+    const std::string text = blankLineDirectives(v.source, declared);
+    TextLines lines;
+    lines.user = countLines(text) + 1;
+    lines.call = -2;  // no call: every line is the file's
+    lines.declared = std::move(declared);
+    std::string included;
+    for (const auto& [name, sub] : v.includeFiles) included += sub + "\n";
+    std::string preamble;
+    if (functionTypes(v.source + "\n" + included, "select").empty()) preamble += selectFunctions();
+    for (const auto& [name, value] : spec.defines)
+        preamble += "#define " + name + " " + value + "\n";
+    HlslVertexStage out;
+    out.glsl = spirvToGlsl(compileToSpirv(CompileUnit{.stage = EShLangVertex,
+                                                      .entry = v.entry,
+                                                      .path = v.path,
+                                                      .field = "vertex",
+                                                      .includeFiles = v.includeFiles,
+                                                      .enums = v.enums,
+                                                      .includePaths = spec.includePaths},
+                                          preamble, text, lines),
+                           v.path, false, &out.inputs, &out.outputs);
+    return out;
+}
+
+std::vector<HlslVarying> hlslPixelInputs(const GlslSpec& spec) {
+    // The wrapper piece declares each as a plain global: "vecN pgt_in_SEMANTIC;".
+    std::vector<HlslVarying> out;
+    std::istringstream in(hlslToGlsl(spec));
+    for (std::string line; std::getline(in, line);) {
+        const size_t at = line.find(" pgt_in_");
+        if (at == std::string::npos || line.back() != ';' || line.find('(') != std::string::npos)
+            continue;
+        const std::string type = line.substr(0, at);
+        const int n = type == "float"  ? 1
+                      : type == "vec2" ? 2
+                      : type == "vec3" ? 3
+                      : type == "vec4" ? 4
+                                       : 0;
+        out.push_back({line.substr(at + 8, line.size() - at - 9), n});
+    }
+    return out;
+}
+
+std::string semanticKey(std::string s) {
+    for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+    if (s.empty() || !std::isdigit(static_cast<unsigned char>(s.back()))) s += "0";
+    return s;
 }
 
 }  // namespace pgt::gl

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "methods/shader/glsl_spec.h"
 
@@ -18,5 +19,25 @@ inline constexpr const char* kHlslCall = "pgt_hlsl_call";
 // The GLSL 4.50 text of the spec's HLSL method. A compile error throws InputError naming the
 // user's file and line (or "call" for the call expression). Runs without a GL context.
 std::string hlslToGlsl(const GlslSpec& spec);
+
+// A semantic as D3D matches it: upper case, with its index (POSITION is POSITION0).
+std::string semanticKey(std::string s);
+// A stage variable of an HLSL stage: its semantic as D3D matches it (upper case, with its
+// index: POSITION0) and its floats (1-4; 0 for any other type).
+struct HlslVarying {
+    std::string semantic;
+    int components = 0;
+};
+// The spec's HLSL vertex stage (GlslSpec::VertexStage, `hlsl`) as GLSL 4.50: its entry
+// function's inputs named pgt_in_SEMANTIC, its outputs pgt_out_SEMANTIC (SV_Position is
+// gl_Position). A compile error throws InputError naming the vertex file, field "vertex".
+struct HlslVertexStage {
+    std::string glsl;
+    std::vector<HlslVarying> inputs, outputs;
+};
+HlslVertexStage hlslVertexToGlsl(const GlslSpec& spec);
+// The pixel stage's inputs beyond pgt's own that its translation reads (the stage input
+// struct's members the call uses), named pgt_in_SEMANTIC in it.
+std::vector<HlslVarying> hlslPixelInputs(const GlslSpec& spec);
 
 }  // namespace pgt::gl

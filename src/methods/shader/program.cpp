@@ -309,6 +309,19 @@ constexpr const char* kGlY = R"(#define dFdy(p) (-(dFdy(p)))
 #define dFdyCoarse(p) (-(dFdyCoarse(p)))
 )";
 
+// An engine vertex stage's outputs, one layer each of a float image array (unit 13), set into
+// the fragment code's inputs before the call; "" without a vertex stage.
+std::string varyingsGlue(const GlslSpec& spec) {
+    const GlslSpec::VertexStage* v = spec.vertexStage();
+    if (!v) return "";
+    std::string glue = "uniform sampler2DArray pgt_varyings;\nvoid pgt_set_varyings(ivec2 p) {\n";
+    const char* swizzle[5] = {"", ".x", ".xy", ".xyz", ""};
+    for (size_t l = 0; l < v->links.size(); ++l)
+        glue += "    " + v->links[l].input + " = texelFetch(pgt_varyings, ivec3(p, " +
+                std::to_string(l) + "), 0)" + swizzle[v->links[l].components] + ";\n";
+    return glue + "}\n#define PGT_VARYINGS 1\n";
+}
+
 Pieces wrapperPieces(const GlslSpec& spec) {
     Pieces p;
     p.prelude = preludeText() + (spec.legacyTextureNames() ? kLegacyNames : "") +
@@ -316,6 +329,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
     if (spec.hlsl) {  // defines and samplers are the HLSL compiler's
         if (spec.engineInputs) p.prelude += "#define PGT_ENGINE_INPUTS 1\n";
         p.user = hlslToGlsl(spec);
+        p.glue = varyingsGlue(spec);
         p.function = kHlslCall;
         return p;
     }
@@ -331,15 +345,7 @@ Pieces wrapperPieces(const GlslSpec& spec) {
         p.prelude += kOwnMain;
         p.glue = kOwnMainEnd;
     }
-    if (const GlslSpec::VertexStage* v = spec.vertexStage()) {
-        // The vertex stage's outputs: one layer each of a float image array (unit 13).
-        p.glue += "uniform sampler2DArray pgt_varyings;\nvoid pgt_set_varyings(ivec2 p) {\n";
-        const char* swizzle[5] = {"", ".x", ".xy", ".xyz", ""};
-        for (size_t l = 0; l < v->links.size(); ++l)
-            p.glue += "    " + v->links[l].input + " = texelFetch(pgt_varyings, ivec3(p, " +
-                      std::to_string(l) + "), 0)" + swizzle[v->links[l].components] + ";\n";
-        p.glue += "}\n#define PGT_VARYINGS 1\n";
-    }
+    p.glue += varyingsGlue(spec);
     p.function = spec.function;
     if (!spec.call.empty()) {
         p.entry.call = countLines(p.glue + kCallHead) + 1;
@@ -521,6 +527,30 @@ void restoreLinkedValues(GLuint prog) {
             drainGlErrors();
             return;
         }
+}
+
+// A uniform by the name the user knows: GLSL's own; in HLSL a global or cbuffer member, which
+// SPIRV-Cross makes a member of a plain uniform struct ("_12.NAME"), found among the active
+// uniforms by its member name. -1 where none is active.
+GLint uniformLocation(GLuint prog, bool hlsl, const std::string& name) {
+    GLint u = glGetUniformLocation(prog, name.c_str());
+    if (u >= 0 || !hlsl) return u;
+    GLint count = 0, maxLen = 0;
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORMS, &count);
+    glGetProgramiv(prog, GL_ACTIVE_UNIFORM_MAX_LENGTH, &maxLen);
+    std::string buf(size_t(std::max(maxLen, 1)), '\0');
+    const std::string suffix = "." + name;
+    for (GLint i = 0; i < count; ++i) {
+        GLsizei len = 0;
+        GLint size = 0;
+        GLenum type = 0;
+        glGetActiveUniform(prog, GLuint(i), GLsizei(buf.size()), &len, &size, &type, buf.data());
+        const std::string active(buf.data(), size_t(len));
+        if (active.size() > suffix.size() &&
+            active.compare(active.size() - suffix.size(), suffix.size(), suffix) == 0)
+            return glGetUniformLocation(prog, active.c_str());
+    }
+    return -1;
 }
 
 GLuint vertexProgram(const std::string& text, const std::string& file,

@@ -25,6 +25,10 @@ void restoreLinkedValues(GLuint prog);
 // The user's file as the wrapper holds it: its #version line and the #extension lines GL 4.50
 // core has built in blanked, so every other line keeps its number.
 std::string userLines(const std::string& src);
+// A uniform by the name the user knows: GLSL's own; in HLSL (`hlsl`) a global or cbuffer
+// member, which SPIRV-Cross makes a member of a plain uniform struct ("_12.NAME"), found among
+// the active uniforms by its member name. -1 where none is active.
+GLint uniformLocation(GLuint prog, bool hlsl, const std::string& name);
 // A program of one vertex shader (`text`: `file`'s lines after its first `userFirst` lines,
 // which are pgt's: "#version 450 core" and the entry's defines) whose outputs `captured`
 // transform feedback records, interleaved. Compile and link errors throw InputError naming

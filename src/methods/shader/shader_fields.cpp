@@ -492,9 +492,12 @@ const std::vector<SpecField> kSpecFields = {
      [](const GlslSpec& g, Json& j) {
          if (g.engineInputs) j["inputs"] = "engine";
      }},
-    {{"vertex", "attributes", "matrices"},
+    {{"vertex", "attributes", "matrices", "vectors", "vertex_entry", "stage_input"},
      [](JsonFields& f, GlslSpec& s, const std::string& file) {
-         if (f.has("vertex")) readVertexStage(f, s, file, shaderPath(f, "vertex", file));
+         if (f.has("vertex")) return readVertexStage(f, s, file, shaderPath(f, "vertex", file));
+         for (const char* key :
+              {"attributes", "matrices", "vectors", "vertex_entry", "stage_input"})
+             if (f.has(key)) f.fail(key, "is for an engine vertex stage (the entry's \"vertex\")");
      },
      [](const GlslSpec& g, Json& j) {
          if (const GlslSpec::VertexStage* v = g.vertexStage()) vertexStageJson(*v, j);

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/json_read.h"
+#include "methods/shader/hlsl.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
 
@@ -30,8 +31,9 @@ std::string lower(std::string s) {
 std::string conventionalAttribute(const std::string& name) {
     const std::string n = lower(name);
     if (n.find("pos") != std::string::npos) return "position";
+    if (n.find("bitan") != std::string::npos || n.find("binorm") != std::string::npos)
+        return "bitangent";
     if (n.find("norm") != std::string::npos) return "normal";
-    if (n.find("bitan") != std::string::npos) return "bitangent";
     if (n.find("tang") != std::string::npos) return "tangent";
     if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos) return "uv";
     return "";
@@ -85,18 +87,76 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
     }
 }
 
+// An HLSL vertex stage (the entry's language): its file read as an HLSL fragment file is (its
+// includes served to glslang, enums made constants), its entry and the pixel stage's input,
+// then both stages translated (the scene's errors come now, naming the vertex file) and linked
+// by semantic, as D3D links them.
+void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v,
+                         const std::string& text) {
+    v.hlsl = true;
+    v.entry = f.string("vertex_entry", "main");
+    if (!isShaderIdentifier(v.entry))
+        f.fail("vertex_entry", "expected the vertex file's entry function's name");
+    v.includeFiles = hlslIncludes(v.path, text, spec.defines, spec.includePaths);
+    std::string included;
+    for (const auto& [name, sub] : v.includeFiles) included += sub + "\n";
+    v.enums = hlslEnumNames(text + included);
+    v.source = hlslSamplerDefaults(hlslEnumsAsConstants(text, v.enums));
+    const std::vector<std::string> types = functionTypes(v.source + "\n" + included, v.entry);
+    if (types.empty())
+        f.fail("vertex_entry", "the vertex file " + v.path + " defines no function " + v.entry);
+    v.stageInput = f.string("stage_input", types[0] + " input");
+    v.rowVectors = f.choice("vectors", {"column", "row"}, "column") == "row";
+    spec.vertex = {v};
+    const gl::HlslVertexStage vs = gl::hlslVertexToGlsl(spec);
+    GlslSpec::VertexStage& out = spec.vertex[0];
+    out.glsl = vs.glsl;
+    if (f.has("attributes")) {
+        out.attributes =
+            namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});
+    } else {  // by their semantics (docs/methods.md)
+        for (const gl::HlslVarying& a : vs.inputs) {
+            const std::string what = conventionalAttribute(a.semantic);
+            if (what.empty())
+                f.fail("attributes", "the vertex entry's input of semantic " + a.semantic +
+                                         " has no name pgt reads as position, normal, tangent, "
+                                         "bitangent (BINORMAL) or uv (TEXCOORD): bind it in "
+                                         "\"attributes\"");
+            out.attributes.emplace_back(a.semantic, what);
+        }
+    }
+    for (const gl::HlslVarying& in : gl::hlslPixelInputs(spec)) {
+        const auto o = std::find_if(vs.outputs.begin(), vs.outputs.end(),
+                                    [&](const auto& x) { return x.semantic == in.semantic; });
+        const std::string what = "the pixel stage's input of semantic " + in.semantic;
+        if (o == vs.outputs.end())
+            f.fail("vertex", what + " has no output of that semantic in " + v.path);
+        if (in.components == 0 || o->components != in.components)
+            f.fail("vertex", what +
+                                 " and the vertex output of that semantic: pgt passes float "
+                                 "and float2-float4 outputs of one type");
+        out.links.push_back({"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components});
+    }
+}
+
 }  // namespace
 
 void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
                      const std::string& path) {
-    if (spec.hlsl) f.fail("vertex", "runs with GLSL fragment code (an HLSL vertex stage: not yet)");
     GlslSpec::VertexStage v;
     v.path = path;
+    const std::string text = normaliseLineEnds(
+        readTextFile(path, file, f.fieldPath("vertex"), "vertex shader", kMaxShaderBytes));
+    if (f.has("matrices"))
+        v.matrices = namedChoices(f, "matrices",
+                                  {"model", "view", "projection", "model_view", "view_projection",
+                                   "model_view_projection", "normal_matrix", "camera_position"});
+    if (spec.hlsl) return readHlslVertexStage(f, spec, v, text);
+    for (const char* key : {"vertex_entry", "stage_input"})
+        if (f.has(key)) f.fail(key, "is for an HLSL vertex stage (the entry's \"hlsl\")");
+    v.rowVectors = f.choice("vectors", {"column", "row"}, "column") == "row";
     // Its #include lines expanded and the entry's defines judged as in the fragment file.
-    v.source = expandGlslIncludes(path,
-                                  normaliseLineEnds(readTextFile(path, file, f.fieldPath("vertex"),
-                                                                 "vertex shader", kMaxShaderBytes)),
-                                  spec.defines, spec.includePaths, v.origins);
+    v.source = expandGlslIncludes(path, text, spec.defines, spec.includePaths, v.origins);
     if (f.has("attributes")) {
         v.attributes =
             namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});
@@ -110,10 +170,6 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
             v.attributes.emplace_back(a.name, what);
         }
     }
-    if (f.has("matrices"))
-        v.matrices = namedChoices(f, "matrices",
-                                  {"model", "view", "projection", "model_view", "view_projection",
-                                   "model_view_projection", "normal_matrix", "camera_position"});
     spec.vertex = {std::move(v)};
     linkStages(f, spec);
 }
@@ -121,6 +177,12 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
 void vertexStageJson(const GlslSpec::VertexStage& v, nlohmann::json& j) {
     j["vertex"] = v.path;
     j["vertex_sha1"] = textSha1(v.source);
+    if (v.hlsl) {
+        j["vertex_entry"] = v.entry;
+        j["stage_input"] = v.stageInput;
+        for (const auto& [name, text] : v.includeFiles) j["vertex_includes"][name] = textSha1(text);
+    }
+    if (v.rowVectors) j["vectors"] = "row";
     for (const auto& [name, what] : v.attributes) j["attributes"][name] = what;
     for (const auto& [name, what] : v.matrices) j["matrices"][name] = what;
 }

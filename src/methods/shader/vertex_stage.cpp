@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "methods/shader/gl_api.h"
+#include "methods/shader/hlsl.h"
 #include "methods/shader/program.h"
 #include "methods/shader/shader_words.h"
 
@@ -32,10 +33,12 @@ std::map<std::string, GLuint> gVertexPrograms;
 
 GLuint programOf(const GlslSpec& spec, const GlslSpec::VertexStage& v) {
     // The entry's defines after the #version line, then the file's lines (messages map them).
-    std::string text = "#version 450 core\n";
-    for (const auto& [name, value] : spec.defines) text += "#define " + name + " " + value + "\n";
-    const int first = 1 + int(spec.defines.size());
-    text += userLines(vulkanGlslForGl(v.source, true));
+    // (HLSL: its translation, made when the scene was parsed, whole.)
+    std::string text = v.hlsl ? "" : "#version 450 core\n";
+    for (const auto& [name, value] : spec.defines)
+        if (!v.hlsl) text += "#define " + name + " " + value + "\n";
+    const int first = v.hlsl ? 0 : 1 + int(spec.defines.size());
+    text += v.hlsl ? v.glsl : userLines(vulkanGlslForGl(v.source, true));
     std::vector<const char*> captured;
     std::string key = text;
     for (const auto& l : v.links) captured.push_back(l.output.c_str()), key += '\0' + l.output;
@@ -71,7 +74,7 @@ std::pair<const float*, int> attributeData(const VertexStageInputs& in, const st
 // vec4 (w 1).
 void setMatrix(GLuint prog, const GlslSpec::VertexStage& v, const std::string& name,
                const std::string& what, const VertexStageInputs& in) {
-    const GLint u = glGetUniformLocation(prog, name.c_str());
+    const GLint u = uniformLocation(prog, v.hlsl, name);
     if (u < 0)
         throw InputError(v.path, "matrices." + name, what,
                          "is not an active uniform of the vertex shader (misspelt, or unused)");
@@ -86,10 +89,13 @@ void setMatrix(GLuint prog, const GlslSpec::VertexStage& v, const std::string& n
                             : what == "view_projection"       ? in.projection * in.view
                             : what == "model_view_projection" ? in.projection * in.view
                                                               : glm::mat4(1);  // model, normal
-        glUniformMatrix4fv(u, 1, GL_FALSE, &m[0][0]);
+        // M v as GLSL's M * v and HLSL's mul(M, v) compute it (glslang makes mul(M, v) the
+        // GLSL v * M, so HLSL's matrices go transposed), or v M for "vectors": "row".
+        const GLboolean transpose = v.hlsl != v.rowVectors ? GL_TRUE : GL_FALSE;
+        glUniformMatrix4fv(u, 1, transpose, &m[0][0]);
         if (glGetError() != GL_NO_ERROR) {
             const glm::mat3 m3(m);
-            glUniformMatrix3fv(u, 1, GL_FALSE, &m3[0][0]);
+            glUniformMatrix3fv(u, 1, transpose, &m3[0][0]);
         }
     }
     if (glGetError() != GL_NO_ERROR)
@@ -102,9 +108,9 @@ void setMatrix(GLuint prog, const GlslSpec::VertexStage& v, const std::string& n
 // neither stage is misspelt.
 void setUniforms(GLuint prog, const GlslSpec& spec, double scale, double bias) {
     for (const GlslSpec::Uniform& un : spec.uniforms) {
-        const GLint u = glGetUniformLocation(prog, un.name.c_str());
+        const GLint u = uniformLocation(prog, spec.hlsl, un.name);
         if (u < 0) {
-            if (glGetUniformLocation(programFor(spec), un.name.c_str()) < 0)
+            if (uniformLocation(programFor(spec), spec.hlsl, un.name) < 0)
                 throw InputError(spec.path, "uniforms." + un.name, "",
                                  "is an active uniform of neither the vertex shader " +
                                      spec.vertexStage()->path + " nor the fragment code");
@@ -135,7 +141,9 @@ std::vector<float> capture(GLuint prog, const GlslSpec::VertexStage& v, const Ve
     glBindVertexArray(vao);
     std::vector<GLuint> buffers;
     for (const auto& [name, what] : v.attributes) {
-        const GLint loc = glGetAttribLocation(prog, name.c_str());
+        // (HLSL: by semantic, as its translation names the input.)
+        const GLint loc =
+            glGetAttribLocation(prog, (v.hlsl ? "pgt_in_" + gl::semanticKey(name) : name).c_str());
         if (loc < 0)
             throw InputError(v.path, "attributes." + name, what,
                              "is not an active attribute of the vertex shader");
