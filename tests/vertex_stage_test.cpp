@@ -369,6 +369,74 @@ TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
     std::filesystem::remove_all(dir);
 }
 
+// Matrix outputs (GLSL `out mat3`, HLSL float3x3): a world-to-tangent matrix and the vector to
+// the eye handed on per vertex, V = M (eye - p) per fragment. On a plane the matrix is one
+// value and eye - p interpolates exactly, so both pairs give pgt's parallax with the per-pixel
+// V (float noise).
+TEST(VertexStage, MatrixOutputsReachTheFragmentCode) {
+    const auto dir = test::tempDir("vertex_stage_mat3");
+    std::ofstream(dir / "m.vert")
+        << "#version 450\nin vec3 inPos;\nin vec3 inNormal;\nin vec4 inTangent;\nin vec2 inUV;\n"
+           "uniform vec3 camera;\nout mat3 worldToTangent;\nout vec3 toEye;\nout vec2 vUV;\n"
+           "void main() {\n    vec3 B = cross(inNormal, inTangent.xyz) * inTangent.w;\n"
+           "    worldToTangent = transpose(mat3(inTangent.xyz, B, inNormal));\n"
+           "    toEye = camera - inPos;\n    vUV = inUV;\n    gl_Position = vec4(inPos, 1.0);\n}\n";
+    std::ofstream(dir / "m.frag")
+        << "#version 450\nin mat3 worldToTangent;\nin vec3 toEye;\nin vec2 vUV;\n"
+           "uniform sampler2D heightMap;\nuniform float heightScale;\nuniform float heightBias;\n"
+           "vec2 F(vec2 uv, vec3 V) {\n    vec3 v = normalize(worldToTangent * toEye);\n"
+           "    float h = texture(heightMap, vUV).r * heightScale + heightBias;\n"
+           "    return vUV + h * v.xy / v.z;\n}\n";
+    std::ofstream(dir / "m.vs.hlsl")
+        << "struct VIn { float3 Pos : POSITION; float3 Normal : NORMAL; float4 Tangent : TANGENT;\n"
+           "             float2 UV : TEXCOORD0; };\n"
+           "struct VOut { float4 Pos : SV_POSITION; float3x3 WorldToTangent : TEXCOORD1;\n"
+           "              float3 ToEye : TEXCOORD4; float2 UV : TEXCOORD0; };\n"
+           "float3 camera;\n"
+           "VOut main(VIn i) {\n    VOut o;\n"
+           "    float3 B = cross(i.Normal, i.Tangent.xyz) * i.Tangent.w;\n"
+           "    o.WorldToTangent = float3x3(i.Tangent.xyz, B, i.Normal);\n"
+           "    o.ToEye = camera - i.Pos;\n    o.UV = i.UV;\n    o.Pos = float4(i.Pos, 1.0);\n"
+           "    return o;\n}\n";
+    std::ofstream(dir / "m.ps.hlsl")
+        << "Texture2D heightMap;\nSamplerState heightSampler;\nfloat heightScale;\n"
+           "float heightBias;\n"
+           "struct VOut { float4 Pos : SV_POSITION; float3x3 WorldToTangent : TEXCOORD1;\n"
+           "              float3 ToEye : TEXCOORD4; float2 UV : TEXCOORD0; };\n"
+           "float2 parallax(VOut input) {\n"
+           "    float3 v = normalize(mul(input.WorldToTangent, input.ToEye));\n"
+           "    float h = heightMap.Sample(heightSampler, input.UV).r * heightScale + heightBias;\n"
+           "    return input.UV + h * v.xy / v.z;\n}\n";
+    nlohmann::json glsl = {{"name", "glsl_mat3"},
+                           {"glsl", (dir / "m.frag").string()},
+                           {"vertex", (dir / "m.vert").string()},
+                           {"function", "F"},
+                           {"sampler", "heightMap"},
+                           {"matrices", {{"camera", "camera_position"}}},
+                           {"uniforms", {{"heightScale", "scale"}, {"heightBias", "bias"}}}};
+    nlohmann::json hlsl = glsl;
+    hlsl.erase("glsl"), hlsl.erase("function");
+    hlsl["name"] = "hlsl_float3x3", hlsl["hlsl"] = (dir / "m.ps.hlsl").string();
+    hlsl["vertex"] = (dir / "m.vs.hlsl").string(), hlsl["call"] = "parallax(input)";
+    const RenderResult r =
+        render(R"({"type": "plane"})", kPlaneCamera, {perPixelEntry(), glsl, hlsl});
+    ASSERT_EQ(r.methods.size(), 3u);
+    for (size_t m : {1u, 2u}) {
+        double worst = 0;
+        int n = 0;
+        for (size_t k = 0; k < r.methods[0].pixels.data.size(); ++k) {
+            const MethodPixel& a = r.methods[0].pixels.data[k];
+            const MethodPixel& b = r.methods[m].pixels.data[k];
+            if (a.covered && b.covered) worst = std::max(worst, glm::length(a.uv - b.uv) * 64), ++n;
+        }
+        std::printf("%s against per-pixel V: %d pixels, worst %.2e texel\n",
+                    r.methods[m].config.label.c_str(), n, worst);
+        EXPECT_GT(n, 1000);
+        EXPECT_LT(worst, 1e-4);
+    }
+    std::filesystem::remove_all(dir);
+}
+
 // An HLSL vertex stage's fields: an entry the file does not define, a pixel input no vertex
 // output carries, a field for another language; each an error naming the field.
 TEST(VertexStage, HlslFieldsAreChecked) {

@@ -129,10 +129,11 @@ struct GlslSpec {
         // Its uniform -> "model", "view", "projection", "model_view", "view_projection",
         // "model_view_projection", "normal_matrix" or "camera_position".
         std::vector<std::pair<std::string, std::string>> matrices;
-        // A vertex output and the fragment stage input it reaches (float or vecN).
+        // A vertex output and the fragment stage input it reaches: float or vecN (1 column of
+        // `components` floats) or matN (N columns of N).
         struct Link {
             std::string output, input;
-            int components = 0;
+            int components = 0, columns = 1;
         };
         std::vector<Link> links;
         // "vectors": "row": the shader multiplies v * M (HLSL mul(v, M)), so each of

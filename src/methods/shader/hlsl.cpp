@@ -409,9 +409,9 @@ void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string&
             if (!into || (in && mine != own.end())) continue;
             const spvc_type type = spvc_compiler_get_type_handle(comp, list[i].type_id);
             const bool floats = spvc_type_get_basetype(type) == SPVC_BASETYPE_FP32 &&
-                                spvc_type_get_columns(type) == 1 &&
                                 spvc_type_get_num_array_dimensions(type) == 0;
-            into->push_back({semantic, floats ? int(spvc_type_get_vector_size(type)) : 0});
+            into->push_back({semantic, floats ? int(spvc_type_get_vector_size(type)) : 0,
+                             int(spvc_type_get_columns(type))});
         }
     }
 }
@@ -563,12 +563,12 @@ std::vector<HlslVarying> hlslPixelInputs(const GlslSpec& spec) {
         if (at == std::string::npos || line.back() != ';' || line.find('(') != std::string::npos)
             continue;
         const std::string type = line.substr(0, at);
-        const int n = type == "float"  ? 1
-                      : type == "vec2" ? 2
-                      : type == "vec3" ? 3
-                      : type == "vec4" ? 4
-                                       : 0;
-        out.push_back({line.substr(at + 8, line.size() - at - 9), n});
+        const bool sized = type.size() == 4 && type[3] >= '2' && type[3] <= '4';
+        const bool matrix = sized && type.rfind("mat", 0) == 0;
+        const int n = type == "float"                                  ? 1
+                      : sized && (matrix || type.rfind("vec", 0) == 0) ? type[3] - '0'
+                                                                       : 0;
+        out.push_back({line.substr(at + 8, line.size() - at - 9), n, matrix ? n : 1});
     }
     return out;
 }

@@ -23,10 +23,11 @@ std::string hlslToGlsl(const GlslSpec& spec);
 // A semantic as D3D matches it: upper case, with its index (POSITION is POSITION0).
 std::string semanticKey(std::string s);
 // A stage variable of an HLSL stage: its semantic as D3D matches it (upper case, with its
-// index: POSITION0) and its floats (1-4; 0 for any other type).
+// index: POSITION0), its floats per column (1-4; 0 for any other type) and columns (a matrix's
+// as its translation holds it, else 1).
 struct HlslVarying {
     std::string semantic;
-    int components = 0;
+    int components = 0, columns = 1;
 };
 // The spec's HLSL vertex stage (GlslSpec::VertexStage, `hlsl`) as GLSL 4.50: its entry
 // function's inputs named pgt_in_SEMANTIC, its outputs pgt_out_SEMANTIC (SV_Position is

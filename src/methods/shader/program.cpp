@@ -316,9 +316,16 @@ std::string varyingsGlue(const GlslSpec& spec) {
     if (!v) return "";
     std::string glue = "uniform sampler2DArray pgt_varyings;\nvoid pgt_set_varyings(ivec2 p) {\n";
     const char* swizzle[5] = {"", ".x", ".xy", ".xyz", ""};
-    for (size_t l = 0; l < v->links.size(); ++l)
-        glue += "    " + v->links[l].input + " = texelFetch(pgt_varyings, ivec3(p, " +
-                std::to_string(l) + "), 0)" + swizzle[v->links[l].components] + ";\n";
+    int layer = 0;  // a matrix's columns are a layer each
+    for (const GlslSpec::VertexStage::Link& l : v->links) {
+        std::string value;
+        for (int c = 0; c < l.columns; ++c, ++layer)
+            value += std::string(c ? ", " : "") + "texelFetch(pgt_varyings, ivec3(p, " +
+                     std::to_string(layer) + "), 0)" + swizzle[l.components];
+        glue += "    " + l.input + " = " +
+                (l.columns > 1 ? "mat" + std::to_string(l.columns) + "(" + value + ")" : value) +
+                ";\n";
+    }
     return glue + "}\n#define PGT_VARYINGS 1\n";
 }
 

@@ -16,10 +16,16 @@ namespace {
 
 using Json = nlohmann::json;
 
-// A stage variable's floats (float or vecN); 0 for any other type.
+// A stage variable's floats per column (float, vecN; matN: N) and its columns (matN: N, else
+// 1); 0 components for any other type.
 int components(const std::string& type) {
-    return type == "float" ? 1 : type == "vec2" ? 2 : type == "vec3" ? 3 : type == "vec4" ? 4 : 0;
+    if (type == "float") return 1;
+    if ((type.rfind("vec", 0) == 0 || type.rfind("mat", 0) == 0) && type.size() == 4 &&
+        type[3] >= '2' && type[3] <= '4')
+        return type[3] - '0';
+    return 0;
 }
+int columns(const std::string& type) { return type.rfind("mat", 0) == 0 ? components(type) : 1; }
 
 std::string lower(std::string s) {
     for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -79,11 +85,12 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
                                  (in.location >= 0 ? "location" : "name") + " in " + v.path);
         if (components(in.type) == 0 || match->type != in.type)
             f.fail("vertex", what + " and the vertex output " + match->type + " " + match->name +
-                                 ": pgt passes float and vec2-vec4 outputs of one type");
+                                 ": pgt passes float, vec2-vec4 and mat2-mat4 outputs of one "
+                                 "type");
         // Transform feedback names a block's member BLOCK.MEMBER.
         const std::string captured =
             match->block.empty() ? match->name : match->block + "." + match->member;
-        v.links.push_back({captured, in.name, components(in.type)});
+        v.links.push_back({captured, in.name, components(in.type), columns(in.type)});
     }
 }
 
@@ -131,11 +138,12 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
         const std::string what = "the pixel stage's input of semantic " + in.semantic;
         if (o == vs.outputs.end())
             f.fail("vertex", what + " has no output of that semantic in " + v.path);
-        if (in.components == 0 || o->components != in.components)
+        if (in.components == 0 || o->components != in.components || o->columns != in.columns)
             f.fail("vertex", what +
-                                 " and the vertex output of that semantic: pgt passes float "
-                                 "and float2-float4 outputs of one type");
-        out.links.push_back({"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components});
+                                 " and the vertex output of that semantic: pgt passes float, "
+                                 "float2-float4 and float2x2-float4x4 outputs of one type");
+        out.links.push_back(
+            {"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components, in.columns});
     }
 }
 

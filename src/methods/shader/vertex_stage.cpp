@@ -189,9 +189,11 @@ VertexOutputs runVertexStage(const GlslSpec& spec, const VertexStageInputs& in, 
     PGT_CHECK(v && !in.position.empty());
     VertexOutputs o;
     for (const auto& l : v->links) {
-        o.offset.push_back(o.stride);
-        o.components.push_back(l.components);
-        o.stride += l.components;
+        for (int c = 0; c < l.columns; ++c) {  // a matrix's columns one after another
+            o.offset.push_back(o.stride);
+            o.components.push_back(l.components);
+            o.stride += l.components;
+        }
     }
     o.indices = in.indices;
     onGlThread([&] {

@@ -28,7 +28,8 @@ struct VertexStageInputs {
 };
 
 // The captured outputs: per vertex `stride` floats, each link's (GlslSpec::VertexStage::links,
-// in order) from its `offset`; the mesh's indices beside them.
+// in order; a matrix's columns one link each) from its `offset`; the mesh's indices beside
+// them.
 struct VertexOutputs {
     int stride = 0;
     std::vector<int> offset, components;
