@@ -313,8 +313,9 @@ TEST(VertexStage, TheHlslPairIsTheGlslPair) {
 
 // The matrices' orientation: the eye-space position, from the view matrix, handed to the
 // fragment code as uv' by a GLSL pair (view * p), an HLSL pair (mul(view, p)) and an HLSL pair
-// written for row vectors (mul(p, view), "vectors": "row") is one value; the row-vector file
-// read as column vectors is not.
+// written for row vectors (mul(p, view), "vectors": "row") is one value, also where the HLSL
+// vertex entry hands its outputs through `out` parameters and the pixel stage takes them as
+// parameters ("stage_input"); the row-vector file read as column vectors is not.
 TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
     const auto dir = test::tempDir("vertex_stage_matrices");
     std::ofstream(dir / "eye.vert") << "#version 450\nin vec3 inPos;\nuniform mat4 view;\n"
@@ -332,6 +333,10 @@ TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
             << order << ".xyz; return o; }\n";
     std::ofstream(dir / "eye.hlsl")
         << "struct VOut { float4 Pos : SV_POSITION; float3 Eye : TEXCOORD0; };\n";
+    std::ofstream(dir / "params.hlsl")
+        << "float4x4 view;\nvoid VS(float3 pos : POSITION, out float4 oPos : SV_Position,\n"
+           "        out float3 oEye : TEXCOORD0) {\n    oPos = float4(pos, 1.0);\n"
+           "    oEye = mul(view, float4(pos, 1.0)).xyz;\n}\n";
     auto entry = [&](const std::string& name, const std::string& vertex, const char* vectors) {
         nlohmann::json e = {{"name", name},
                             {"vertex", (dir / vertex).string()},
@@ -344,11 +349,15 @@ TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
         if (vectors) e["vectors"] = vectors;
         return e;
     };
-    const RenderResult r = render(
-        R"({"type": "plane"})", kPlaneCamera,
-        {entry("glsl", "eye.vert", nullptr), entry("hlsl", "col.hlsl", nullptr),
-         entry("hlsl_row", "row.hlsl", "row"), entry("hlsl_row_as_column", "row.hlsl", nullptr)});
-    ASSERT_EQ(r.methods.size(), 4u);
+    nlohmann::json params = entry("hlsl_out_params", "params.hlsl", nullptr);
+    params["vertex_entry"] = "VS", params["stage_input"] = "float3 eye : TEXCOORD0";
+    params["call"] = "eye.xy";
+    const RenderResult r =
+        render(R"({"type": "plane"})", kPlaneCamera,
+               {entry("glsl", "eye.vert", nullptr), entry("hlsl", "col.hlsl", nullptr),
+                entry("hlsl_row", "row.hlsl", "row"),
+                entry("hlsl_row_as_column", "row.hlsl", nullptr), params});
+    ASSERT_EQ(r.methods.size(), 5u);
     double worst = 0, apart = 0;
     int n = 0;
     for (size_t k = 0; k < r.methods[0].pixels.data.size(); ++k) {
@@ -356,11 +365,12 @@ TEST(VertexStage, MatricesApplyAsEachLanguageMultiplies) {
         const Vec2d g = r.methods[0].pixels.data[k].uv;
         ++n;
         worst = std::max({worst, glm::length(g - r.methods[1].pixels.data[k].uv),
-                          glm::length(g - r.methods[2].pixels.data[k].uv)});
+                          glm::length(g - r.methods[2].pixels.data[k].uv),
+                          glm::length(g - r.methods[4].pixels.data[k].uv)});
         apart = std::max(apart, glm::length(g - r.methods[3].pixels.data[k].uv));
     }
     std::printf(
-        "eye-space xy on %d pixels: the three alike within %.2e, the misread file %.3f "
+        "eye-space xy on %d pixels: the four alike within %.2e, the misread file %.3f "
         "away\n",
         n, worst, apart);
     EXPECT_GT(n, 1000);

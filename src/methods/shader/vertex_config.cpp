@@ -112,6 +112,10 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
     const std::vector<std::string> types = functionTypes(v.source + "\n" + included, v.entry);
     if (types.empty())
         f.fail("vertex_entry", "the vertex file " + v.path + " defines no function " + v.entry);
+    if (types[0] == "void" && !f.has("stage_input"))
+        f.fail("stage_input", "the vertex entry " + v.entry +
+                                  " returns its outputs through parameters: declare the pixel "
+                                  "stage's as its main does (\"float2 uv : TEXCOORD0, ...\")");
     v.stageInput = f.string("stage_input", types[0] + " input");
     v.rowVectors = f.choice("vectors", {"column", "row"}, "column") == "row";
     spec.vertex = {v};
