@@ -482,7 +482,15 @@ std::string asWrapperPiece(const std::string& glsl) {
 
 }  // namespace
 
-std::string hlslToGlsl(const GlslSpec& spec) {
+namespace {
+
+// A pixel stage's translation and the stage inputs it reads beyond pgt's own.
+struct Translation {
+    std::string glsl;
+    std::vector<HlslVarying> inputs;
+};
+
+const Translation& translate(const GlslSpec& spec) {
     std::vector<std::string> declared;
     std::string user = blankLineDirectives(spec.source, declared);
     TextLines lines;
@@ -511,21 +519,26 @@ std::string hlslToGlsl(const GlslSpec& spec) {
     std::string key = preamble + '\0' + text + '\0' + spec.path + '\0' + spec.included;
     for (const std::string& e : spec.enums) key += '\0' + e;
     static std::mutex mutex;
-    static std::map<std::string, std::string> translations;
+    static std::map<std::string, Translation> translations;
     {
         std::lock_guard<std::mutex> lock(mutex);
         if (auto it = translations.find(key); it != translations.end()) return it->second;
     }
-    std::string glsl =
+    Translation t;
+    t.glsl =
         asWrapperPiece(spirvToGlsl(compileToSpirv(CompileUnit{.path = spec.path,
                                                               .includeFiles = spec.includeFiles,
                                                               .enums = spec.enums,
                                                               .includePaths = spec.includePaths},
                                                   preamble, text, lines),
-                                   spec.path));
+                                   spec.path, true, &t.inputs));
     std::lock_guard<std::mutex> lock(mutex);
-    return translations.emplace(std::move(key), std::move(glsl)).first->second;
+    return translations.emplace(std::move(key), std::move(t)).first->second;
 }
+
+}  // namespace
+
+std::string hlslToGlsl(const GlslSpec& spec) { return translate(spec).glsl; }
 
 HlslVertexStage hlslVertexToGlsl(const GlslSpec& spec) {
     const GlslSpec::VertexStage& v = spec.vertex.at(0);
@@ -554,24 +567,7 @@ HlslVertexStage hlslVertexToGlsl(const GlslSpec& spec) {
     return out;
 }
 
-std::vector<HlslVarying> hlslPixelInputs(const GlslSpec& spec) {
-    // The wrapper piece declares each as a plain global: "vecN pgt_in_SEMANTIC;".
-    std::vector<HlslVarying> out;
-    std::istringstream in(hlslToGlsl(spec));
-    for (std::string line; std::getline(in, line);) {
-        const size_t at = line.find(" pgt_in_");
-        if (at == std::string::npos || line.back() != ';' || line.find('(') != std::string::npos)
-            continue;
-        const std::string type = line.substr(0, at);
-        const bool sized = type.size() == 4 && type[3] >= '2' && type[3] <= '4';
-        const bool matrix = sized && type.rfind("mat", 0) == 0;
-        const int n = type == "float"                                  ? 1
-                      : sized && (matrix || type.rfind("vec", 0) == 0) ? type[3] - '0'
-                                                                       : 0;
-        out.push_back({line.substr(at + 8, line.size() - at - 9), n, matrix ? n : 1});
-    }
-    return out;
-}
+std::vector<HlslVarying> hlslPixelInputs(const GlslSpec& spec) { return translate(spec).inputs; }
 
 std::string semanticKey(std::string s) {
     for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
