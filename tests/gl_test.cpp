@@ -270,6 +270,45 @@ TEST(Gl, EsDialectsRunUnchangedAndEqualTheBuiltIn) {
     }
 }
 
+// The same code in GLSL and HLSL counts the same fetches: a fetch whose value is never used
+// (counted in GLSL, where the counter keeps it; the HLSL compiler drops the fetch, but the
+// count survives), a loop that stops at a height, an implicit-lod and an explicit-lod read;
+// uv' alike too.
+TEST(Gl, HlslAndGlslCountTheSameFetches) {
+    const auto dir = test::tempDir("fetch_twins");
+    std::ofstream(dir / "f.glsl")
+        << "#version 450\nuniform sampler2D heightMap;\nvec2 F(vec2 uv, vec3 V) {\n"
+           "    float unused = texture(heightMap, uv).r;\n    vec2 p = uv;\n"
+           "    for (int i = 0; i < 8; ++i) {\n"
+           "        if (textureLod(heightMap, p, 0.0).r < 0.5) break;\n"
+           "        p += V.xy * 0.01;\n    }\n"
+           "    return p;\n}\n";
+    std::ofstream(dir / "f.hlsl")
+        << "Texture2D heightMap;\nSamplerState heightSampler;\nfloat2 F(float2 uv, float3 V) {\n"
+           "    float unused = heightMap.Sample(heightSampler, uv).r;\n    float2 p = uv;\n"
+           "    for (int i = 0; i < 8; ++i) {\n"
+           "        if (heightMap.SampleLevel(heightSampler, p, 0.0).r < 0.5) break;\n"
+           "        p += V.xy * 0.01;\n    }\n"
+           "    return p;\n}\n";
+    const MethodConfig glsl = glslMethod(R"({"name": "g", "glsl": ")" + (dir / "f.glsl").string() +
+                                         R"(", "function": "F", "sampler": "heightMap"})");
+    const MethodConfig hlsl = glslMethod(R"({"name": "h", "hlsl": ")" + (dir / "f.hlsl").string() +
+                                         R"(", "function": "F", "sampler": "heightMap"})");
+    Inputs in = randomInputs(512, 7);
+    Texture t = test::smoothTexture(16, 16);
+    const GlslRun g = runGlsl(*glsl.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+    const GlslRun h = runGlsl(*hlsl.shader(), MapRefs{.height = &t}, 0.1, 0, in.uv0, in.view);
+    std::set<uint32_t> counts;
+    for (size_t k = 0; k < in.uv0.size(); ++k) {
+        EXPECT_EQ(g.fetches[k], h.fetches[k]) << k;
+        EXPECT_LT(glm::length(Vec2d(g.uv[k] - h.uv[k])), 1e-6) << k;
+        counts.insert(g.fetches[k]);
+    }
+    EXPECT_GT(counts.size(), 2u);  // the loop stops at different steps
+    EXPECT_GE(*counts.begin(), 2u);
+    std::filesystem::remove_all(dir);
+}
+
 // The dialect comes from the entry's "version" or the file's #version line; the legacy
 // names (texture2D, ...) exist in 100, 110 and 120 only, so a 3.30 file may define its own
 // texture2D; unknown versions and a desktop version beyond the GL's are refused by name.

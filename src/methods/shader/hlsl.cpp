@@ -77,24 +77,116 @@ constexpr const char* kEntryNames = R"(    float2 uv = pgt_uv;
     return float4(
 )";
 constexpr const char* kEntryTail = R"(
-    , 0.0, 0.0);
+    , pgt_fetch_count, 0.0);
 }
 )";
 
 int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
+
+// Fetch counting as the GLSL wrapper counts (docs/methods.md "Fetches"): each texture read
+// whose translation the wrapper's counters cover (texture, textureLod, textureGrad, texelFetch:
+// Sample, SampleBias, SampleLevel, SampleGrad, SampleCmp, SampleCmpLevelZero and Load without an
+// offset argument; DX9's tex2D, tex2Dbias, tex2Dlod, tex2Dgrad) gets its coordinate (a DX9
+// call: the whole call, since glslang evaluates a tex2Dlod or tex2Dbias coordinate once per
+// component it splits off) wrapped in pgt_counted(), which adds one to pgt_fetch_count and
+// returns its argument. The count then survives
+// the compiler dropping a fetch whose value is never used, as the GLSL counter keeps such a
+// fetch alive: the same code counts the same in both languages. Lines keep their numbers.
+struct FetchCall {
+    const char* name;
+    bool method;   // `.Sample(`, or a function `tex2D(`
+    size_t coord;  // the coordinate's argument (a method's; a DX9 call is wrapped whole)
+    size_t plain;  // the argument count without an offset
+};
+constexpr FetchCall kFetchCalls[] = {
+    {"Sample", true, 1, 2},     {"SampleBias", true, 1, 3}, {"SampleLevel", true, 1, 3},
+    {"SampleGrad", true, 1, 4}, {"SampleCmp", true, 1, 3},  {"SampleCmpLevelZero", true, 1, 3},
+    {"Load", true, 0, 1},       {"tex2D", false, 1, 2},     {"tex2Dbias", false, 1, 2},
+    {"tex2Dlod", false, 1, 2},  {"tex2Dgrad", false, 1, 4},
+};
+
+// The top-level arguments of the call whose '(' is at `open`: [begin, end) each; empty where
+// the parentheses do not close.
+std::vector<std::pair<size_t, size_t>> callArguments(const std::string& text, size_t open) {
+    std::vector<std::pair<size_t, size_t>> args;
+    int depth = 0;
+    size_t begin = open + 1;
+    for (size_t i = open; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '(' || c == '[' || c == '{') {
+            ++depth;
+        } else if (c == ')' || c == ']' || c == '}') {
+            if (--depth == 0) {
+                args.emplace_back(begin, i);
+                return args;
+            }
+        } else if (c == ',' && depth == 1) {
+            args.emplace_back(begin, i);
+            begin = i + 1;
+        }
+    }
+    return {};
+}
+
+std::string countFetches(const std::string& text) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    std::vector<std::pair<size_t, const char*>> inserts;  // (position, text)
+    for (const FetchCall& call : kFetchCalls) {
+        const std::string name = call.name;
+        for (size_t at = text.find(name); at != std::string::npos;
+             at = text.find(name, at + name.size())) {
+            const size_t end = at + name.size();
+            if (end < text.size() && identChar(text[end])) continue;
+            if (call.method ? (at == 0 || text[at - 1] != '.')
+                            : (at > 0 && (identChar(text[at - 1]) || text[at - 1] == '.')))
+                continue;
+            size_t open = end;
+            while (open < text.size() && (text[open] == ' ' || text[open] == '\t')) ++open;
+            if (open >= text.size() || text[open] != '(') continue;
+            const auto args = callArguments(text, open);
+            if (args.size() != call.plain) continue;  // an offset form, or unbalanced
+            if (call.method) {
+                inserts.emplace_back(args[call.coord].first, "pgt_counted(");
+                inserts.emplace_back(args[call.coord].second, ")");
+            } else {
+                inserts.emplace_back(at, "pgt_counted(");
+                inserts.emplace_back(args.back().second + 1, ")");
+            }
+        }
+    }
+    // From the end, so that earlier positions hold; at one position a ")" goes before a
+    // "pgt_counted(" (one argument ends where the next begins only across a comma).
+    std::stable_sort(inserts.begin(), inserts.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::string out = text;
+    for (const auto& [pos, piece] : inserts) out.insert(pos, piece);
+    return out;
+}
+
+// pgt_counted for each coordinate type, before the user's file.
+std::string countingFunctions() {
+    std::string out = "static float pgt_fetch_count = 0.0;\n";
+    for (const char* t : {"float", "int", "uint"})
+        for (const char* n : {"", "2", "3", "4"})
+            out += std::string(t) + n + " pgt_counted(" + t + n +
+                   " p) { pgt_fetch_count += 1.0; return p; }\n";
+    return out;
+}
 
 // #include "F" and <F>: relative to the including file's folder (the user's file's for the
 // first), read with the limits of every shader file. A failure is glslang's own message (an
 // include result with no name).
 class Includer : public glslang::TShader::Includer {
   public:
+    // `count`: the pixel stage's, whose includes count their fetches (countFetches).
     Includer(std::string top, std::vector<std::string> enums,
              const std::vector<std::pair<std::string, std::string>>& files,
-             const std::vector<std::string>& searchPaths)
+             const std::vector<std::string>& searchPaths, bool count)
         : top_(std::move(top)),
           enums_(std::move(enums)),
           files_(files),
-          searchPaths_(searchPaths) {}
+          searchPaths_(searchPaths),
+          count_(count) {}
     IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
         return resolve(requested, from, depth);
     }
@@ -131,6 +223,7 @@ class Includer : public glslang::TShader::Includer {
                                                      "HLSL include", kMaxShaderBytes)),
                 enums_));
             if (takePragmaOnce(*content)) once_.insert(name);
+            if (count_) *content = countFetches(*content);
         } catch (const std::exception& e) {
             *content = e.what();
             name.clear();
@@ -141,6 +234,7 @@ class Includer : public glslang::TShader::Includer {
     std::vector<std::string> enums_;
     const std::vector<std::pair<std::string, std::string>>& files_;
     const std::vector<std::string>& searchPaths_;
+    bool count_ = false;
     std::set<std::string> once_;
 };
 
@@ -251,6 +345,7 @@ std::string declarationsFor(const GlslSpec& spec) {
 std::string preambleFor(const GlslSpec& spec) {
     std::string preamble = declarationsFor(spec);
     if (spec.engineInputs) preamble += kEngineGlobals;  // before the user's functions
+    preamble += countingFunctions();
     if (functionTypes(spec.source + "\n" + spec.included, "select").empty())
         preamble += selectFunctions();
     for (const auto& [name, value] : spec.defines)
@@ -291,7 +386,8 @@ std::vector<uint32_t> compileInProcess(const CompileUnit& unit, const std::strin
     // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
                                       EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
-    Includer includer(unit.path, unit.enums, unit.includeFiles, unit.includePaths);
+    Includer includer(unit.path, unit.enums, unit.includeFiles, unit.includePaths,
+                      unit.stage == EShLangFragment);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {
@@ -469,7 +565,9 @@ std::string asWrapperPiece(const std::string& glsl) {
     out << "vec2 " << kHlslCall << "(vec2 uv, vec3 v) {\n";
     if (mentionsIdentifier(glsl, "pgt_hlsl_uv")) out << "    pgt_hlsl_uv = uv;\n";
     if (mentionsIdentifier(glsl, "pgt_hlsl_v")) out << "    pgt_hlsl_v = v;\n";
-    out << "    pgt_hlsl_main();\n    return pgt_hlsl_out.xy;\n}\n";
+    // The fetches the HLSL counted (its z), which outlive a fetch the compiler dropped.
+    out << "    pgt_hlsl_main();\n    pgt_fetches = int(pgt_hlsl_out.z + 0.5);\n"
+        << "    return pgt_hlsl_out.xy;\n}\n";
     // An engine's inputs (GlslSpec::engineInputs), set by the wrapper's main() before the call.
     out << "void pgt_set_engine(vec3 p, vec3 n, vec4 t, vec3 c) {\n";
     const char* engine[4][2] = {
@@ -492,7 +590,7 @@ struct Translation {
 
 const Translation& translate(const GlslSpec& spec) {
     std::vector<std::string> declared;
-    std::string user = blankLineDirectives(spec.source, declared);
+    std::string user = countFetches(blankLineDirectives(spec.source, declared));
     TextLines lines;
     lines.user = countLines(user);
     lines.declared = std::move(declared);
@@ -503,7 +601,8 @@ const Translation& translate(const GlslSpec& spec) {
         text += std::string(kBodyHead) + "    {\n";
         lines.bodyFirst = countLines(text) + 1;
         lines.bodyCount = countLines(spec.body);
-        text += spec.body + "    }\n    return uv;  // not reached: the body returns\n}\n";
+        text += countFetches(spec.body) +
+                "    }\n    return uv;  // not reached: the body returns\n}\n";
         call = "pgt_body(uv, V)";
     }
     // An HLSL vertex stage's outputs arrive as the pixel stage's input struct, by semantic.
@@ -512,7 +611,7 @@ const Translation& translate(const GlslSpec& spec) {
     text += std::string(kEntrySignature) + (spec.engineInputs ? kEngineSignature : "") +
             stageInput + kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
     lines.call = countLines(text) + 1;
-    text += call + kEntryTail;
+    text += countFetches(call) + kEntryTail;
     // Translations by everything glslang reads: the preamble, the text, and the includes (found
     // from the file's folder; their text as read with the scene). One per process, as programs.
     const std::string preamble = preambleFor(spec);
