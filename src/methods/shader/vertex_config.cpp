@@ -9,6 +9,7 @@
 #include "methods/shader/hlsl.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
+#include "methods/shader/vertex_stage.h"
 
 namespace pgt {
 
@@ -123,8 +124,7 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
     GlslSpec::VertexStage& out = spec.vertex[0];
     out.glsl = vs.glsl;
     if (f.has("attributes")) {
-        out.attributes =
-            namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});
+        out.attributes = namedChoices(f, "attributes", vertexAttributeNames());
     } else {  // by their semantics (docs/methods.md)
         for (const gl::HlslVarying& a : vs.inputs) {
             const std::string what = conventionalAttribute(a.semantic);
@@ -159,10 +159,7 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
     v.path = path;
     const std::string text = normaliseLineEnds(
         readTextFile(path, file, f.fieldPath("vertex"), "vertex shader", kMaxShaderBytes));
-    if (f.has("matrices"))
-        v.matrices = namedChoices(f, "matrices",
-                                  {"model", "view", "projection", "model_view", "view_projection",
-                                   "model_view_projection", "normal_matrix", "camera_position"});
+    if (f.has("matrices")) v.matrices = namedChoices(f, "matrices", vertexMatrixNames());
     if (spec.hlsl) return readHlslVertexStage(f, spec, v, text);
     for (const char* key : {"vertex_entry", "stage_input"})
         if (f.has(key)) f.fail(key, "is for an HLSL vertex stage (the entry's \"hlsl\")");
@@ -170,8 +167,7 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
     // Its #include lines expanded and the entry's defines judged as in the fragment file.
     v.source = expandGlslIncludes(path, text, spec.defines, spec.includePaths, v.origins);
     if (f.has("attributes")) {
-        v.attributes =
-            namedChoices(f, "attributes", {"position", "normal", "tangent", "bitangent", "uv"});
+        v.attributes = namedChoices(f, "attributes", vertexAttributeNames());
     } else {  // by their names (docs/methods.md)
         for (const StageVariable& a : stageVariables(v.source, "in")) {
             const std::string what = conventionalAttribute(a.name);

@@ -61,13 +61,58 @@ GLuint attributeBuffer(GLint location, const float* values, size_t count, int n)
     return b;
 }
 
-// pgt's vertex data for "attributes": its floats and their count per vertex.
-std::pair<const float*, int> attributeData(const VertexStageInputs& in, const std::string& what) {
-    if (what == "position") return {&in.position[0].x, 3};
-    if (what == "normal") return {&in.normal[0].x, 3};
-    if (what == "tangent") return {&in.tangent[0].x, 4};
-    if (what == "bitangent") return {&in.bitangent[0].x, 3};
-    return {&in.uv[0].x, 2};  // "uv" (the only other name the scene parser lets through)
+// pgt's vertex data "attributes" binds, by name: its floats and their count per vertex. The
+// one list of the names (vertexAttributeNames: what the scene parser lets through).
+struct AttributeRow {
+    const char* name;
+    std::pair<const float*, int> (*data)(const VertexStageInputs&);
+};
+constexpr AttributeRow kAttributes[] = {
+    {"position",
+     [](const VertexStageInputs& in) {
+         return std::pair{&in.position[0].x, 3};
+     }},
+    {"normal",
+     [](const VertexStageInputs& in) {
+         return std::pair{&in.normal[0].x, 3};
+     }},
+    {"tangent",
+     [](const VertexStageInputs& in) {
+         return std::pair{&in.tangent[0].x, 4};
+     }},
+    {"bitangent",
+     [](const VertexStageInputs& in) {
+         return std::pair{&in.bitangent[0].x, 3};
+     }},
+    {"uv",
+     [](const VertexStageInputs& in) {
+         return std::pair{&in.uv[0].x, 2};
+     }},
+};
+
+// The values "matrices" binds, by name (model and normal_matrix the identity: pgt's mesh is in
+// world space); camera_position, a vector, has none here (setMatrix sets it).
+struct MatrixRow {
+    const char* name;
+    glm::mat4 (*value)(const VertexStageInputs&);
+};
+constexpr MatrixRow kMatrices[] = {
+    {"model", [](const VertexStageInputs&) { return glm::mat4(1); }},
+    {"view", [](const VertexStageInputs& in) { return in.view; }},
+    {"projection", [](const VertexStageInputs& in) { return in.projection; }},
+    {"model_view", [](const VertexStageInputs& in) { return in.view; }},
+    {"view_projection", [](const VertexStageInputs& in) { return in.projection * in.view; }},
+    {"model_view_projection", [](const VertexStageInputs& in) { return in.projection * in.view; }},
+    {"normal_matrix", [](const VertexStageInputs&) { return glm::mat4(1); }},
+    {"camera_position", nullptr},
+};
+
+template <class Row, size_t N>
+const Row& rowNamed(const Row (&rows)[N], const std::string& name) {
+    for (const Row& r : rows)
+        if (name == r.name) return r;
+    PGT_CHECK(false && "a name the scene parser let through");
+    return rows[0];
 }
 
 // Sets a "matrices" uniform: a matrix as mat4 (or its upper 3x3 as mat3), the eye as vec3 or
@@ -79,16 +124,12 @@ void setMatrix(GLuint prog, const GlslSpec::VertexStage& v, const std::string& n
         throw InputError(v.path, "matrices." + name, what,
                          "is not an active uniform of the vertex shader (misspelt, or unused)");
     drainGlErrors();
-    if (what == "camera_position") {
+    const MatrixRow& row = rowNamed(kMatrices, what);
+    if (!row.value) {  // camera_position
         glUniform3f(u, in.camera.x, in.camera.y, in.camera.z);
         if (glGetError() != GL_NO_ERROR) glUniform4f(u, in.camera.x, in.camera.y, in.camera.z, 1);
     } else {
-        const glm::mat4 m = what == "view"                    ? in.view
-                            : what == "projection"            ? in.projection
-                            : what == "model_view"            ? in.view
-                            : what == "view_projection"       ? in.projection * in.view
-                            : what == "model_view_projection" ? in.projection * in.view
-                                                              : glm::mat4(1);  // model, normal
+        const glm::mat4 m = row.value(in);
         // M v as GLSL's M * v and HLSL's mul(M, v) compute it (glslang makes mul(M, v) the
         // GLSL v * M, so HLSL's matrices go transposed), or v M for "vectors": "row".
         const GLboolean transpose = v.hlsl != v.rowVectors ? GL_TRUE : GL_FALSE;
@@ -147,7 +188,7 @@ std::vector<float> capture(GLuint prog, const GlslSpec::VertexStage& v, const Ve
         if (loc < 0)
             throw InputError(v.path, "attributes." + name, what,
                              "is not an active attribute of the vertex shader");
-        const auto [data, size] = attributeData(in, what);
+        const auto [data, size] = rowNamed(kAttributes, what).data(in);
         buffers.push_back(attributeBuffer(loc, data, n, size));
     }
     std::vector<float> values(n * size_t(stride));
@@ -207,6 +248,24 @@ VertexOutputs runVertexStage(const GlslSpec& spec, const VertexStageInputs& in, 
         o.values = capture(prog, *v, in, o.stride);
     });
     return o;
+}
+
+const std::vector<std::string>& vertexAttributeNames() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const AttributeRow& r : kAttributes) out.push_back(r.name);
+        return out;
+    }();
+    return names;
+}
+
+const std::vector<std::string>& vertexMatrixNames() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const MatrixRow& r : kMatrices) out.push_back(r.name);
+        return out;
+    }();
+    return names;
 }
 
 }  // namespace pgt

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/math.h"
@@ -38,6 +39,12 @@ struct VertexOutputs {
     // Link l at barycentrics `bary` of triangle t (components past the link's are 0).
     glm::vec4 at(uint32_t t, const Vec3d& bary, size_t l) const;
 };
+
+// The names of pgt's vertex data ("attributes": position, normal, tangent, bitangent, uv) and
+// of the camera's matrices ("matrices": model, view, ..., camera_position), from the tables
+// that bind them.
+const std::vector<std::string>& vertexAttributeNames();
+const std::vector<std::string>& vertexMatrixNames();
 
 // Runs the spec's vertex stage over `in` with the case's (s, b) for uniforms bound to them.
 // Throws InputError naming the vertex file for a compile or link error, an attribute or
