@@ -143,10 +143,9 @@ Rendered render(const std::string& file, const std::string& text, const std::str
     r.names = pgt::frameChannelNames(scene.methods);
     r.pixels.resize(size_t(r.width) * size_t(r.height) * r.names.size());
     pgt::interleaveFrameBand(pgt::wholeFrameBand(result), r.pixels.data());
-    if (!out.empty()) {
-        pgt::writeRenderOutputs(scene, result, out);
+    if (!out.empty()) {  // the summary as written, with its files named
+        r.summary = pgt::writeRenderOutputs(scene, result, out).dump();
         outDir->keep();
-        r.summary = pgt::readJsonFile(out + "/summary.json").dump();
     } else {
         r.summary = pgt::summaryJson(scene, result).dump();
     }

@@ -341,7 +341,7 @@ void RenderWriter::waitForRows() {
     if (encoding_.valid()) encoding_.get();
 }
 
-void RenderWriter::finish(const RenderResult& r) {
+nlohmann::json RenderWriter::finish(const RenderResult& r) {
     // frame.exr's last rows and its close (the file's offsets, the staged copy's flush) beside
     // the error maps' encoding.
     std::future<void> exrClosed = std::async(std::launch::async, [this] {
@@ -370,14 +370,16 @@ void RenderWriter::finish(const RenderResult& r) {
     files_->add("summary.json", summary.dump(2) + "\n");
     files_->commit();
     committed_ = true;
+    return summary;
 }
 
-void writeRenderOutputs(const Scene& scene, const RenderResult& r, const std::string& dir) {
+nlohmann::json writeRenderOutputs(const Scene& scene, const RenderResult& r,
+                                  const std::string& dir) {
     std::vector<MethodConfig> configs;
     for (const MethodFrame& m : r.methods) configs.push_back(m.config);
     RenderWriter writer(scene, dir, r.camera.width(), r.camera.height(), configs);
     writer.band(r, wholeFrameBand(r));
-    writer.finish(r);
+    return writer.finish(r);
 }
 
 }  // namespace pgt

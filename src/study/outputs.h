@@ -34,7 +34,8 @@ FrameChannelSet parseFrameChannels(const std::string& list, const std::string& f
 // The files of one rendered view, written as its bands arrive (a FrameSink): frame.exr row
 // by row. finish() draws the error maps from the result's coded errors (their colour scale
 // needs the whole frame's p99; render with FrameOptions::keepCodedErrors), one per core,
-// writes summary.json and renames every file into place. Throws OutputError
+// writes summary.json (and returns what it wrote) and renames every file into place. Throws
+// OutputError
 // naming the path that could not be written; nothing is left behind then.
 class RenderWriter : public FrameSink {
   public:
@@ -45,7 +46,7 @@ class RenderWriter : public FrameSink {
                  const std::string& exrCompression = "piz", const FrameChannelSet& channels = {});
     ~RenderWriter() override;
     void band(const RenderResult& frame, const FrameBand& band) override;
-    void finish(const RenderResult& result);
+    nlohmann::json finish(const RenderResult& result);
 
   private:
     void waitForRows();  // the band being encoded is done (throws OutputError if it failed)
@@ -67,8 +68,9 @@ class RenderWriter : public FrameSink {
 };
 
 // Writes DIR/frame.exr, DIR/summary.json and DIR/<label>_error.png of a result that kept its
-// images (one band: the whole frame through RenderWriter); creates DIR.
-void writeRenderOutputs(const Scene& scene, const RenderResult& result, const std::string& dir);
+// images (one band: the whole frame through RenderWriter); creates DIR. Returns the summary.
+nlohmann::json writeRenderOutputs(const Scene& scene, const RenderResult& result,
+                                  const std::string& dir);
 
 // A share of counts, NaN when the whole is 0.
 double share(int64_t part, int64_t whole);
