@@ -518,41 +518,6 @@ RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPai
                       textures, timing, frame);
 }
 
-void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
-                 bool glsl) {
-    auto t0 = Clock::now();
-    for (MethodFrame& mf : r.methods) {
-        const MethodConfig& cfg = mf.config;
-        if (timing.repeats <= 0 || (!glsl && runsInGl(cfg))) continue;
-        mf.timing = timeMethod(cfg, r.timed, textures.at(cfg, r.view.displacement), timing);
-        mf.nsPerPixel = mf.timing.median;
-    }
-    r.timed = {};
-    r.timings.add(Stage::MethodTiming, msSince(t0));
-}
-
-FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
-                                 const TimingSpec& timing) {
-    const Camera camera = makeCamera(scene, view);
-    Image2D<FragmentInputs> inputs;
-    const RasterOptions options = rasterOptions(scene, scene.methods);
-    const Image2D<Fragment> frame =
-        rasterize(drawnBaseMesh(scene.base, camera), camera, options, nullptr, &inputs);
-    // With an engine vertex stage, the triangles (its outputs are read there; no helper lanes).
-    std::vector<HelperLane> noHelpers;
-    return sampleFragments(
-        compactFragments(frame, &inputs, options.barycentrics ? &noHelpers : nullptr),
-        timing.maxFragments, timing.seed);
-}
-
-std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,
-                                               const MethodConfig& cfg, double scale, double bias) {
-    if (!cfg.shader() || !cfg.shader()->vertexStage()) return std::nullopt;
-    const Camera camera = makeCamera(scene, view);
-    return runVertexStage(
-        *cfg.shader(), vertexStageInputs(drawnBaseMesh(scene.base, camera), camera), scale, bias);
-}
-
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
     MethodTextureCache textures(scene.height, scene.uvExtent);

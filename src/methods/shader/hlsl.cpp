@@ -24,6 +24,7 @@
 #include "core/error.h"
 #include "core/json_read.h"
 #include "core/process.h"
+#include "methods/shader/hlsl_fetches.h"
 #include "methods/shader/shader_gate.h"
 #include "methods/shader/shader_words.h"
 #include "methods/shader/source_text.h"
@@ -82,96 +83,6 @@ constexpr const char* kEntryTail = R"(
 )";
 
 int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(), '\n')); }
-
-// Fetch counting as the GLSL wrapper counts (docs/methods.md "Fetches"): each texture read
-// whose translation the wrapper's counters cover (texture, textureLod, textureGrad, texelFetch:
-// Sample, SampleBias, SampleLevel, SampleGrad, SampleCmp, SampleCmpLevelZero and Load without an
-// offset argument; DX9's tex2D, tex2Dbias, tex2Dlod, tex2Dgrad) gets its coordinate (a DX9
-// call: the whole call, since glslang evaluates a tex2Dlod or tex2Dbias coordinate once per
-// component it splits off) wrapped in pgt_counted(), which adds one to pgt_fetch_count and
-// returns its argument. The count then survives
-// the compiler dropping a fetch whose value is never used, as the GLSL counter keeps such a
-// fetch alive: the same code counts the same in both languages. Lines keep their numbers.
-struct FetchCall {
-    const char* name;
-    bool method;   // `.Sample(`, or a function `tex2D(`
-    size_t coord;  // the coordinate's argument (a method's; a DX9 call is wrapped whole)
-    size_t plain;  // the argument count without an offset
-};
-constexpr FetchCall kFetchCalls[] = {
-    {"Sample", true, 1, 2},     {"SampleBias", true, 1, 3}, {"SampleLevel", true, 1, 3},
-    {"SampleGrad", true, 1, 4}, {"SampleCmp", true, 1, 3},  {"SampleCmpLevelZero", true, 1, 3},
-    {"Load", true, 0, 1},       {"tex2D", false, 1, 2},     {"tex2Dbias", false, 1, 2},
-    {"tex2Dlod", false, 1, 2},  {"tex2Dgrad", false, 1, 4},
-};
-
-// The top-level arguments of the call whose '(' is at `open`: [begin, end) each; empty where
-// the parentheses do not close.
-std::vector<std::pair<size_t, size_t>> callArguments(const std::string& text, size_t open) {
-    std::vector<std::pair<size_t, size_t>> args;
-    int depth = 0;
-    size_t begin = open + 1;
-    for (size_t i = open; i < text.size(); ++i) {
-        const char c = text[i];
-        if (c == '(' || c == '[' || c == '{') {
-            ++depth;
-        } else if (c == ')' || c == ']' || c == '}') {
-            if (--depth == 0) {
-                args.emplace_back(begin, i);
-                return args;
-            }
-        } else if (c == ',' && depth == 1) {
-            args.emplace_back(begin, i);
-            begin = i + 1;
-        }
-    }
-    return {};
-}
-
-std::string countFetches(const std::string& text) {
-    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    std::vector<std::pair<size_t, const char*>> inserts;  // (position, text)
-    for (const FetchCall& call : kFetchCalls) {
-        const std::string name = call.name;
-        for (size_t at = text.find(name); at != std::string::npos;
-             at = text.find(name, at + name.size())) {
-            const size_t end = at + name.size();
-            if (end < text.size() && identChar(text[end])) continue;
-            if (call.method ? (at == 0 || text[at - 1] != '.')
-                            : (at > 0 && (identChar(text[at - 1]) || text[at - 1] == '.')))
-                continue;
-            size_t open = end;
-            while (open < text.size() && (text[open] == ' ' || text[open] == '\t')) ++open;
-            if (open >= text.size() || text[open] != '(') continue;
-            const auto args = callArguments(text, open);
-            if (args.size() != call.plain) continue;  // an offset form, or unbalanced
-            if (call.method) {
-                inserts.emplace_back(args[call.coord].first, "pgt_counted(");
-                inserts.emplace_back(args[call.coord].second, ")");
-            } else {
-                inserts.emplace_back(at, "pgt_counted(");
-                inserts.emplace_back(args.back().second + 1, ")");
-            }
-        }
-    }
-    // From the end, so that earlier positions hold; at one position a ")" goes before a
-    // "pgt_counted(" (one argument ends where the next begins only across a comma).
-    std::stable_sort(inserts.begin(), inserts.end(),
-                     [](const auto& a, const auto& b) { return a.first > b.first; });
-    std::string out = text;
-    for (const auto& [pos, piece] : inserts) out.insert(pos, piece);
-    return out;
-}
-
-// pgt_counted for each coordinate type, before the user's file.
-std::string countingFunctions() {
-    std::string out = "static float pgt_fetch_count = 0.0;\n";
-    for (const char* t : {"float", "int", "uint"})
-        for (const char* n : {"", "2", "3", "4"})
-            out += std::string(t) + n + " pgt_counted(" + t + n +
-                   " p) { pgt_fetch_count += 1.0; return p; }\n";
-    return out;
-}
 
 // #include "F" and <F>: relative to the including file's folder (the user's file's for the
 // first), read with the limits of every shader file. A failure is glslang's own message (an

@@ -1,0 +1,48 @@
+// Methods' timing apart from a frame's evaluation (frame/render.h: timeMethods, the timing
+// subset of a view and its engine vertex stages' outputs).
+#include <optional>
+
+#include "core/clock.h"
+#include "frame/render.h"
+#include "frame/vertex_inputs.h"
+#include "methods/shader/glsl_method.h"
+#include "methods/shader/vertex_stage.h"
+
+namespace pgt {
+
+void timeMethods(RenderResult& r, const MethodTextureCache& textures, const TimingSpec& timing,
+                 bool glsl) {
+    auto t0 = Clock::now();
+    for (MethodFrame& mf : r.methods) {
+        const MethodConfig& cfg = mf.config;
+        if (timing.repeats <= 0 || (!glsl && runsInGl(cfg))) continue;
+        mf.timing = timeMethod(cfg, r.timed, textures.at(cfg, r.view.displacement), timing);
+        mf.nsPerPixel = mf.timing.median;
+    }
+    r.timed = {};
+    r.timings.add(Stage::MethodTiming, msSince(t0));
+}
+
+FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
+                                 const TimingSpec& timing) {
+    const Camera camera = makeCamera(scene, view);
+    Image2D<FragmentInputs> inputs;
+    const RasterOptions options = rasterOptions(scene, scene.methods);
+    const Image2D<Fragment> frame =
+        rasterize(drawnBaseMesh(scene.base, camera), camera, options, nullptr, &inputs);
+    // With an engine vertex stage, the triangles (its outputs are read there; no helper lanes).
+    std::vector<HelperLane> noHelpers;
+    return sampleFragments(
+        compactFragments(frame, &inputs, options.barycentrics ? &noHelpers : nullptr),
+        timing.maxFragments, timing.seed);
+}
+
+std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,
+                                               const MethodConfig& cfg, double scale, double bias) {
+    if (!cfg.shader() || !cfg.shader()->vertexStage()) return std::nullopt;
+    const Camera camera = makeCamera(scene, view);
+    return runVertexStage(
+        *cfg.shader(), vertexStageInputs(drawnBaseMesh(scene.base, camera), camera), scale, bias);
+}
+
+}  // namespace pgt
