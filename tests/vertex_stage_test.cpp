@@ -471,6 +471,28 @@ TEST(VertexStage, HlslFieldsAreChecked) {
     e["call"] = "input.UV + input.Extra.xy";
     e["stage_input"] = "PIn input";
     EXPECT_NE(message(e).find("TEXCOORD7"), std::string::npos) << message(e);
+    // A tangent under TEXCOORD1 beside the uv's TEXCOORD0 (as a public sample ships it), bound
+    // by semantics alone; a nointerpolation output; outputs through parameters of an entry
+    // that returns its SV_Position, without "stage_input".
+    std::ofstream(dir / "v.hlsl")
+        << "struct VIn { float3 P : POSITION; float2 UV : TEXCOORD0; float4 T : TEXCOORD1; };\n"
+           "struct VOut { float4 Pos : SV_POSITION; nointerpolation float2 UV : TEXCOORD0; };\n"
+           "VOut main(VIn i) { VOut o; o.Pos = float4(i.P + i.T.xyz, 1.0); o.UV = i.UV;\n"
+           "    return o; }\n"
+           "float4 VS(float3 p : POSITION, out float2 uv : TEXCOORD0) : SV_Position {\n"
+           "    uv = p.xy; return float4(p, 1.0); }\n";
+    std::ofstream(dir / "q.hlsl") << "struct VOut { float4 Pos : SV_POSITION; nointerpolation "
+                                     "float2 UV : TEXCOORD0; };\n";
+    e = hlslVertexEntry("a", 1);
+    e["hlsl"] = (dir / "q.hlsl").string(), e["vertex"] = (dir / "v.hlsl").string();
+    e["sampler"] = "", e["uniforms"] = nlohmann::json::object();
+    e["matrices"] = nlohmann::json::object();
+    e["call"] = "input.UV";
+    EXPECT_NE(message(e).find("TEXCOORD1"), std::string::npos) << message(e);
+    e["attributes"] = {{"POSITION", "position"}, {"TEXCOORD0", "uv"}, {"TEXCOORD1", "tangent"}};
+    EXPECT_NE(message(e).find("nointerpolation"), std::string::npos) << message(e);
+    e["vertex_entry"] = "VS", e.erase("attributes");
+    EXPECT_NE(message(e).find("stage_input"), std::string::npos) << message(e);
     std::filesystem::remove_all(dir);
     e = vertexEntry("a", 1);
     e["vertex_entry"] = "main";
@@ -507,6 +529,16 @@ TEST(VertexStage, FieldsAreChecked) {
     EXPECT_NE(message({{"name", "a"}, {"vertex", "w.vert"}}).find("corner"), std::string::npos);
     EXPECT_NE(message({{"name", "a"}, {"vertex", "v.vert"}, {"attributes", {{"inPos", "place"}}}})
                   .find("attributes.inPos"),
+              std::string::npos);
+    // What pgt would hand on wrongly: a flat output, an array input.
+    std::ofstream(dir / "flat.vert") << "#version 450\nin vec3 inPos;\nflat out vec2 vUV;\n"
+                                        "void main() { vUV = inPos.xy; }\n";
+    std::ofstream(dir / "f.frag") << "#version 450\nflat in vec2 vUV;\n"
+                                     "vec2 F(vec2 uv, vec3 V) { return vUV; }\n";
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "flat.vert"}}).find("flat"), std::string::npos);
+    std::ofstream(dir / "f.frag") << "#version 450\nin vec2 vUV[2];\n"
+                                     "vec2 F(vec2 uv, vec3 V) { return vUV[1]; }\n";
+    EXPECT_NE(message({{"name", "a"}, {"vertex", "flat.vert"}}).find("an array"),
               std::string::npos);
     std::filesystem::remove_all(dir);
 }

@@ -89,15 +89,16 @@ int countLines(const std::string& s) { return int(std::count(s.begin(), s.end(),
 // include result with no name).
 class Includer : public glslang::TShader::Includer {
   public:
-    // `count`: the pixel stage's, whose includes count their fetches (countFetches).
+    // `textures`: the pixel stage's texture names, whose includes count their fetches
+    // (countFetches); null for a vertex stage.
     Includer(std::string top, std::vector<std::string> enums,
              const std::vector<std::pair<std::string, std::string>>& files,
-             const std::vector<std::string>& searchPaths, bool count)
+             const std::vector<std::string>& searchPaths, const std::vector<std::string>* textures)
         : top_(std::move(top)),
           enums_(std::move(enums)),
           files_(files),
           searchPaths_(searchPaths),
-          count_(count) {}
+          textures_(textures) {}
     IncludeResult* includeLocal(const char* requested, const char* from, size_t depth) override {
         return resolve(requested, from, depth);
     }
@@ -134,7 +135,7 @@ class Includer : public glslang::TShader::Includer {
                                                      "HLSL include", kMaxShaderBytes)),
                 enums_));
             if (takePragmaOnce(*content)) once_.insert(name);
-            if (count_) *content = countFetches(*content);
+            if (textures_) *content = countFetches(*content, *textures_);
         } catch (const std::exception& e) {
             *content = e.what();
             name.clear();
@@ -145,7 +146,7 @@ class Includer : public glslang::TShader::Includer {
     std::vector<std::string> enums_;
     const std::vector<std::pair<std::string, std::string>>& files_;
     const std::vector<std::string>& searchPaths_;
-    bool count_ = false;
+    const std::vector<std::string>* textures_ = nullptr;
     std::set<std::string> once_;
 };
 
@@ -273,6 +274,7 @@ struct CompileUnit {
     const std::vector<std::pair<std::string, std::string>>& includeFiles;
     const std::vector<std::string>& enums;
     const std::vector<std::string>& includePaths;
+    const std::vector<std::string>* textures = nullptr;  // where fetches are counted
 };
 
 std::vector<uint32_t> compileInProcess(const CompileUnit& unit, const std::string& preamble,
@@ -297,8 +299,7 @@ std::vector<uint32_t> compileInProcess(const CompileUnit& unit, const std::strin
     // tex2D, tex2Dlod, tex2Dgrad, tex2Dbias, tex2Dproj (Cg and older engines' HLSL).
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules | EShMsgReadHlsl |
                                       EShMsgHlslLegalization | EShMsgHlslDX9Compatible);
-    Includer includer(unit.path, unit.enums, unit.includeFiles, unit.includePaths,
-                      unit.stage == EShLangFragment);
+    Includer includer(unit.path, unit.enums, unit.includeFiles, unit.includePaths, unit.textures);
     glslang::TProgram program;
     bool ok = shader.parse(GetDefaultResources(), 100, false, messages, includer);
     if (ok) {
@@ -417,8 +418,14 @@ void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string&
             const spvc_type type = spvc_compiler_get_type_handle(comp, list[i].type_id);
             const bool floats = spvc_type_get_basetype(type) == SPVC_BASETYPE_FP32 &&
                                 spvc_type_get_num_array_dimensions(type) == 0;
+            const char* interpolation =
+                spvc_compiler_has_decoration(comp, list[i].id, SpvDecorationFlat)
+                    ? "nointerpolation"
+                : spvc_compiler_has_decoration(comp, list[i].id, SpvDecorationNoPerspective)
+                    ? "noperspective"
+                    : "";
             into->push_back({semantic, floats ? int(spvc_type_get_vector_size(type)) : 0,
-                             int(spvc_type_get_columns(type))});
+                             int(spvc_type_get_columns(type)), interpolation});
         }
     }
 }
@@ -500,8 +507,13 @@ struct Translation {
 };
 
 const Translation& translate(const GlslSpec& spec) {
+    const std::string preamble = preambleFor(spec);
+    // The textures the preamble, the file, its includes and a body declare (their Load and
+    // subscripts are counted reads).
+    const std::vector<std::string> textures =
+        textureNames(preamble + "\n" + spec.source + "\n" + spec.included + "\n" + spec.body);
     std::vector<std::string> declared;
-    std::string user = countFetches(blankLineDirectives(spec.source, declared));
+    std::string user = countFetches(blankLineDirectives(spec.source, declared), textures);
     TextLines lines;
     lines.user = countLines(user);
     lines.declared = std::move(declared);
@@ -512,7 +524,7 @@ const Translation& translate(const GlslSpec& spec) {
         text += std::string(kBodyHead) + "    {\n";
         lines.bodyFirst = countLines(text) + 1;
         lines.bodyCount = countLines(spec.body);
-        text += countFetches(spec.body) +
+        text += countFetches(spec.body, textures) +
                 "    }\n    return uv;  // not reached: the body returns\n}\n";
         call = "pgt_body(uv, V)";
     }
@@ -522,10 +534,9 @@ const Translation& translate(const GlslSpec& spec) {
     text += std::string(kEntrySignature) + (spec.engineInputs ? kEngineSignature : "") +
             stageInput + kEntryOpen + (spec.engineInputs ? kEngineAssign : "") + kEntryNames;
     lines.call = countLines(text) + 1;
-    text += countFetches(call) + kEntryTail;
+    text += countFetches(call, textures) + kEntryTail;
     // Translations by everything glslang reads: the preamble, the text, and the includes (found
     // from the file's folder; their text as read with the scene). One per process, as programs.
-    const std::string preamble = preambleFor(spec);
     std::string key = preamble + '\0' + text + '\0' + spec.path + '\0' + spec.included;
     for (const std::string& e : spec.enums) key += '\0' + e;
     static std::mutex mutex;
@@ -539,7 +550,8 @@ const Translation& translate(const GlslSpec& spec) {
         asWrapperPiece(spirvToGlsl(compileToSpirv(CompileUnit{.path = spec.path,
                                                               .includeFiles = spec.includeFiles,
                                                               .enums = spec.enums,
-                                                              .includePaths = spec.includePaths},
+                                                              .includePaths = spec.includePaths,
+                                                              .textures = &textures},
                                                   preamble, text, lines),
                                    spec.path, true, &t.inputs));
     std::lock_guard<std::mutex> lock(mutex);

@@ -28,6 +28,7 @@ std::string semanticKey(std::string s);
 struct HlslVarying {
     std::string semantic;
     int components = 0, columns = 1;
+    std::string interpolation;  // "nointerpolation" or "noperspective" where so qualified
 };
 // The spec's HLSL vertex stage (GlslSpec::VertexStage, `hlsl`) as GLSL 4.50: its entry
 // function's inputs named pgt_in_SEMANTIC, its outputs pgt_out_SEMANTIC (SV_Position is

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <regex>
 #include <utility>
 #include <vector>
+
+#include "methods/shader/conditional_lines.h"
 
 namespace pgt::gl {
 
@@ -13,14 +16,13 @@ namespace {
 struct FetchCall {
     const char* name;
     bool method;   // `.Sample(`, or a function `tex2D(`
-    size_t coord;  // the coordinate's argument (a method's; a DX9 call is wrapped whole)
     size_t plain;  // the argument count without an offset
 };
 constexpr FetchCall kFetchCalls[] = {
-    {"Sample", true, 1, 2},     {"SampleBias", true, 1, 3}, {"SampleLevel", true, 1, 3},
-    {"SampleGrad", true, 1, 4}, {"SampleCmp", true, 1, 3},  {"SampleCmpLevelZero", true, 1, 3},
-    {"Load", true, 0, 1},       {"tex2D", false, 1, 2},     {"tex2Dbias", false, 1, 2},
-    {"tex2Dlod", false, 1, 2},  {"tex2Dgrad", false, 1, 4},
+    {"Sample", true, 2},     {"SampleBias", true, 3}, {"SampleLevel", true, 3},
+    {"SampleGrad", true, 4}, {"SampleCmp", true, 3},  {"SampleCmpLevelZero", true, 3},
+    {"Load", true, 1},       {"tex2D", false, 2},     {"tex2Dbias", false, 2},
+    {"tex2Dlod", false, 2},  {"tex2Dgrad", false, 4}, {"tex2D", false, 4},
 };
 
 // The top-level arguments of the call whose '(' is at `open`: [begin, end) each; empty where
@@ -46,34 +48,101 @@ std::vector<std::pair<size_t, size_t>> callArguments(const std::string& text, si
     return {};
 }
 
-}  // namespace
+bool identChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
-std::string countFetches(const std::string& text) {
-    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    std::vector<std::pair<size_t, const char*>> inserts;  // (position, text)
-    for (const FetchCall& call : kFetchCalls) {
-        const std::string name = call.name;
-        for (size_t at = text.find(name); at != std::string::npos;
-             at = text.find(name, at + name.size())) {
-            const size_t end = at + name.size();
-            if (end < text.size() && identChar(text[end])) continue;
-            if (call.method ? (at == 0 || text[at - 1] != '.')
-                            : (at > 0 && (identChar(text[at - 1]) || text[at - 1] == '.')))
-                continue;
-            size_t open = end;
-            while (open < text.size() && (text[open] == ' ' || text[open] == '\t')) ++open;
-            if (open >= text.size() || text[open] != '(') continue;
-            const auto args = callArguments(text, open);
-            if (args.size() != call.plain) continue;  // an offset form, or unbalanced
-            if (call.method) {
-                inserts.emplace_back(args[call.coord].first, "pgt_counted(");
-                inserts.emplace_back(args[call.coord].second, ")");
-            } else {
-                inserts.emplace_back(at, "pgt_counted(");
-                inserts.emplace_back(args.back().second + 1, ")");
-            }
+// Where the identifier that ends just before `end` begins (`end` where none does).
+size_t identifierStart(const std::string& text, size_t end) {
+    while (end > 0 && identChar(text[end - 1])) --end;
+    return end;
+}
+
+// Where a method's receiver begins, its '.' at `dot`: `heightMap` of `heightMap.Load(`, or
+// `maps[i]` of `maps[i].Load(`.
+size_t receiverStart(const std::string& text, size_t dot) {
+    size_t end = dot;
+    if (end > 0 && text[end - 1] == ']') {
+        int depth = 0;
+        while (end > 0) {
+            const char c = text[--end];
+            if (c == ']') ++depth;
+            if (c == '[' && --depth == 0) break;
         }
     }
+    return identifierStart(text, end);
+}
+
+}  // namespace
+
+std::vector<std::string> textureNames(const std::string& text) {
+    static const std::regex declared(
+        R"(\b(?:RW)?Texture(?:1D|2D|3D|Cube)(?:Array|MS|MSArray)?\s*(?:<[^>;]*>)?\s+([A-Za-z_]\w*))");
+    std::vector<std::string> out;
+    const std::string plain = blankComments(text);
+    for (auto it = std::sregex_iterator(plain.begin(), plain.end(), declared);
+         it != std::sregex_iterator(); ++it)
+        out.push_back((*it)[1]);
+    return out;
+}
+
+std::string countFetches(const std::string& text, const std::vector<std::string>& textures) {
+    // Found in the text with its comments blanked (the same length), so that a commented-out
+    // call is not counted and cannot pull a parenthesis out of a comment.
+    const std::string plain = blankComments(text);
+    auto isTexture = [&](const std::string& name) {
+        return std::find(textures.begin(), textures.end(), name) != textures.end();
+    };
+    std::vector<std::pair<size_t, const char*>> inserts;  // (position, text)
+    auto wrap = [&](size_t begin, size_t end) {
+        inserts.emplace_back(begin, "pgt_counted(");
+        inserts.emplace_back(end, ")");
+    };
+    for (const FetchCall& call : kFetchCalls) {
+        const std::string name = call.name;
+        for (size_t at = plain.find(name); at != std::string::npos;
+             at = plain.find(name, at + name.size())) {
+            const size_t end = at + name.size();
+            if (end < plain.size() && identChar(plain[end])) continue;
+            if (call.method ? (at == 0 || plain[at - 1] != '.')
+                            : (at > 0 && (identChar(plain[at - 1]) || plain[at - 1] == '.')))
+                continue;
+            // Load is also a buffer's: counted on a texture (or an element of an array of them).
+            const bool load = name == "Load";
+            if (load && at > 1 && plain[at - 2] != ']' &&
+                !isTexture(plain.substr(identifierStart(plain, at - 1),
+                                        at - 1 - identifierStart(plain, at - 1))))
+                continue;
+            size_t open = end;
+            while (open < plain.size() && (plain[open] == ' ' || plain[open] == '\t')) ++open;
+            if (open >= plain.size() || plain[open] != '(') continue;
+            const auto args = callArguments(plain, open);
+            if (args.size() != call.plain) continue;  // an offset form, or unbalanced
+            // The whole call: glslang evaluates some coordinates once per part it splits off.
+            wrap(call.method ? receiverStart(plain, at - 1) : at, args.back().second + 1);
+        }
+    }
+    // A texture's subscript, `T[p]` and `T.mips[l][p]`: a texelFetch in the translation.
+    for (const std::string& name : textures)
+        for (size_t at = plain.find(name); at != std::string::npos;
+             at = plain.find(name, at + name.size())) {
+            size_t i = at + name.size();
+            if ((at > 0 && (identChar(plain[at - 1]) || plain[at - 1] == '.')) ||
+                (i < plain.size() && identChar(plain[i])))
+                continue;
+            while (i < plain.size() && plain[i] == ' ') ++i;
+            if (plain.compare(i, 5, ".mips") == 0) {
+                i += 5;
+                while (i < plain.size() && plain[i] == ' ') ++i;
+                if (i >= plain.size() || plain[i] != '[') continue;
+                const auto level = callArguments(plain, i);
+                if (level.size() != 1) continue;
+                i = level[0].second + 1;
+                while (i < plain.size() && plain[i] == ' ') ++i;
+            }
+            if (i >= plain.size() || plain[i] != '[') continue;
+            // Wrapped whole: glslang evaluates a subscript's index more than once.
+            const auto index = callArguments(plain, i);
+            if (index.size() == 1) wrap(at, index[0].second + 1);
+        }
     // From the end, so that the earlier positions hold.
     std::stable_sort(inserts.begin(), inserts.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });

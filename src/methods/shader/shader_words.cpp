@@ -304,8 +304,8 @@ std::vector<StageVariable> stageVariables(const std::string& t, const std::strin
             const std::string inst =
                 close + 1 < w.size() && w[close + 1].ident ? wordText(t, w[close + 1]) : "";
             for (const auto& [type, member] : blockMembers(t, w, d.end))
-                out.push_back(
-                    {inst.empty() ? member : inst + "." + member, type, -1, block, member});
+                out.push_back({inst.empty() ? member : inst + "." + member, type, -1, block, member,
+                               false, ""});
             continue;
         }
         if (d.block) continue;
@@ -315,7 +315,17 @@ std::vector<StageVariable> stageVariables(const std::string& t, const std::strin
         StageVariable v;
         v.type = wordText(t, w[d.end - 2]);
         v.name = wordText(t, w[d.end - 1]);
-        if (!w[d.end - 1].ident || !w[d.end - 2].ident) continue;  // arrays: not handled
+        if (!w[d.end - 1].ident || !w[d.end - 2].ident) {  // an array: `T name[N]`
+            size_t open = d.end;
+            while (open > d.stage && !is(t, w[open - 1], "[")) --open;
+            if (open < d.stage + 3 || !w[open - 2].ident || !w[open - 3].ident) continue;
+            v.type = wordText(t, w[open - 3]);
+            v.name = wordText(t, w[open - 2]);
+            v.array = true;
+        }
+        for (size_t j = d.k; j < d.stage; ++j)
+            if (is(t, w[j], "flat") || is(t, w[j], "noperspective"))
+                v.interpolation = wordText(t, w[j]);
         for (size_t l : d.layouts) {
             const size_t close = closing(t, w, l + 1);
             for (size_t j = l + 2; j + 2 < close; ++j)

@@ -49,9 +49,11 @@ struct StageVariable {
     // the member's; `name` is then how the file reads it ("vs_out.uv", or "uv" without an
     // instance name).
     std::string block, member;
+    bool array = false;         // `T name[N]` (type and name without the brackets)
+    std::string interpolation;  // "flat" or "noperspective" where so qualified, else ""
 };
 // The file's global stage variables of `qualifier` ("in": also legacy `varying` and
-// `attribute`; "out"), in order, an interface block's members each; arrays are left out.
+// `attribute`; "out"), in order, an interface block's members each.
 std::vector<StageVariable> stageVariables(const std::string& text, const std::string& qualifier);
 // The types of each function named `name` that `text` defines or declares (`T name(`, T a
 // word other than a statement's keyword).

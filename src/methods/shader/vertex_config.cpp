@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <regex>
 
 #include "core/error.h"
 #include "core/json_read.h"
@@ -46,6 +47,19 @@ std::string conventionalAttribute(const std::string& name) {
     return "";
 }
 
+// Attributes bound by their names alone must each take other data: two that would take the
+// same (a tangent under TEXCOORD1 beside the uv's TEXCOORD0) are refused, to be bound by hand.
+void refuseSharedDefaults(JsonFields& f,
+                          const std::vector<std::pair<std::string, std::string>>& attributes) {
+    for (size_t i = 0; i < attributes.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (attributes[i].second == attributes[j].second)
+                f.fail("attributes", "the vertex shader's attributes " + attributes[j].first +
+                                         " and " + attributes[i].first + " would both take " +
+                                         attributes[i].second +
+                                         " by their names: bind them in \"attributes\"");
+}
+
 // An object field of names mapped to one of `allowed`, in the entry's order.
 std::vector<std::pair<std::string, std::string>> namedChoices(
     JsonFields& f, const std::string& key, const std::vector<std::string>& allowed) {
@@ -81,6 +95,18 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
         const std::string what =
             "the fragment code's input " + in.type + " " + in.name +
             (in.location >= 0 ? " (location " + std::to_string(in.location) + ")" : "");
+        // What pgt would hand on wrongly, refused: an array, an interpolation not a GPU's
+        // perspective-correct default.
+        if (in.array)
+            f.fail("vertex", what +
+                                 ": an array; pgt passes float, vec2-vec4 and mat2-mat4 "
+                                 "outputs");
+        if (!in.interpolation.empty() || (match != outs.end() && !match->interpolation.empty()))
+            f.fail("vertex",
+                   what + ": " +
+                       (in.interpolation.empty() ? match->interpolation : in.interpolation) +
+                       " interpolation is not handed on yet (pgt interpolates "
+                       "perspective-correctly)");
         if (match == outs.end())
             f.fail("vertex", what + " has no output of that " +
                                  (in.location >= 0 ? "location" : "name") + " in " + v.path);
@@ -113,10 +139,13 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
     const std::vector<std::string> types = functionTypes(v.source + "\n" + included, v.entry);
     if (types.empty())
         f.fail("vertex_entry", "the vertex file " + v.path + " defines no function " + v.entry);
-    if (types[0] == "void" && !f.has("stage_input"))
-        f.fail("stage_input", "the vertex entry " + v.entry +
-                                  " returns its outputs through parameters: declare the pixel "
-                                  "stage's as its main does (\"float2 uv : TEXCOORD0, ...\")");
+    // The default, the vertex entry's struct; where it returns anything else (void, an
+    // SV_Position), its outputs are parameters, which the pixel stage declares as its main does.
+    if (!f.has("stage_input") && !std::regex_search(v.source + "\n" + included,
+                                                    std::regex("\\bstruct\\s+" + types[0] + "\\b")))
+        f.fail("stage_input", "the vertex entry " + v.entry + " returns " + types[0] +
+                                  ", not a struct of its outputs: declare the pixel stage's "
+                                  "inputs as its main does (\"float2 tex : TEXCOORD0, ...\")");
     v.stageInput = f.string("stage_input", types[0] + " input");
     v.rowVectors = f.choice("vectors", {"column", "row"}, "column") == "row";
     spec.vertex = {v};
@@ -135,6 +164,7 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
                                          "\"attributes\"");
             out.attributes.emplace_back(a.semantic, what);
         }
+        refuseSharedDefaults(f, out.attributes);
     }
     for (const gl::HlslVarying& in : gl::hlslPixelInputs(spec)) {
         const auto o = std::find_if(vs.outputs.begin(), vs.outputs.end(),
@@ -142,10 +172,17 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
         const std::string what = "the pixel stage's input of semantic " + in.semantic;
         if (o == vs.outputs.end())
             f.fail("vertex", what + " has no output of that semantic in " + v.path);
-        if (in.components == 0 || o->components != in.components || o->columns != in.columns)
+        if (!in.interpolation.empty() || !o->interpolation.empty())
+            f.fail("vertex", what + ": " +
+                                 (in.interpolation.empty() ? o->interpolation : in.interpolation) +
+                                 " interpolation is not handed on yet (pgt interpolates "
+                                 "perspective-correctly)");
+        if (in.components == 0 || o->components != in.components || o->columns != in.columns ||
+            (in.columns > 1 && in.columns != in.components))
             f.fail("vertex", what +
                                  " and the vertex output of that semantic: pgt passes float, "
-                                 "float2-float4 and float2x2-float4x4 outputs of one type");
+                                 "float2-float4 and float2x2, float3x3, float4x4 outputs of one "
+                                 "type");
         out.links.push_back(
             {"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components, in.columns});
     }
@@ -177,6 +214,7 @@ void readVertexStage(JsonFields& f, GlslSpec& spec, const std::string& file,
                                          "bitangent or uv: bind it in \"attributes\"");
             v.attributes.emplace_back(a.name, what);
         }
+        refuseSharedDefaults(f, v.attributes);
     }
     spec.vertex = {std::move(v)};
     linkStages(f, spec);

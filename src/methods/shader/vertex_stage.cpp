@@ -237,6 +237,7 @@ VertexOutputs runVertexStage(const GlslSpec& spec, const VertexStageInputs& in, 
         }
     }
     o.indices = in.indices;
+    if (v->links.empty()) return o;  // the fragment code reads none of its outputs
     onGlThread([&] {
         std::lock_guard<std::mutex> lock(gMutex);
         ensureContext();
