@@ -71,6 +71,36 @@ size_t receiverStart(const std::string& text, size_t dot) {
     return identifierStart(text, end);
 }
 
+// Each read by a texture's subscript, `T[p]` and `T.mips[l][p]` (a texelFetch in the
+// translation), in `plain` (comments blanked): [begin, end) of the whole expression (glslang
+// evaluates a subscript's index more than once).
+std::vector<std::pair<size_t, size_t>> subscriptReads(const std::string& plain,
+                                                      const std::vector<std::string>& textures) {
+    std::vector<std::pair<size_t, size_t>> out;
+    for (const std::string& name : textures)
+        for (size_t at = plain.find(name); at != std::string::npos;
+             at = plain.find(name, at + name.size())) {
+            size_t i = at + name.size();
+            if ((at > 0 && (identChar(plain[at - 1]) || plain[at - 1] == '.')) ||
+                (i < plain.size() && identChar(plain[i])))
+                continue;
+            while (i < plain.size() && plain[i] == ' ') ++i;
+            if (plain.compare(i, 5, ".mips") == 0) {
+                i += 5;
+                while (i < plain.size() && plain[i] == ' ') ++i;
+                if (i >= plain.size() || plain[i] != '[') continue;
+                const auto level = callArguments(plain, i);
+                if (level.size() != 1) continue;
+                i = level[0].second + 1;
+                while (i < plain.size() && plain[i] == ' ') ++i;
+            }
+            if (i >= plain.size() || plain[i] != '[') continue;
+            const auto index = callArguments(plain, i);
+            if (index.size() == 1) out.emplace_back(at, index[0].second + 1);
+        }
+    return out;
+}
+
 }  // namespace
 
 std::vector<std::string> textureNames(const std::string& text) {
@@ -120,29 +150,7 @@ std::string countFetches(const std::string& text, const std::vector<std::string>
             wrap(call.method ? receiverStart(plain, at - 1) : at, args.back().second + 1);
         }
     }
-    // A texture's subscript, `T[p]` and `T.mips[l][p]`: a texelFetch in the translation.
-    for (const std::string& name : textures)
-        for (size_t at = plain.find(name); at != std::string::npos;
-             at = plain.find(name, at + name.size())) {
-            size_t i = at + name.size();
-            if ((at > 0 && (identChar(plain[at - 1]) || plain[at - 1] == '.')) ||
-                (i < plain.size() && identChar(plain[i])))
-                continue;
-            while (i < plain.size() && plain[i] == ' ') ++i;
-            if (plain.compare(i, 5, ".mips") == 0) {
-                i += 5;
-                while (i < plain.size() && plain[i] == ' ') ++i;
-                if (i >= plain.size() || plain[i] != '[') continue;
-                const auto level = callArguments(plain, i);
-                if (level.size() != 1) continue;
-                i = level[0].second + 1;
-                while (i < plain.size() && plain[i] == ' ') ++i;
-            }
-            if (i >= plain.size() || plain[i] != '[') continue;
-            // Wrapped whole: glslang evaluates a subscript's index more than once.
-            const auto index = callArguments(plain, i);
-            if (index.size() == 1) wrap(at, index[0].second + 1);
-        }
+    for (const auto& [begin, end] : subscriptReads(plain, textures)) wrap(begin, end);
     // From the end, so that the earlier positions hold.
     std::stable_sort(inserts.begin(), inserts.end(),
                      [](const auto& a, const auto& b) { return a.first > b.first; });

@@ -121,6 +121,31 @@ void linkStages(JsonFields& f, GlslSpec& spec) {
     }
 }
 
+// Each pixel input the call reads and the vertex output of its semantic (as D3D links them).
+void linkHlslStages(JsonFields& f, GlslSpec& spec, const std::vector<gl::HlslVarying>& outputs) {
+    GlslSpec::VertexStage& out = spec.vertex[0];
+    for (const gl::HlslVarying& in : gl::hlslPixelInputs(spec)) {
+        const auto o = std::find_if(outputs.begin(), outputs.end(),
+                                    [&](const auto& x) { return x.semantic == in.semantic; });
+        const std::string what = "the pixel stage's input of semantic " + in.semantic;
+        if (o == outputs.end())
+            f.fail("vertex", what + " has no output of that semantic in " + out.path);
+        if (!in.interpolation.empty() || !o->interpolation.empty())
+            f.fail("vertex", what + ": " +
+                                 (in.interpolation.empty() ? o->interpolation : in.interpolation) +
+                                 " interpolation is not handed on yet (pgt interpolates "
+                                 "perspective-correctly)");
+        if (in.components == 0 || o->components != in.components || o->columns != in.columns ||
+            (in.columns > 1 && in.columns != in.components))
+            f.fail("vertex", what +
+                                 " and the vertex output of that semantic: pgt passes float, "
+                                 "float2-float4 and float2x2, float3x3, float4x4 outputs of one "
+                                 "type");
+        out.links.push_back(
+            {"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components, in.columns});
+    }
+}
+
 // An HLSL vertex stage (the entry's language): its file read as an HLSL fragment file is (its
 // includes served to glslang, enums made constants), its entry and the pixel stage's input,
 // then both stages translated (the scene's errors come now, naming the vertex file) and linked
@@ -166,26 +191,7 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
         }
         refuseSharedDefaults(f, out.attributes);
     }
-    for (const gl::HlslVarying& in : gl::hlslPixelInputs(spec)) {
-        const auto o = std::find_if(vs.outputs.begin(), vs.outputs.end(),
-                                    [&](const auto& x) { return x.semantic == in.semantic; });
-        const std::string what = "the pixel stage's input of semantic " + in.semantic;
-        if (o == vs.outputs.end())
-            f.fail("vertex", what + " has no output of that semantic in " + v.path);
-        if (!in.interpolation.empty() || !o->interpolation.empty())
-            f.fail("vertex", what + ": " +
-                                 (in.interpolation.empty() ? o->interpolation : in.interpolation) +
-                                 " interpolation is not handed on yet (pgt interpolates "
-                                 "perspective-correctly)");
-        if (in.components == 0 || o->components != in.components || o->columns != in.columns ||
-            (in.columns > 1 && in.columns != in.components))
-            f.fail("vertex", what +
-                                 " and the vertex output of that semantic: pgt passes float, "
-                                 "float2-float4 and float2x2, float3x3, float4x4 outputs of one "
-                                 "type");
-        out.links.push_back(
-            {"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components, in.columns});
-    }
+    linkHlslStages(f, spec, vs.outputs);
 }
 
 }  // namespace
