@@ -26,22 +26,27 @@ std::string data(const std::string& rel) { return test::testDataDir() + "/" + re
 
 // tests/data/glsl/tangent_space.{vert,frag} with the bitangent's `handedness` 0 (as public
 // samples ship: w ignored) or 1.
+// The pair's matrices and uniforms, named alike in its GLSL and HLSL files.
+nlohmann::json withTangentSpaceBindings(nlohmann::json entry, double handedness) {
+    entry["sampler"] = "heightMap";
+    entry["matrices"] = {{"ubo.projection", "projection"},
+                         {"ubo.view", "view"},
+                         {"ubo.model", "model"},
+                         {"ubo.cameraPos", "camera_position"}};
+    entry["uniforms"] = {{"params.heightScale", "scale"},
+                         {"params.heightBias", "bias"},
+                         {"options.handedness", handedness}};
+    return entry;
+}
+
 nlohmann::json vertexEntry(const std::string& name, double handedness) {
-    return {{"name", name},
-            {"glsl", data("glsl/tangent_space.frag")},
-            {"vertex", data("glsl/tangent_space.vert")},
-            {"sampler", "heightMap"},
-            {"api", "d3d"},
-            {"call", "offsetParallax(inUV, normalize(inTangentViewPos - inTangentFragPos))"},
-            {"matrices",
-             {{"ubo.projection", "projection"},
-              {"ubo.view", "view"},
-              {"ubo.model", "model"},
-              {"ubo.cameraPos", "camera_position"}}},
-            {"uniforms",
-             {{"params.heightScale", "scale"},
-              {"params.heightBias", "bias"},
-              {"options.handedness", handedness}}}};
+    return withTangentSpaceBindings(
+        {{"name", name},
+         {"glsl", data("glsl/tangent_space.frag")},
+         {"vertex", data("glsl/tangent_space.vert")},
+         {"api", "d3d"},
+         {"call", "offsetParallax(inUV, normalize(inTangentViewPos - inTangentFragPos))"}},
+        handedness);
 }
 
 // pgt's own parallax fed the per-pixel V of the base's frame.
@@ -251,21 +256,13 @@ TEST(VertexStage, ItIsTimedInAFrameAndInAStudy) {
 // with semantics, a cbuffer's matrices applied as mul(M, v), the pixel stage's input struct
 // read by the call as `input`.
 nlohmann::json hlslVertexEntry(const std::string& name, double handedness) {
-    return {{"name", name},
-            {"hlsl", data("hlsl/tangent_space.ps.hlsl")},
-            {"vertex", data("hlsl/tangent_space.vs.hlsl")},
-            {"sampler", "heightMap"},
-            {"call",
-             "offsetParallax(input.UV, normalize(input.TangentViewPos - input.TangentFragPos))"},
-            {"matrices",
-             {{"ubo.projection", "projection"},
-              {"ubo.view", "view"},
-              {"ubo.model", "model"},
-              {"ubo.cameraPos", "camera_position"}}},
-            {"uniforms",
-             {{"params.heightScale", "scale"},
-              {"params.heightBias", "bias"},
-              {"options.handedness", handedness}}}};
+    return withTangentSpaceBindings(
+        {{"name", name},
+         {"hlsl", data("hlsl/tangent_space.ps.hlsl")},
+         {"vertex", data("hlsl/tangent_space.vs.hlsl")},
+         {"call",
+          "offsetParallax(input.UV, normalize(input.TangentViewPos - input.TangentFragPos))"}},
+        handedness);
 }
 
 // The HLSL pair (glslang's HLSL front end, SPIRV-Cross, semantics linking the stages) gives
@@ -493,6 +490,19 @@ TEST(VertexStage, HlslFieldsAreChecked) {
     EXPECT_NE(message(e).find("nointerpolation"), std::string::npos) << message(e);
     e["vertex_entry"] = "VS", e.erase("attributes");
     EXPECT_NE(message(e).find("stage_input"), std::string::npos) << message(e);
+    // A 300,000-space run where pgt looks for the struct and the textures (a scan that
+    // recursed per character overflowed the stack): read, no crash.
+    std::ofstream(dir / "long.hlsl")
+        << "struct" << std::string(300000, ' ')
+        << "VOut { float4 Pos : SV_POSITION; float2 UV : TEXCOORD0; };\nTexture2D"
+        << std::string(300000, ' ')
+        << "unused;\n"
+           "VOut main(float3 p : POSITION, float2 uv : TEXCOORD0) {\n"
+           "    VOut o; o.Pos = float4(p, 1.0); o.UV = uv; return o; }\n";
+    std::ofstream(dir / "q.hlsl") << "struct VOut { float4 Pos : SV_POSITION; float2 UV : "
+                                     "TEXCOORD0; };\n";
+    e["vertex"] = (dir / "long.hlsl").string(), e["vertex_entry"] = "main";
+    EXPECT_EQ(message(e), "no error");
     std::filesystem::remove_all(dir);
     e = vertexEntry("a", 1);
     e["vertex_entry"] = "main";

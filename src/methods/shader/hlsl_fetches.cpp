@@ -3,7 +3,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <regex>
+#include <cstring>
+#include <iterator>
 #include <utility>
 #include <vector>
 
@@ -104,13 +105,40 @@ std::vector<std::pair<size_t, size_t>> subscriptReads(const std::string& plain,
 }  // namespace
 
 std::vector<std::string> textureNames(const std::string& text) {
-    static const std::regex declared(
-        R"(\b(?:RW)?Texture(?:1D|2D|3D|Cube)(?:Array|MS|MSArray)?\s*(?:<[^>;]*>)?\s+([A-Za-z_]\w*))");
-    std::vector<std::string> out;
+    // Scanned by hand, not with std::regex, whose backtracking recurses once per character of
+    // a long run (a hostile file's 300,000 spaces overflowed the stack).
     const std::string plain = blankComments(text);
-    for (auto it = std::sregex_iterator(plain.begin(), plain.end(), declared);
-         it != std::sregex_iterator(); ++it)
-        out.push_back((*it)[1]);
+    static const char* kShapes[] = {"1D", "2D", "3D", "Cube"};
+    static const char* kKinds[] = {"MSArray", "Array", "MS", ""};
+    std::vector<std::string> out;
+    for (size_t at = plain.find("Texture"); at != std::string::npos;
+         at = plain.find("Texture", at + 7)) {
+        size_t start = at >= 2 && plain.compare(at - 2, 2, "RW") == 0 ? at - 2 : at;
+        if (start > 0 && identChar(plain[start - 1])) continue;
+        size_t i = at + 7;
+        const char* const* shape =
+            std::find_if(std::begin(kShapes), std::end(kShapes),
+                         [&](const char* x) { return plain.compare(i, std::strlen(x), x) == 0; });
+        if (shape == std::end(kShapes)) continue;
+        i += std::strlen(*shape);
+        for (const char* kind : kKinds)
+            if (plain.compare(i, std::strlen(kind), kind) == 0) {
+                i += std::strlen(kind);
+                break;
+            }
+        if (i < plain.size() && identChar(plain[i])) continue;  // a longer word
+        while (i < plain.size() && std::isspace(static_cast<unsigned char>(plain[i]))) ++i;
+        if (i < plain.size() && plain[i] == '<') {  // Texture2D<float4>
+            const size_t close = plain.find_first_of(">;", i);
+            if (close == std::string::npos || plain[close] != '>') continue;
+            i = close + 1;
+            while (i < plain.size() && std::isspace(static_cast<unsigned char>(plain[i]))) ++i;
+        }
+        size_t e = i;
+        while (e < plain.size() && identChar(plain[e])) ++e;
+        if (e > i && !std::isdigit(static_cast<unsigned char>(plain[i])))
+            out.push_back(plain.substr(i, e - i));
+    }
     return out;
 }
 

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <regex>
 
 #include "core/error.h"
 #include "core/json_read.h"
@@ -45,6 +44,24 @@ std::string conventionalAttribute(const std::string& name) {
     if (n.find("tang") != std::string::npos) return "tangent";
     if (n.find("uv") != std::string::npos || n.find("texcoord") != std::string::npos) return "uv";
     return "";
+}
+
+// Whether `text` declares `struct NAME` (found by hand: std::regex recurses per character of
+// a long whitespace run, which a hostile file overflows the stack with).
+bool declaresStruct(const std::string& text, const std::string& name) {
+    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+    for (size_t at = text.find("struct"); at != std::string::npos;
+         at = text.find("struct", at + 6)) {
+        if ((at > 0 && identChar(text[at - 1])) ||
+            (at + 6 < text.size() && identChar(text[at + 6])))
+            continue;
+        size_t i = at + 6;
+        while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+        if (text.compare(i, name.size(), name) == 0 &&
+            (i + name.size() == text.size() || !identChar(text[i + name.size()])))
+            return true;
+    }
+    return false;
 }
 
 // Attributes bound by their names alone must each take other data: two that would take the
@@ -166,8 +183,7 @@ void readHlslVertexStage(JsonFields& f, GlslSpec& spec, GlslSpec::VertexStage& v
         f.fail("vertex_entry", "the vertex file " + v.path + " defines no function " + v.entry);
     // The default, the vertex entry's struct; where it returns anything else (void, an
     // SV_Position), its outputs are parameters, which the pixel stage declares as its main does.
-    if (!f.has("stage_input") && !std::regex_search(v.source + "\n" + included,
-                                                    std::regex("\\bstruct\\s+" + types[0] + "\\b")))
+    if (!f.has("stage_input") && !declaresStruct(v.source + "\n" + included, types[0]))
         f.fail("stage_input", "the vertex entry " + v.entry + " returns " + types[0] +
                                   ", not a struct of its outputs: declare the pixel stage's "
                                   "inputs as its main does (\"float2 tex : TEXCOORD0, ...\")");
