@@ -11,7 +11,7 @@ cmake --build build-asan -j2
 # still check them.
 # Leaks inside Debian's libraries are suppressed by name (.ci/lsan.supp says which and why).
 export LSAN_OPTIONS="suppressions=$PWD/.ci/lsan.supp:print_suppressions=0"
-gl_tests='^Gl\.|UserGlsl|^hostile\.(gl_|shader_bounds|shader_text|orphans|python_cancel)|^OwnShader\.|^EngineFiles\.|^StorageFormat\.|^EngineInputs\.|HlslMethod|OnlyWhatReachesTheShader|GlslUniforms'
+gl_tests='^Gl\.|UserGlsl|^hostile\.(gl_|shader_bounds|shader_text|orphans|python_cancel)|^OwnShader\.|^EngineFiles\.|^StorageFormat\.|^EngineInputs\.|HlslMethod|OnlyWhatReachesTheShader|GlslUniforms|^GlQuads\.|^VertexStage\.'
 ctest --test-dir build-asan --output-on-failure -j2 --timeout 900 -E "$gl_tests"
 ASAN_OPTIONS=detect_leaks=0 ctest --test-dir build-asan --output-on-failure -j2 --timeout 900 \
   -R "$gl_tests"
