@@ -408,10 +408,9 @@ void nameStageVariables(spvc_compiler comp, spvc_context ctx, const std::string&
                                                                   SpvDecorationHlslSemanticGOOGLE);
             const std::string semantic = semanticKey(raw ? raw : "");
             const auto mine = own.find(semantic);
-            const std::string name = !in && pixel ? "pgt_hlsl_out"
-                                     : in && mine != own.end()
-                                         ? mine->second
-                                         : (in ? "pgt_in_" : "pgt_out_") + semantic;
+            const std::string name = !in && pixel              ? "pgt_hlsl_out"
+                                     : in && mine != own.end() ? mine->second
+                                                               : hlslStageName(in, semantic);
             spvc_compiler_set_name(comp, list[i].id, name.c_str());
             std::vector<HlslVarying>* into = in ? inputs : outputs;
             if (!into || (in && mine != own.end())) continue;

@@ -22,6 +22,11 @@ std::string hlslToGlsl(const GlslSpec& spec);
 
 // A semantic as D3D matches it: upper case, with its index (POSITION is POSITION0).
 std::string semanticKey(std::string s);
+// What a translation names the stage variable of semantic `semantic` (semanticKey's form) that
+// is not one of pgt's own: pgt_in_SEMANTIC or pgt_out_SEMANTIC.
+inline std::string hlslStageName(bool input, const std::string& semantic) {
+    return (input ? "pgt_in_" : "pgt_out_") + semantic;
+}
 // A stage variable of an HLSL stage: its semantic as D3D matches it (upper case, with its
 // index: POSITION0), its floats per column (1-4; 0 for any other type) and columns (a matrix's
 // as its translation holds it, else 1).

@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
-#include <iterator>
 #include <utility>
 #include <vector>
 
 #include "methods/shader/conditional_lines.h"
+#include "methods/shader/shader_words.h"
 
 namespace pgt::gl {
 
@@ -105,39 +105,29 @@ std::vector<std::pair<size_t, size_t>> subscriptReads(const std::string& plain,
 }  // namespace
 
 std::vector<std::string> textureNames(const std::string& text) {
-    // Scanned by hand, not with std::regex, whose backtracking recurses once per character of
-    // a long run (a hostile file's 300,000 spaces overflowed the stack).
-    const std::string plain = blankComments(text);
-    static const char* kShapes[] = {"1D", "2D", "3D", "Cube"};
-    static const char* kKinds[] = {"MSArray", "Array", "MS", ""};
-    std::vector<std::string> out;
-    for (size_t at = plain.find("Texture"); at != std::string::npos;
-         at = plain.find("Texture", at + 7)) {
-        size_t start = at >= 2 && plain.compare(at - 2, 2, "RW") == 0 ? at - 2 : at;
-        if (start > 0 && identChar(plain[start - 1])) continue;
-        size_t i = at + 7;
-        const char* const* shape =
-            std::find_if(std::begin(kShapes), std::end(kShapes),
-                         [&](const char* x) { return plain.compare(i, std::strlen(x), x) == 0; });
-        if (shape == std::end(kShapes)) continue;
-        i += std::strlen(*shape);
-        for (const char* kind : kKinds)
-            if (plain.compare(i, std::strlen(kind), kind) == 0) {
-                i += std::strlen(kind);
-                break;
+    // A texture type's word (RWTexture2DArray, TextureCube, ...), an optional template argument
+    // list, then the name (shader_words.h: one pass, comments skipped).
+    auto isTextureType = [](const std::string& w) {
+        const std::string t = w.rfind("RW", 0) == 0 ? w.substr(2) : w;
+        if (t.rfind("Texture", 0) != 0) return false;
+        std::string rest = t.substr(7);
+        for (const char* shape : {"1D", "2D", "3D", "Cube"})
+            if (rest.rfind(shape, 0) == 0) {
+                rest = rest.substr(std::strlen(shape));
+                return rest.empty() || rest == "Array" || rest == "MS" || rest == "MSArray";
             }
-        if (i < plain.size() && identChar(plain[i])) continue;  // a longer word
-        while (i < plain.size() && std::isspace(static_cast<unsigned char>(plain[i]))) ++i;
-        if (i < plain.size() && plain[i] == '<') {  // Texture2D<float4>
-            const size_t close = plain.find_first_of(">;", i);
-            if (close == std::string::npos || plain[close] != '>') continue;
-            i = close + 1;
-            while (i < plain.size() && std::isspace(static_cast<unsigned char>(plain[i]))) ++i;
+        return false;
+    };
+    const std::vector<ShaderWord> w = shaderWords(text);
+    std::vector<std::string> out;
+    for (size_t k = 0; k < w.size(); ++k) {
+        if (!w[k].ident || !isTextureType(wordText(text, w[k]))) continue;
+        size_t n = k + 1;
+        if (n < w.size() && wordText(text, w[n]) == "<") {  // Texture2D<float4>
+            while (n < w.size() && wordText(text, w[n]) != ">") ++n;
+            ++n;
         }
-        size_t e = i;
-        while (e < plain.size() && identChar(plain[e])) ++e;
-        if (e > i && !std::isdigit(static_cast<unsigned char>(plain[i])))
-            out.push_back(plain.substr(i, e - i));
+        if (n < w.size() && w[n].ident) out.push_back(wordText(text, w[n]));
     }
     return out;
 }

@@ -46,21 +46,11 @@ std::string conventionalAttribute(const std::string& name) {
     return "";
 }
 
-// Whether `text` declares `struct NAME` (found by hand: std::regex recurses per character of
-// a long whitespace run, which a hostile file overflows the stack with).
+// Whether `text` declares `struct NAME` (shader_words.h: one pass, comments skipped).
 bool declaresStruct(const std::string& text, const std::string& name) {
-    auto identChar = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
-    for (size_t at = text.find("struct"); at != std::string::npos;
-         at = text.find("struct", at + 6)) {
-        if ((at > 0 && identChar(text[at - 1])) ||
-            (at + 6 < text.size() && identChar(text[at + 6])))
-            continue;
-        size_t i = at + 6;
-        while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
-        if (text.compare(i, name.size(), name) == 0 &&
-            (i + name.size() == text.size() || !identChar(text[i + name.size()])))
-            return true;
-    }
+    const std::vector<ShaderWord> w = shaderWords(text);
+    for (size_t k = 0; k + 1 < w.size(); ++k)
+        if (wordText(text, w[k]) == "struct" && wordText(text, w[k + 1]) == name) return true;
     return false;
 }
 
@@ -158,8 +148,8 @@ void linkHlslStages(JsonFields& f, GlslSpec& spec, const std::vector<gl::HlslVar
                                  " and the vertex output of that semantic: pgt passes float, "
                                  "float2-float4 and float2x2, float3x3, float4x4 outputs of one "
                                  "type");
-        out.links.push_back(
-            {"pgt_out_" + in.semantic, "pgt_in_" + in.semantic, in.components, in.columns});
+        out.links.push_back({gl::hlslStageName(false, in.semantic),
+                             gl::hlslStageName(true, in.semantic), in.components, in.columns});
     }
 }
 

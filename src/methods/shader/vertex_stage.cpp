@@ -183,8 +183,8 @@ std::vector<float> capture(GLuint prog, const GlslSpec::VertexStage& v, const Ve
     std::vector<GLuint> buffers;
     for (const auto& [name, what] : v.attributes) {
         // (HLSL: by semantic, as its translation names the input.)
-        const GLint loc =
-            glGetAttribLocation(prog, (v.hlsl ? "pgt_in_" + gl::semanticKey(name) : name).c_str());
+        const GLint loc = glGetAttribLocation(
+            prog, (v.hlsl ? gl::hlslStageName(true, gl::semanticKey(name)) : name).c_str());
         if (loc < 0)
             throw InputError(v.path, "attributes." + name, what,
                              "is not an active attribute of the vertex shader");
