@@ -284,7 +284,8 @@ TEST(Shadows, AWindowedTruthCastsTheShadowsOfTheWholePlane) {
     const RenderResult r = renderFrame(sc, {.timingRepeats = 0});
     const Camera cam = makeCamera(sc);
     TruthSurface whole(map, *sc.plane(), sc.displacement, sc.truth.rate, TruthGeometry::Grid);
-    const Image2D<TruthSample> all = whole.traceFrame(cam);
+    const Image2D<TruthSample> all =
+        whole.traceFrame(cam, TraceMode::Coherent, lightToward(sc.view()));
     int compared = 0, differ = 0, dark = 0;
     for (size_t k = 0; k < all.size(); ++k) {
         if (!all.data[k].hit || !r.truth.data[k].hit) continue;

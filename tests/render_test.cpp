@@ -257,7 +257,7 @@ TEST(Render, AFinelyTiledPlaneCountsOnlyTheWindowItBuilds) {
                                "tiled.json");
     const double bytes = estimateViewBytes(s, 48, 48, {.configs = &s.methods});
     EXPECT_LT(bytes, 512.0 * 1024 * 1024);
-    EXPECT_LT(truthVertices(s, makeCamera(s)), 2e7);
+    EXPECT_LT(truthVertices(s, makeCamera(s), lightToward(s.view())), 2e7);
     const RenderResult r = renderFrame(s, {.timingRepeats = 0});
     int64_t hits = 0;
     for (const TruthSample& t : r.truth.data) hits += t.hit;

@@ -146,7 +146,7 @@ TEST(TruthPerf, ViewWindowTracesLikeTheWholePlane) {
     s.camera.width = s.camera.height = 64;
     s.camera.target = Vec3d(0.45, 0.3, 0);  // across the tile's corner: the window unwraps
     Camera cam = makeCamera(s);
-    TruthWindow w = viewWindow(plane, t, disp, cam);
+    TruthWindow w = viewWindow(plane, t, disp, cam, std::nullopt);
     ASSERT_TRUE(w.limited);
     EXPECT_LT((w.uvMax.x - w.uvMin.x) * (w.uvMax.y - w.uvMin.y), 0.25);
     auto windowed = tessellatePlane(t, plane, 2, w);

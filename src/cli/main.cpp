@@ -31,7 +31,7 @@ namespace {
 const pgt::Clock::time_point kProcessStart = pgt::Clock::now();
 
 void printSummary(const pgt::RenderResult& r) {
-    const bool lit = r.camera.light().has_value();
+    const bool lit = r.view.light.has_value();
     std::printf("%-20s %9s %9s %9s %9s %9s %8s %9s %9s%s\n", "method", "mean", "p50", "p90", "p99",
                 "max", "fetch/px", "ns/px", "depth", lit ? "   shadow" : "");
     for (const auto& m : r.methods) {

@@ -164,7 +164,7 @@ class BandPipeline {
         }
         std::optional<Rasterizer> raster;
         if (!truth_.prepared()) {
-            const RasterOptions o = rasterOptions(scene_, configs_);
+            const RasterOptions o = rasterOptions(scene_, r_.view, configs_);
             quadHelpers_ = o.quadHelpers;
             raster.emplace(mesh, r_.camera, o);
             r_.raster = raster->setupStats();
@@ -205,7 +205,7 @@ class BandPipeline {
             raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_,
                                   &ownHelpers_);
             // Pixel indices within the band.
-            compactFragments(ownFragments_, &ownInputs_, r_.camera.light().has_value(), ownFrags_,
+            compactFragments(ownFragments_, &ownInputs_, r_.view.light.has_value(), ownFrags_,
                              quadHelpers_ ? &ownHelpers_ : nullptr);
             fragments_ = &ownFragments_;
             inputs_ = &ownInputs_;
@@ -446,12 +446,14 @@ RenderResult renderWith(const Scene& scene, const ViewSpec& view, const Camera& 
 
 }  // namespace
 
-RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>& configs) {
+RasterOptions rasterOptions(const Scene& scene, const ViewSpec& view,
+                            const std::vector<MethodConfig>& configs) {
     RasterOptions o{.cullBackFaces = scene.cullBackFaces,
                     .worldPerUv = scene.worldPerUv(),
                     .exactFrame = framesCanDiffer(scene.base),
                     .perVertexView = false,
-                    .engineInputs = false};
+                    .engineInputs = false,
+                    .light = lightToward(view).value_or(Vec3d(0))};
     for (const MethodConfig& c : configs) {
         o.perVertexView = o.perVertexView || c.viewPerVertex;
         o.engineInputs = o.engineInputs || readsEngineInputs(c);
@@ -472,10 +474,11 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
     v.view = view;
     v.camera = makeCamera(scene, view);
     v.build = truths.truth->stats();
-    const Image2D<TruthSample> truth = truths.truth->traceFrame(v.camera);
+    const Image2D<TruthSample> truth =
+        truths.truth->traceFrame(v.camera, TraceMode::Coherent, lightToward(view));
     Image2D<FragmentInputs> inputs;
     std::vector<HelperLane> helpers;
-    const RasterOptions options = rasterOptions(scene, scene.methods);
+    const RasterOptions options = rasterOptions(scene, view, scene.methods);
     const Image2D<Fragment> fragments = rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
                                                   options, &v.raster, &inputs, &helpers);
     const int W = v.camera.width(), H = v.camera.height(), R = bandRows(W);
@@ -514,12 +517,13 @@ RenderResult renderPrepared(const Scene& scene, const PreparedView& v,
 RenderResult renderView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
                         const std::vector<MethodConfig>& configs, MethodTextureCache& textures,
                         const TimingSpec& timing, const FrameOptions& frame) {
-    return renderWith(scene, view, makeCamera(scene, view), SurfacesTruth(truths), configs,
-                      textures, timing, frame);
+    return renderWith(scene, view, makeCamera(scene, view),
+                      SurfacesTruth(truths, lightToward(view)), configs, textures, timing, frame);
 }
 
 RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
     const Camera camera = makeCamera(scene);
+    const std::optional<Vec3d> light = lightToward(scene.view());
     MethodTextureCache textures(scene.height, scene.uvExtent);
     const TimingSpec timing{.repeats = options.timingRepeats,
                             .maxFragments = options.timingFragments,
@@ -537,9 +541,10 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
                               kTruthBytesPerGridVertex;
         // What the frame's truth builds (frameWindow: a grazing view of an infinite plane
         // walks its tile, whatever area the view spans).
-        const double vertices = truthVertices(scene, camera);
+        const double vertices = truthVertices(scene, camera, light);
         TruthFrames f;
-        const bool blocks = vertices > budget && traceTruthInBlocks(scene, camera, budget, f);
+        const bool blocks =
+            vertices > budget && traceTruthInBlocks(scene, camera, light, budget, f);
         if (vertices > budget && !blocks)  // no split into at most 16 x 16 blocks fits
             checkMemory(vertices * kTruthBytesPerGridVertex + beside, scene.file, "truth.memory_mb",
                         std::to_string(scene.truth.memoryMb),
@@ -557,7 +562,7 @@ RenderResult renderFrame(const Scene& scene, const RenderOptions& options) {
         }
     }
     TruthBuilder builder(scene);
-    builder.limitToView(camera, scene.displacement);
+    builder.limitToView(camera, light, scene.displacement);
     TruthPair truths = builder.build(scene.displacement, scene.truth.uncertainty);
     double buildMs = msSince(t0);
     RenderResult r =

@@ -172,8 +172,9 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
 
 // What the rasteriser computes for these configurations (RasterOptions): V in the exact frame
 // where the base's frames can differ from it, V per vertex and an engine's inputs where a
-// configuration reads them; nothing else per pixel.
-RasterOptions rasterOptions(const Scene& scene, const std::vector<MethodConfig>& configs);
+// configuration reads them; nothing else per pixel; the view's light.
+RasterOptions rasterOptions(const Scene& scene, const ViewSpec& view,
+                            const std::vector<MethodConfig>& configs);
 // Whether any of them reads V per vertex or an engine's inputs (the rasteriser then makes
 // FragmentInputs, and frame.exr gets base.Vvertex).
 bool readsFragmentInputs(const std::vector<MethodConfig>& configs);

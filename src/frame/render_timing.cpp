@@ -27,7 +27,7 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
                                  const TimingSpec& timing) {
     const Camera camera = makeCamera(scene, view);
     Image2D<FragmentInputs> inputs;
-    const RasterOptions options = rasterOptions(scene, scene.methods);
+    const RasterOptions options = rasterOptions(scene, view, scene.methods);
     const Image2D<Fragment> frame =
         rasterize(drawnBaseMesh(scene.base, camera), camera, options, nullptr, &inputs);
     // With an engine vertex stage, the triangles (its outputs are read there; no helper lanes).

@@ -3,6 +3,8 @@
 // view's bands.
 #pragma once
 
+#include <optional>
+
 #include "core/image.h"
 #include "frame/render.h"
 #include "scene/camera.h"
@@ -30,15 +32,16 @@ class TruthSource {
 
 class SurfacesTruth : public TruthSource {
   public:
-    explicit SurfacesTruth(const TruthPair& t) : t_(t) {}
+    // `light`: the view's (scene.h lightToward), whose shadow rays the surfaces trace.
+    SurfacesTruth(const TruthPair& t, std::optional<Vec3d> light) : t_(t), light_(light) {}
     const Image2D<TruthSample>& band(const Camera& camera, PixelRect rect,
                                      Image2D<TruthSample>& own) const override {
-        t_.truth->traceRect(camera, rect, own);
+        t_.truth->traceRect(camera, rect, own, TraceMode::Coherent, light_);
         return own;
     }
     bool haveFine() const override { return bool(t_.fine); }
     void fineBand(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out) const override {
-        t_.fine->traceRect(camera, rect, out);
+        t_.fine->traceRect(camera, rect, out, TraceMode::Coherent, light_);
     }
     void describe(RenderResult& r) const override {
         r.truthBuild = t_.truth->stats();
@@ -47,6 +50,7 @@ class SurfacesTruth : public TruthSource {
 
   private:
     const TruthPair& t_;
+    std::optional<Vec3d> light_;
 };
 
 class FramesTruth : public TruthSource {

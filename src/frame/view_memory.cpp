@@ -26,7 +26,7 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     // A GL draw's triangles and helper lanes: at most 3 lanes a fragment (one alone in its
     // quad), in the raster's list and the smaller copy the draw makes.
-    if (rasterOptions(scene, *m.configs).quadHelpers)
+    if (rasterOptions(scene, scene.view(), *m.configs).quadHelpers)
         perBandPixel += 4 + 3.0 * 2 * sizeof(HelperLane);
     if (m.writesImages)
         perBandPixel +=
@@ -43,7 +43,8 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     if (scene.plane()) {
         // What the view's frame builds: the lattice over its window (frameWindow; the whole
         // tile where the view needs it), not the whole plane at every rate.
-        truth = truthVertices(scene, makeCamera(scene)) * kTruthBytesPerGridVertex;
+        truth = truthVertices(scene, makeCamera(scene), lightToward(scene.view())) *
+                kTruthBytesPerGridVertex;
         if (m.truthInBlocks) {
             truth = std::min(truth, double(scene.truth.memoryMb) * 1024 * 1024);
             perPixel += 2.0 * sizeof(TruthSample);  // the blocks fill whole frames
@@ -66,7 +67,8 @@ double bytesBesideTruth(const Scene& scene, const Camera& camera, bool writesIma
                         bool keepsImages) {
     const ViewMemory view{
         .configs = &scene.methods, .writesImages = writesImages, .keepsImages = keepsImages};
-    const double lattice = scene.plane() ? truthVertices(scene, makeCamera(scene)) : 0.0;
+    const double lattice =
+        scene.plane() ? truthVertices(scene, makeCamera(scene), lightToward(scene.view())) : 0.0;
     return estimateViewBytes(scene, camera.width(), camera.height(), view) -
            lattice * kTruthBytesPerGridVertex +
            2.0 * sizeof(TruthSample) * camera.width() * camera.height();

@@ -254,7 +254,7 @@ void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
 // in the exact frame, per vertex and an engine's inputs.
 void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
            const std::array<double, 3>& b, const SurfaceDerivatives& d, const Camera& camera,
-           const Ray& ray, Vec3d light, const RasterOptions& o) {
+           const Ray& ray, const RasterOptions& o) {
     const auto& c = tri.c;
     f.covered = true;
     f.uv0 = tri.uv(b);
@@ -290,6 +290,7 @@ void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
         in->engine.camera =
             Vec3f(camera.isOrthographic() ? ray.origin - ray.dir * (std::fabs(f.rayT) + 1.0)
                                           : ray.origin);
+    const Vec3d light = o.light;  // a unit vector, zero where the view has none
     auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
         return light == Vec3d(0) ? Vec3d(0)
                                  : glm::normalize(Vec3d(glm::dot(x, light), glm::dot(y, light),
@@ -328,9 +329,8 @@ namespace {
 // Every sample of `rect` the triangle covers, nearest first (depth test on camera-space
 // forward); `frags` and `depth` are the rectangle's.
 void scan(const ScreenTriangle& tri, uint32_t triangle, const SurfaceDerivatives& d,
-          const Camera& camera, Vec3d light, const RasterOptions& o, PixelRect rect,
-          Image2D<Fragment>& frags, Image2D<FragmentInputs>* inputs, Vec2i at,
-          Image2D<double>& depth) {
+          const Camera& camera, const RasterOptions& o, PixelRect rect, Image2D<Fragment>& frags,
+          Image2D<FragmentInputs>* inputs, Vec2i at, Image2D<double>& depth) {
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
@@ -346,7 +346,7 @@ void scan(const ScreenTriangle& tri, uint32_t triangle, const SurfaceDerivatives
             const int ox = px - rect.x0 + at.x, oy = py - rect.y0 + at.y;
             Fragment& f = frags.at(ox, oy);
             FragmentInputs* in = inputs ? &inputs->at(ox, oy) : nullptr;
-            shade(f, in, tri, b, d, camera, camera.ray(sample.x, sample.y), light, o);
+            shade(f, in, tri, b, d, camera, camera.ray(sample.x, sample.y), o);
             quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py,
                             !camera.jittered());
             f.triangle = triangle;
@@ -454,8 +454,6 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
         std::sort(triangles.begin(), triangles.end());
         triangles.erase(std::unique(triangles.begin(), triangles.end()), triangles.end());
     }
-    // A fragment's light is a unit vector, zero where the view has none.
-    const Vec3d light = camera_.light().value_or(Vec3d(0));
     for (uint32_t t : triangles) {
         const auto v = triangleVertices(mesh_, 3 * size_t(t));
         const SurfaceDerivatives d = surfaceDerivatives(v);
@@ -463,7 +461,7 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
         for (int k = 1; k + 1 < poly.size; ++k) {
             ScreenTriangle screen;
             if (screen.setup(camera_, {&poly.v[0], &poly.v[size_t(k)], &poly.v[size_t(k + 1)]}))
-                scan(screen, t, d, camera_, light, options_, rect, out, inputs, at, depth);
+                scan(screen, t, d, camera_, options_, rect, out, inputs, at, depth);
         }
     }
     for (int y = 0; y < rect.height(); ++y)
@@ -544,7 +542,6 @@ void Rasterizer::helperLanes(uint32_t t, Vec2i owner, std::span<const Vec2i> lan
         ++k;
     const bool any = k + 1 < poly.size;
     const SurfaceDerivatives d = surfaceDerivatives(v);
-    const Vec3d light = camera_.light().value_or(Vec3d(0));
     const Vec2d ownerSample = camera_.samplePosition(owner.x, owner.y);
     for (Vec2i lane : lanes) {
         HelperLane& h = out.emplace_back();
@@ -553,7 +550,7 @@ void Rasterizer::helperLanes(uint32_t t, Vec2i owner, std::span<const Vec2i> lan
         if (!any) continue;
         const Vec2d sample = ownerSample + Vec2d(lane - owner);
         shade(h.fragment, &h.inputs, screen, screen.barycentrics(sample), d, camera_,
-              camera_.ray(sample.x, sample.y), light, options_);
+              camera_.ray(sample.x, sample.y), options_);
         quadDerivatives(h.fragment, options_.engineInputs ? &h.inputs : nullptr, screen, lane.x,
                         lane.y, !camera_.jittered());
         h.fragment.triangle = t;

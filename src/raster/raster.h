@@ -72,6 +72,9 @@ struct RasterOptions {
     bool quadHelpers = false;
     // FragmentInputs::bary (an engine's vertex stage: methods/shader/vertex_stage.h).
     bool barycentrics = false;
+    // The unit world direction toward the view's light (scene.h lightToward), zero without
+    // one: each fragment's lightTangent and lightTangentExact.
+    Vec3d light{0};
 };
 
 // A helper invocation of a 2x2 quad, as a GPU runs one (docs/model.md §6): where a quad holds

@@ -4,7 +4,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 
 #include "core/math.h"
 
@@ -47,11 +46,6 @@ class Camera {
     }
     void setJitter(bool on, uint32_t seed) { jitter_ = on, jitterSeed_ = seed; }
     bool jittered() const { return jitter_; }
-    // The view's directional light (docs/model.md §5b): the unit world direction toward it,
-    // none without one. The truth casts shadow rays along it; the rasteriser gives each
-    // fragment its tangent-space direction.
-    void setLight(std::optional<Vec3d> towardLight) { light_ = towardLight; }
-    const std::optional<Vec3d>& light() const { return light_; }
 
     // Camera-space coordinates of a world point: (right, up, forward distance).
     Vec3d toCamera(Vec3d world) const;
@@ -81,7 +75,6 @@ class Camera {
     double halfHeight_ = 1, halfWidth_ = 1;  // ortho: world units; pinhole: tan(fov/2)
     bool jitter_ = false;
     uint32_t jitterSeed_ = 0;
-    std::optional<Vec3d> light_;
 };
 
 // docs/model.md §4 view direction in tangent space from view angle theta and azimuth phi

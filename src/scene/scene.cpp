@@ -216,8 +216,12 @@ Camera makeCameraUnjittered(const Scene& s, const ViewSpec& view);
 Camera makeCamera(const Scene& s, const ViewSpec& view) {
     Camera cam = makeCameraUnjittered(s, view);
     cam.setJitter(view.camera.jitter, view.camera.jitterSeed);
-    if (view.light) cam.setLight(viewFromAngles(view.light->theta, view.light->phi));
     return cam;
+}
+
+std::optional<Vec3d> lightToward(const ViewSpec& view) {
+    if (!view.light) return std::nullopt;
+    return viewFromAngles(view.light->theta, view.light->phi);
 }
 
 namespace {

@@ -118,6 +118,10 @@ std::filesystem::path besideScene(const Scene& s, const std::string& rel);
 // its relief slab (z in l*[b, s+b]) unless a view height is given.
 Camera makeCamera(const Scene& scene, const ViewSpec& view);
 inline Camera makeCamera(const Scene& scene) { return makeCamera(scene, scene.view()); }
+// The view's directional light (docs/model.md §5b): the unit world direction toward it, none
+// without one. The truth casts shadow rays along it (TruthSurface's traces); the rasteriser
+// gives each fragment its tangent-space direction (RasterOptions::light).
+std::optional<Vec3d> lightToward(const ViewSpec& view);
 
 // The scene as pgt understood it, seen from `view` (summary.json, a study's identity).
 nlohmann::json resolvedSceneJson(const Scene& scene, const ViewSpec& view);

@@ -27,14 +27,14 @@ std::shared_ptr<const BaseTessellation> TruthBuilder::tessellate(int r,
         scene_.base);
 }
 
-void TruthBuilder::limitToView(const Camera& camera, const Displacement& disp, PixelRect block,
-                               const TexelRange* range) {
+void TruthBuilder::limitToView(const Camera& camera, const std::optional<Vec3d>& light,
+                               const Displacement& disp, PixelRect block, const TexelRange* range) {
     PGT_CHECK(!base_ && !fine_);
     const PlaneBase* plane = scene_.plane();
     if (!plane) return;  // windows are cells of a plane's lattice
     const TexelRange r = range ? *range : texelRange(scene_.height);
-    window_ = frameWindow(*plane, scene_.height, disp, camera, block, 1, &r);
-    windowFine_ = frameWindow(*plane, scene_.height, disp, camera, block, 2, &r);
+    window_ = frameWindow(*plane, scene_.height, disp, camera, light, block, 1, &r);
+    windowFine_ = frameWindow(*plane, scene_.height, disp, camera, light, block, 2, &r);
 }
 
 TruthPair TruthBuilder::build(const Displacement& disp, bool withUncertainty) {
@@ -80,21 +80,21 @@ double truthVertices(const Scene& scene, const TruthWindow& window, const TruthW
            (scene.truth.uncertainty ? count(2 * scene.truth.rate, fine) : 0.0);
 }
 
-double truthVertices(const Scene& scene, const Camera& camera, PixelRect block,
-                     const TexelRange* range) {
+double truthVertices(const Scene& scene, const Camera& camera, const std::optional<Vec3d>& light,
+                     PixelRect block, const TexelRange* range) {
     const PlaneBase* plane = scene.plane();
     if (!plane) return 0;
     const TexelRange r = range ? *range : texelRange(scene.height);
     const Displacement& d = scene.displacement;
-    return truthVertices(scene, frameWindow(*plane, scene.height, d, camera, block, 1, &r),
-                         frameWindow(*plane, scene.height, d, camera, block, 2, &r));
+    return truthVertices(scene, frameWindow(*plane, scene.height, d, camera, light, block, 1, &r),
+                         frameWindow(*plane, scene.height, d, camera, light, block, 2, &r));
 }
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
 // block sees, so peak memory is one block's (large maps in a whole-map view).
 // Returns false (frames untouched) when no n <= 16 brings every block under the budget.
-bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetVertices,
-                        TruthFrames& f) {
+bool traceTruthInBlocks(const Scene& scene, const Camera& camera, const std::optional<Vec3d>& light,
+                        double budgetVertices, TruthFrames& f) {
     if (!scene.plane()) return false;  // blocks are windows of a plane's lattice
     const int W = camera.width(), H = camera.height();
     // The map's height range once for every candidate block's windows (each would otherwise
@@ -107,9 +107,9 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
             for (int bx = 0; bx < n && fits; ++bx) {
                 PixelRect b{W * bx / n, H * by / n, W * (bx + 1) / n, H * (by + 1) / n};
                 TruthWindow w = viewWindow(*scene.plane(), scene.height, scene.displacement, camera,
-                                           b, 1, &range);
-                fits = w.limited &&
-                       (w.empty || truthVertices(scene, camera, b, &range) <= budgetVertices);
+                                           light, b, 1, &range);
+                fits = w.limited && (w.empty || truthVertices(scene, camera, light, b, &range) <=
+                                                    budgetVertices);
                 if (w.empty) continue;  // sees no part of the plane: every pixel misses
                 blocks.push_back(b);
             }
@@ -122,15 +122,15 @@ bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetV
                                                     &scene.height);
         for (const PixelRect& b : blocks) {
             TruthBuilder builder(scene, height);
-            builder.limitToView(camera, scene.displacement, b, &range);
+            builder.limitToView(camera, light, scene.displacement, b, &range);
             TruthPair pair = builder.build(scene.displacement, scene.truth.uncertainty);
             auto t0 = Clock::now();
-            pair.truth->traceBlock(camera, f.truth, b);
+            pair.truth->traceBlock(camera, f.truth, b, TraceMode::Coherent, light);
             f.traceMs += msSince(t0);
             if (pair.truth->stats().vertices > f.build.vertices) f.build = pair.truth->stats();
             if (pair.fine) {
                 auto t1 = Clock::now();
-                pair.fine->traceBlock(camera, f.fine, b);
+                pair.fine->traceBlock(camera, f.fine, b, TraceMode::Coherent, light);
                 f.fineMs += msSince(t1);
                 if (pair.fine->stats().vertices > f.buildFine.vertices)
                     f.buildFine = pair.fine->stats();

@@ -33,7 +33,8 @@ class TruthBuilder {
     // Planes: tessellate only the part of the plane this view can see at (s, b) (large maps
     // framed closely), the finer pass over a window twice as wide (frameWindow's reach 2).
     // Call before the first build.
-    void limitToView(const Camera& camera, const Displacement& disp, PixelRect block = {},
+    void limitToView(const Camera& camera, const std::optional<Vec3d>& light,
+                     const Displacement& disp, PixelRect block = {},
                      const TexelRange* range = nullptr);
     const TruthWindow& window() const { return window_; }
 
@@ -61,13 +62,13 @@ struct TruthFrames {
 // blocks use.
 double truthVertices(const Scene& scene, const TruthWindow& window, const TruthWindow& fine);
 // The same for the windows a frame (or a block of it) builds: frameWindow at reach 1 and 2.
-double truthVertices(const Scene& scene, const Camera& camera, PixelRect block = {},
-                     const TexelRange* range = nullptr);
+double truthVertices(const Scene& scene, const Camera& camera, const std::optional<Vec3d>& light,
+                     PixelRect block = {}, const TexelRange* range = nullptr);
 
 // The view's truth traced in n x n pixel blocks, each over a tessellation of only what the
 // block sees, so peak memory is one block's. Returns false (frames untouched) when no
 // n <= 16 brings every block under `budgetVertices`.
-bool traceTruthInBlocks(const Scene& scene, const Camera& camera, double budgetVertices,
-                        TruthFrames& frames);
+bool traceTruthInBlocks(const Scene& scene, const Camera& camera, const std::optional<Vec3d>& light,
+                        double budgetVertices, TruthFrames& frames);
 
 }  // namespace pgt

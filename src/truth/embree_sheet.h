@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -359,21 +360,22 @@ struct TruthSurface::Impl {
         return trace(Ray{p + ng * eps, light, false}, ctx).hit ? kShadowDark : kShadowLit;
     }
 
-    // A pixel's truth with its shadow when the camera carries a light.
-    TruthSample tracePixel(const Camera& camera, int x, int y, RTCIntersectContext* ctx) const {
+    // A pixel's truth, with its shadow where the view has a light.
+    TruthSample tracePixel(const Camera& camera, const std::optional<Vec3d>& light, int x, int y,
+                           RTCIntersectContext* ctx) const {
         const Ray ray = camera.pixelRay(x, y);
         Vec3d ng{0};
         TruthSample s = trace(ray, ctx, nullptr, &ng);
-        if (camera.light()) s.shadow = shadowAt(ray, s, ng, *camera.light(), ctx);
+        if (light) s.shadow = shadowAt(ray, s, ng, *light, ctx);
         return s;
     }
 
     // A tile's rays as coherent streams: every live walk's stretch in one rtcIntersect1M
     // call, repeated while walks remain (periodic planes take a few rounds at grazing views).
     // Pixel (x, y) goes to out.at(x - ox, y - oy).
-    void traceTile(const Camera& camera, int x0, int x1, int y0, int y1, Image2D<TruthSample>& out,
-                   int ox, int oy, std::vector<Walk>& walks, std::vector<RTCRayHit>& rays,
-                   std::vector<int>& live) const {
+    void traceTile(const Camera& camera, const std::optional<Vec3d>& light, int x0, int x1, int y0,
+                   int y1, Image2D<TruthSample>& out, int ox, int oy, std::vector<Walk>& walks,
+                   std::vector<RTCRayHit>& rays, std::vector<int>& live) const {
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -401,9 +403,9 @@ struct TruthSurface::Impl {
         rtcInitIntersectContext(&shadowCtx);
         for (int k = 0; k < n; ++k) {
             Walk& wk = walks[size_t(k)];
-            if (camera.light() && wk.result.hit)
+            if (light && wk.result.hit)
                 wk.result.shadow = shadowAt(camera.pixelRay(x0 + k % w, y0 + k / w), wk.result,
-                                            wk.ng, *camera.light(), &shadowCtx);
+                                            wk.ng, *light, &shadowCtx);
             out.at(x0 + k % w - ox, y0 + k / w - oy) = wk.result;
         }
     }

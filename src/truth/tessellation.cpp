@@ -48,8 +48,8 @@ TexelRange texelRange(const Texture& height) {
 }
 
 TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                       const Camera& camera, PixelRect block, double reach,
-                       const TexelRange* range) {
+                       const Camera& camera, const std::optional<Vec3d>& light, PixelRect block,
+                       double reach, const TexelRange* range) {
     constexpr double kMarginTexels = 2;
     if (block.empty()) block = {0, 0, camera.width(), camera.height()};
     TruthWindow w;
@@ -77,8 +77,8 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
     // Shadow rays rise from a hit toward the light until they leave the slab: at most
     // (z_hi - z_lo) / L.z along the light, L.xy / L.z per unit of height (docs/model.md §5b).
     // A light at or below the horizon traces none (every hit is dark).
-    if (camera.light() && camera.light()->z > 0) {
-        const Vec3d L = *camera.light();
+    if (light && light->z > 0) {
+        const Vec3d L = *light;
         const Vec2d toward = Vec2d(L.x, L.y) * ((z[1] - z[0]) / L.z / l * reach);
         lo = glm::min(lo, lo + toward), hi = glm::max(hi, hi + toward);
     }
@@ -93,9 +93,9 @@ TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Disp
 }
 
 TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                        const Camera& camera, PixelRect block, double reach,
-                        const TexelRange* range) {
-    TruthWindow w = viewWindow(plane, height, disp, camera, block, reach, range);
+                        const Camera& camera, const std::optional<Vec3d>& light, PixelRect block,
+                        double reach, const TexelRange* range) {
+    TruthWindow w = viewWindow(plane, height, disp, camera, light, block, reach, range);
     const double T = plane.tiling;
     const Vec2d extent = w.uvMax - w.uvMin;
     if (w.empty || (block.empty() && w.limited && extent.x * extent.y >= 0.5 * T * T)) return {};

@@ -110,20 +110,21 @@ struct TexelRange {
     float lo = 0, hi = 0;
 };
 TexelRange texelRange(const Texture& height);
-// A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame. `range`: the
+// A block of a frame's pixels [x0, x1) x [y0, y1); empty = the whole frame. With a `light`
+// (scene.h lightToward), the window reaches as far toward it as a shadow ray can. `range`: the
 // map's texelRange when the caller has it (a frame cut into blocks asks for many windows of
 // one map); null computes it.
 TruthWindow viewWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                       const Camera& camera, PixelRect block = {}, double reach = 1,
-                       const TexelRange* range = nullptr);
+                       const Camera& camera, const std::optional<Vec3d>& light,
+                       PixelRect block = {}, double reach = 1, const TexelRange* range = nullptr);
 // The window a frame's truth is built over: viewWindow, or the whole plane (not limited) when
 // the window is not clearly smaller than the tile (at least half its area: a grazing view of
 // an infinite plane, whose tile is then walked periodically) or the view misses the plane.
 // The one rule for what is built and what the memory estimate counts. (A block's window is
 // kept: blocks need their windows.)
 TruthWindow frameWindow(const PlaneBase& plane, const Texture& height, const Displacement& disp,
-                        const Camera& camera, PixelRect block = {}, double reach = 1,
-                        const TexelRange* range = nullptr);
+                        const Camera& camera, const std::optional<Vec3d>& light,
+                        PixelRect block = {}, double reach = 1, const TexelRange* range = nullptr);
 // The truth's memory per vertex, the one place these figures live: a plane's grid, Embree's
 // BVH included (measured: 3.27 GB peak for 84M grid vertices, a 4096^2 map at rates 1 and 2),
 // and a mesh's explicit sheet (its per-vertex data, Embree's build, the frame's rays; measured

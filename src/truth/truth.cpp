@@ -192,34 +192,36 @@ struct TileGrid {
 };
 }  // namespace
 
-Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera, TraceMode mode) const {
+Image2D<TruthSample> TruthSurface::traceFrame(const Camera& camera, TraceMode mode,
+                                              const std::optional<Vec3d>& light) const {
     Image2D<TruthSample> out;
-    traceFrame(camera, out, mode);
+    traceFrame(camera, out, mode, light);
     return out;
 }
 
-void TruthSurface::traceFrame(const Camera& camera, Image2D<TruthSample>& out,
-                              TraceMode mode) const {
+void TruthSurface::traceFrame(const Camera& camera, Image2D<TruthSample>& out, TraceMode mode,
+                              const std::optional<Vec3d>& light) const {
     if (out.width != camera.width() || out.height != camera.height())
         out = Image2D<TruthSample>(camera.width(), camera.height());
-    traceBlock(camera, out, PixelRect{0, 0, camera.width(), camera.height()}, mode);
+    traceBlock(camera, out, PixelRect{0, 0, camera.width(), camera.height()}, mode, light);
 }
 
 void TruthSurface::traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
-                              TraceMode mode) const {
+                              TraceMode mode, const std::optional<Vec3d>& light) const {
     PGT_CHECK(out.width == camera.width() && out.height == camera.height());
-    traceInto(camera, block, out, 0, 0, mode);
+    traceInto(camera, block, out, 0, 0, mode, light);
 }
 
 void TruthSurface::traceRect(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out,
-                             TraceMode mode) const {
+                             TraceMode mode, const std::optional<Vec3d>& light) const {
     if (out.width != rect.width() || out.height != rect.height())
         out = Image2D<TruthSample>(rect.width(), rect.height());
-    traceInto(camera, rect, out, rect.x0, rect.y0, mode);
+    traceInto(camera, rect, out, rect.x0, rect.y0, mode, light);
 }
 
 void TruthSurface::traceInto(const Camera& camera, PixelRect block, Image2D<TruthSample>& out,
-                             int ox, int oy, TraceMode mode) const {
+                             int ox, int oy, TraceMode mode,
+                             const std::optional<Vec3d>& light) const {
     PGT_CHECK(block.x0 >= 0 && block.y0 >= 0 && block.x1 <= camera.width() &&
               block.y1 <= camera.height());
     PGT_CHECK(block.x0 >= ox && block.y0 >= oy && block.x1 - ox <= out.width &&
@@ -234,8 +236,8 @@ void TruthSurface::traceInto(const Camera& camera, PixelRect block, Image2D<Trut
             thread_local std::vector<RTCRayHit> rays;
             thread_local std::vector<int> live;
             for (int t = r.begin(); t < r.end(); ++t)
-                m.traceTile(camera, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out, ox, oy,
-                            walks, rays, live);
+                m.traceTile(camera, light, tiles.x0(t), tiles.x1(t), tiles.y0(t), tiles.y1(t), out,
+                            ox, oy, walks, rays, live);
             return;
         }
         RTCIntersectContext ctx;
@@ -243,7 +245,7 @@ void TruthSurface::traceInto(const Camera& camera, PixelRect block, Image2D<Trut
         for (int t = r.begin(); t < r.end(); ++t)
             for (int y = tiles.y0(t); y < tiles.y1(t); ++y)
                 for (int x = tiles.x0(t); x < tiles.x1(t); ++x)
-                    out.at(x - ox, y - oy) = m.tracePixel(camera, x, y, &ctx);
+                    out.at(x - ox, y - oy) = m.tracePixel(camera, light, x, y, &ctx);
     });
 }
 

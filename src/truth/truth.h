@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "core/image.h"
 #include "core/math.h"
@@ -73,19 +74,23 @@ class TruthSurface {
 
     // First hit of one ray (world space) with the displaced sheet.
     TruthSample trace(const Ray& ray) const;
-    // One primary ray per pixel (camera.pixelRay), tiles over all cores.
-    Image2D<TruthSample> traceFrame(const Camera& camera,
-                                    TraceMode mode = TraceMode::Coherent) const;
+    // One primary ray per pixel (camera.pixelRay), tiles over all cores. With a `light` (the
+    // unit world direction toward it, scene.h lightToward), every hit's shadow ray too.
+    Image2D<TruthSample> traceFrame(const Camera& camera, TraceMode mode = TraceMode::Coherent,
+                                    const std::optional<Vec3d>& light = std::nullopt) const;
     // The same into `out`, reusing its memory when it already has the camera's size.
     void traceFrame(const Camera& camera, Image2D<TruthSample>& out,
-                    TraceMode mode = TraceMode::Coherent) const;
+                    TraceMode mode = TraceMode::Coherent,
+                    const std::optional<Vec3d>& light = std::nullopt) const;
     // Only the pixels of `block` (out must have the camera's size already).
     void traceBlock(const Camera& camera, Image2D<TruthSample>& out, PixelRect block,
-                    TraceMode mode = TraceMode::Coherent) const;
+                    TraceMode mode = TraceMode::Coherent,
+                    const std::optional<Vec3d>& light = std::nullopt) const;
     // Only the pixels of `rect`, into `out` resized to the rectangle (pixel (x, y) at
     // out.at(x - rect.x0, y - rect.y0)): a band of a frame traced on its own.
     void traceRect(const Camera& camera, PixelRect rect, Image2D<TruthSample>& out,
-                   TraceMode mode = TraceMode::Coherent) const;
+                   TraceMode mode = TraceMode::Coherent,
+                   const std::optional<Vec3d>& light = std::nullopt) const;
     // The bare-Embree baseline for traceFrame on the same rays (benchmarks; planes that are
     // not periodic, where a pixel's ray is one Embree ray).
     BareLoopTiming timeBareEmbreeLoop(const Camera& camera, TraceMode mode, int repeats) const;
@@ -99,7 +104,7 @@ class TruthSurface {
 
   private:
     void traceInto(const Camera& camera, PixelRect block, Image2D<TruthSample>& out, int ox, int oy,
-                   TraceMode mode) const;
+                   TraceMode mode, const std::optional<Vec3d>& light) const;
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

@@ -138,7 +138,8 @@ void BM_TruthShadowRays(benchmark::State& state) {
     TruthSurface surface(base, s.displacement, TruthGeometry::Grid, true);
     Camera cam = makeCamera(s);
     Image2D<TruthSample> frame;
-    for (auto _ : state) surface.traceFrame(cam, frame, TraceMode::Coherent);
+    const std::optional<Vec3d> light = lightToward(s.view());
+    for (auto _ : state) surface.traceFrame(cam, frame, TraceMode::Coherent, light);
     state.SetItemsProcessed(state.iterations() * 512 * 512);
     state.SetLabel(state.range(1) ? "with shadow rays" : "primary rays only");
 }

@@ -131,10 +131,11 @@ void BM_FrameFloors(benchmark::State& state) {
     const Scene s = stageScene(int(state.range(0)));
     const Camera cam = makeCamera(s);
     TruthBuilder builder(s);
-    builder.limitToView(cam, s.displacement);
+    builder.limitToView(cam, lightToward(s.view()), s.displacement);
     const TruthPair truths = builder.build(s.displacement, true);
     const BaseMesh mesh = drawnBaseMesh(s.base, cam);
-    const FragmentList frags = compactFragments(rasterize(mesh, cam, rasterOptions(s, s.methods)));
+    const FragmentList frags =
+        compactFragments(rasterize(mesh, cam, rasterOptions(s, s.view(), s.methods)));
     MethodTextureCache textures(s.height, s.uvExtent);
     std::vector<Vec2f> uv;
     std::map<std::string, std::vector<double>> ms;
