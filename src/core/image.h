@@ -48,6 +48,13 @@ void resetImage(Image2D<T>& image, int w, int h) {
                       });
 }
 
+// `image` as w x h pixels: made anew (T{}) when its size differs, else kept as it is, for a
+// caller that writes every pixel (a buffer kept from band to band, not cleared twice).
+template <class T>
+void sizeImage(Image2D<T>& image, int w, int h) {
+    if (image.width != w || image.height != h) image = Image2D<T>(w, h);
+}
+
 // Rows [band.y0, band.y1) of a whole-frame image.
 template <class T>
 Image2D<T> rowsOf(const Image2D<T>& full, PixelRect band) {

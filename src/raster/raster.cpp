@@ -426,10 +426,7 @@ Rasterizer::Rasterizer(const BaseMesh& mesh, const Camera& camera, const RasterO
 void Rasterizer::rasterize(PixelRect rect, Image2D<Fragment>& out, RasterStats& stats) const {
     PGT_CHECK(rect.x0 >= 0 && rect.y0 >= 0 && rect.x1 <= camera_.width() &&
               rect.y1 <= camera_.height() && !rect.empty());
-    if (out.width != rect.width() || out.height != rect.height())
-        out = Image2D<Fragment>(rect.width(), rect.height());
-    else
-        std::fill(out.data.begin(), out.data.end(), Fragment{});
+    sizeImage(out, rect.width(), rect.height());  // rasterizeAt writes every pixel
     rasterizeAt(rect, out, nullptr, {0, 0}, stats);
 }
 
@@ -464,9 +461,15 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
                 scan(screen, t, d, camera_, options_, rect, out, inputs, at, depth);
         }
     }
+    // A pixel no triangle drew is cleared here, the drawn ones having been written whole
+    // (shade, quadDerivatives and the triangle): the image is not cleared beforehand.
     for (int y = 0; y < rect.height(); ++y)
         for (int x = 0; x < rect.width(); ++x) {
-            const Fragment& f = out.at(x + at.x, y + at.y);
+            Fragment& f = out.at(x + at.x, y + at.y);
+            if (depth.at(x, y) == std::numeric_limits<double>::infinity()) {
+                f = Fragment{};
+                continue;
+            }
             stats.covered += f.covered;
             stats.noExactFrame += f.covered && !f.exactFrame;
         }
@@ -476,8 +479,8 @@ void Rasterizer::rasterizeRows(int y0, int y1, Image2D<Fragment>& out, RasterSta
                                Image2D<FragmentInputs>* inputs,
                                std::vector<HelperLane>* helpers) const {
     const int W = camera_.width();
-    // Cleared once (in parallel), then each bin of columns writes its own pixels in place.
-    resetImage(out, W, y1 - y0);
+    // Each bin of columns writes every one of its pixels in place (rasterizeAt).
+    sizeImage(out, W, y1 - y0);
     const bool wantInputs =
         inputs && (options_.perVertexView || options_.engineInputs || options_.barycentrics);
     if (wantInputs) resetImage(*inputs, W, y1 - y0);

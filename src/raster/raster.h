@@ -132,7 +132,8 @@ class Rasterizer {
     const RasterStats& setupStats() const { return setup_; }
 
   private:
-    // rasterize() into `out` at `at` (rect's top-left pixel there), which the caller cleared.
+    // rasterize() into `out` at `at` (rect's top-left pixel there): every pixel of rect written,
+    // a drawn one whole, the others cleared; `inputs` (when given) the caller cleared.
     void rasterizeAt(PixelRect rect, Image2D<Fragment>& out, Image2D<FragmentInputs>* inputs,
                      Vec2i at, RasterStats& stats) const;
     // The helper lanes of rect's quads (rect's corner even), drawn into `out` at `at`.
