@@ -1,9 +1,14 @@
 // pgt: command-line front end. Parses arguments, calls the library, maps errors to exit
 // status: 0 ok, 1 internal error, 2 bad input (file, field, value), 3 output not writable.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <string>
 
 #include "cli/report.h"
 #include "cli/shard.h"
@@ -398,9 +403,28 @@ int runCommand(const CommandLine& c) {
     return 0;
 }
 
+// A frame's large buffers (the truth's lattice and BVH, the bands' fragments, the kept errors,
+// frame.exr's rows) on transparent huge pages: glibc's malloc advises its large chunks so when
+// its tunable glibc.malloc.hugetlb is 1 (glibc 2.35 on; Linux's THP mode "madvise", Debian's
+// default), which it reads only when a process starts. So the process starts itself once
+// more with the tunable added, unless the environment already names it (the user's choice:
+// glibc.malloc.hugetlb=0 keeps 4 KB pages). Measured: the 2048^2 default frame 12 % faster,
+// the same peak memory to 1 % (docs/performance.md). Where exec fails, pgt runs on as it is.
+void restartOnHugePages(char** argv) {
+    constexpr const char* kTunable = "glibc.malloc.hugetlb";
+    const char* given = std::getenv("GLIBC_TUNABLES");
+    if (given && std::strstr(given, kTunable)) return;
+    const std::string value =
+        (given && *given ? std::string(given) + ":" : std::string()) + kTunable + "=1";
+    if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
+    execv("/proc/self/exe", argv);
+    // Not restarted: as before, with 4 KB pages (the tunable left set for child processes).
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    restartOnHugePages(argv);
     pgt::installSignalCleanup();  // Ctrl-C and kill leave no temporaries or created --out
     CLI::App app{"pgt: Parallax Ground Truth - how wrong is your parallax mapping?"};
     app.set_version_flag("--version", pgt::versionText());

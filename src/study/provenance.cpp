@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <mutex>
@@ -69,12 +70,21 @@ std::string operatingSystem() {
     return std::string(u.sysname) + " " + u.release + " " + u.machine;
 }
 
+// Whether glibc's malloc puts large buffers on transparent huge pages (the tunable pgt's
+// command sets when it starts, cli/main.cpp; the Python module's process as its user set it).
+bool mallocHugePages() {
+    const char* t = std::getenv("GLIBC_TUNABLES");
+    return t &&
+           (std::strstr(t, "glibc.malloc.hugetlb=1") || std::strstr(t, "glibc.malloc.hugetlb=2"));
+}
+
 // The machine's facts, read once (every summary.json of a study with images asks).
 const Json& machine() {
     static const Json facts = {{"cpu", cpuModel()},
                                {"cores", std::thread::hardware_concurrency()},
                                {"os", operatingSystem()},
-                               {"embree_kernel", embreeKernel()}};
+                               {"embree_kernel", embreeKernel()},
+                               {"huge_pages", mallocHugePages()}};
     return facts;
 }
 

@@ -3,7 +3,7 @@
 summary.json's provenance block and frame.exr's pgt:* header attributes (the same commit and
 scene hash); a study's provenance.json, one entry per run (a resume adds one, --fresh starts
 again), stated in report.md's header; fit.json; the GL's renderer when a GLSL method ran; the
-Embree kernel PGT_EMBREE_ISA forces; `pgt methods` lists what pgt can measure. Arguments: PGT_BINARY SOURCE_DIR."""
+Embree kernel PGT_EMBREE_ISA forces; whether large buffers were on huge pages; `pgt methods` lists what pgt can measure. Arguments: PGT_BINARY SOURCE_DIR."""
 import json
 import os
 import re
@@ -71,6 +71,17 @@ with tempfile.TemporaryDirectory() as d:
     check("the kernel PGT_EMBREE_ISA forced", prov["machine"]["embree_kernel"] ==
           "sse2 (PGT_EMBREE_ISA)", prov["machine"])
     check("the GL that ran the GLSL preset", "renderer" in prov.get("gl", {}), prov)
+    # The command asks glibc for huge pages when it starts, unless the environment names the
+    # tunable (cli/main.cpp restartOnHugePages); glibc.malloc.hugetlb=0 keeps 4 KB pages.
+    asked = "glibc.malloc.hugetlb" not in os.environ.get("GLIBC_TUNABLES", "")
+    check("huge pages, as the command asks when it starts",
+          prov["machine"]["huge_pages"] is asked, prov["machine"])
+    kept = os.path.join(d, "render_4k")
+    r = run("render", path, "--out", kept, "--no-timing",
+            env={"GLIBC_TUNABLES": "glibc.malloc.hugetlb=0"})
+    check("glibc.malloc.hugetlb=0: 4 KB pages", r.returncode == 0 and
+          json.load(open(os.path.join(kept, "summary.json")))["provenance"]["machine"]
+          ["huge_pages"] is False, r.stderr)
     check("a 40-digit scene hash", re.fullmatch(r"[0-9A-F]{40}", prov["scene_sha1"]), prov)
     try:
         import OpenImageIO as oiio
