@@ -422,8 +422,8 @@ TEST(Gl, DocumentPresetsAreTheBuiltInsAtTheirSettings) {
     EXPECT_EQ(welsh.bias, -0.02);
     MethodConfig blog = preset("deferred_blog");
     EXPECT_EQ(blog.builtin()->kind, MethodKind::Steep);
-    EXPECT_EQ(blog.builtin()->maxLayers, 100);
-    EXPECT_EQ(blog.builtin()->maxSteps, 100);
+    EXPECT_EQ(blog.builtin()->as<LayerParameters>().maxLayers, 100);
+    EXPECT_EQ(blog.builtin()->as<LayerParameters>().maxSteps, 100);
     EXPECT_EQ(blog.scale, 0.15);
     EXPECT_EQ(blog.label, "deferred_blog_shipped");
     MethodConfig lpom = preset("learnopengl_pom");

@@ -107,13 +107,33 @@ TEST(Searches, FetchCounts) {
     EXPECT_LE(fetches, 8 + 1 + 6 + 1);
 }
 
+// Each kind's parameters at the settings of its source (docs/methods.md), from its own struct:
+// kinds that share a field's meaning no longer share a field.
 TEST(Searches, DefaultsAreTheSources) {
-    MethodConfig sec = method(R"({"name":"secant"})");
-    EXPECT_EQ(sec.builtin()->linearSteps, 10);
-    EXPECT_EQ(sec.builtin()->secantSteps, 3);
-    MethodConfig con = method(R"({"name":"contact"})");
-    EXPECT_EQ(con.builtin()->minLayers, 16);
-    EXPECT_EQ(con.builtin()->maxLayers, 16);
+    auto builtin = [](const char* name) {
+        return *method(std::string(R"({"name":")") + name + "\"}").builtin();
+    };
+    const auto sec = builtin("secant").as<SecantParameters>();
+    EXPECT_EQ(sec.linearSteps, 10);  // Risser et al. 2007
+    EXPECT_EQ(sec.secantSteps, 3);
+    EXPECT_EQ(builtin("contact").as<ContactParameters>().layers, 16);  // Riccardi 2018
+    const auto pom = builtin("pom").as<LayerParameters>();
+    EXPECT_EQ(pom.minLayers, 8);  // LearnOpenGL
+    EXPECT_EQ(pom.maxLayers, 32);
+    EXPECT_EQ(pom.maxSteps, 0);
+    const auto relief = builtin("relief").as<ReliefParameters>();
+    EXPECT_EQ(relief.linearSteps, 10);  // Policarpo et al. 2005
+    EXPECT_EQ(relief.binarySteps, 5);
+    EXPECT_EQ(builtin("iterative").as<IterationParameters>().iterations, 4);
+    const auto cone = builtin("cone").as<ConeParameters>();
+    EXPECT_EQ(cone.steps, 32);  // Dummer 2006; pgt's 5 bisections
+    EXPECT_EQ(cone.refineSteps, 5);
+    const auto relaxed = builtin("relaxed_cone").as<RelaxedConeParameters>();
+    EXPECT_EQ(relaxed.coneSteps, 15);  // Policarpo & Oliveira 2007, listing 18-3
+    EXPECT_EQ(relaxed.binarySteps, 6);
+    EXPECT_EQ(builtin("maxmip").as<MaxMipParameters>().maxIterations, 4096);
+    // A kind's struct is its own: reading another kind's is refused, not a silent default.
+    EXPECT_THROW((void)builtin("cone").as<RelaxedConeParameters>(), std::bad_variant_access);
 }
 
 }  // namespace

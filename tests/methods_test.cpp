@@ -209,7 +209,7 @@ TEST(Registry, EveryKindRoundTripsThroughItsJson) {
         EXPECT_EQ(b.kind, k.kind);
         int value = 2;
         for (const IntParameter& p : k.parameters)
-            if (p.written) b.*p.field = std::min(p.hi, p.lo + value++);
+            if (p.written) p.set(b, std::min(p.hi, p.lo + value++));
         cfg.scale = 0.07, cfg.bias = -0.01, b.doublePrecision = true;
         cfg.label = std::string(1, 'x');  // (a literal here trips GCC 12's -Wrestrict)
         nlohmann::json j = toJson(cfg);
@@ -221,11 +221,12 @@ TEST(Registry, EveryKindRoundTripsThroughItsJson) {
 TEST(Registry, StepCountSetsTheFitsParameter) {
     MethodConfig pom = parseMethod(nlohmann::json("pom"), "s", "m");
     ASSERT_TRUE(setStepCount(pom, 48));
-    EXPECT_EQ(pom.builtin()->minLayers, 48);
-    EXPECT_EQ(pom.builtin()->maxLayers, 48);
+    EXPECT_EQ(pom.builtin()->as<LayerParameters>().minLayers, 48);
+    EXPECT_EQ(pom.builtin()->as<LayerParameters>().maxLayers, 48);
     MethodConfig relief = parseMethod(nlohmann::json("relief"), "s", "m");
     ASSERT_TRUE(setStepCount(relief, 7));
-    EXPECT_EQ(relief.builtin()->linearSteps, 7);
+    EXPECT_EQ(relief.builtin()->as<ReliefParameters>().linearSteps, 7);
+    EXPECT_EQ(relief.builtin()->as<ReliefParameters>().binarySteps, 5);  // untouched
     MethodConfig parallax = parseMethod(nlohmann::json("parallax"), "s", "m");
     EXPECT_FALSE(setStepCount(parallax, 7));
 }

@@ -109,11 +109,8 @@ std::string parameterSuffix(const MethodConfig& c) {
 
 void readMethodParameters(JsonFields& f, MethodConfig& cfg) {
     BuiltinMethod& b = *cfg.builtin();  // a shader's parameters are setShaderParameter's
-    for (const IntParameter& p : kindInfo(b.kind).parameters) {
-        if (!f.has(p.key)) continue;
-        b.*p.field = f.integer(p.key, p.lo, p.hi);
-        if (p.alsoField) b.*p.alsoField = b.*p.field;
-    }
+    for (const IntParameter& p : kindInfo(b.kind).parameters)
+        if (f.has(p.key)) p.set(b, f.integer(p.key, p.lo, p.hi));
     cfg.discardOutside = f.boolean("discard_outside", cfg.discardOutside);
     cfg.scale = f.number("scale", cfg.scale, -kMaxOwnDisplacement, kMaxOwnDisplacement);
     cfg.bias = f.number("bias", cfg.bias, -kMaxOwnDisplacement, kMaxOwnDisplacement);
@@ -147,10 +144,8 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
         if (object.contains(key)) return parseShaderMethod(f, file);
     MethodConfig cfg;
     cfg.name = f.choice("name", methodNames(), "");
-    BuiltinMethod& b = *cfg.builtin();
     for (const auto& k : methodKinds())
-        if (cfg.name == k.name) b.kind = k.kind;
-    applyKindDefaults(b);
+        if (cfg.name == k.name) cfg.method = builtinOf(k.kind);
     readMethodParameters(f, cfg);
     cfg.label = f.string("label", "");
     if (f.has("label")) checkLabel(cfg.label, file, f.fieldPath("label"));
@@ -216,7 +211,7 @@ namespace {
 // older studies keep their identity).
 void builtinJson(const BuiltinMethod& b, Json& j) {
     for (const IntParameter& p : kindInfo(b.kind).parameters)
-        if (p.written) j[p.key] = b.*p.field;
+        if (p.written) j[p.key] = p.get(b);
     j["precision"] = b.doublePrecision ? "double" : "float";
     if (b.gpu8Filter) j["filter"] = "gpu8";
     if (b.shadow != ShadowMarch::Hard) j["shadow"] = shadowNames()[size_t(b.shadow)];

@@ -42,18 +42,53 @@ struct GlslSpec;  // methods/shader/glsl_spec.h: a user's shader function run in
 // hard march of the POM literature, or Tatarchuk's soft shadow (DirectX SDK sample).
 enum class ShadowMarch { None, Hard, Soft };
 
-// A built-in method: its kind and what only built-ins read (their parameters, precision,
-// filter and shadow march). Its C++ function is its kind's row of methods/registry.h.
+// Each kind's own parameters, their defaults written once here (the sources' own settings);
+// methods/registry.cpp's row of a kind names its struct and its keys.
+struct NoParameters {};
+struct LayerParameters {  // steep, pom (LearnOpenGL's defaults)
+    int minLayers = 8, maxLayers = 32;
+    int maxSteps = 0;  // 0 = unbounded (LearnOpenGL); the deferred-renderer blog uses 100
+};
+struct ReliefParameters {  // relief (Policarpo et al. 2005)
+    int linearSteps = 10, binarySteps = 5;
+};
+struct IterationParameters {  // iterative (Lengyel FGED 2 Listing 7.9), iterative_slope (Premecz)
+    int iterations = 4;
+};
+struct SecantParameters {  // secant (Risser et al. 2007)
+    int linearSteps = 10, secantSteps = 3;
+};
+struct ContactParameters {  // contact (Riccardi 2018): one layer count for both marches
+    int layers = 16;
+};
+struct MaxMipParameters {  // maxmip: nodes visited at most (a safety bound)
+    int maxIterations = 4096;
+};
+struct ConeParameters {  // cone (Dummer 2006): cone steps, then pgt's bisections
+    int steps = 32, refineSteps = 5;
+};
+struct RelaxedConeParameters {  // relaxed_cone (Policarpo & Oliveira 2007, listing 18-3)
+    int coneSteps = 15, binarySteps = 6;
+};
+using KindParameters = std::variant<NoParameters, LayerParameters, ReliefParameters,
+                                    IterationParameters, SecantParameters, ContactParameters,
+                                    MaxMipParameters, ConeParameters, RelaxedConeParameters>;
+
+// A built-in method: its kind, its kind's parameters, and what every built-in reads
+// (precision, filter and shadow march). Its C++ function is its kind's row of
+// methods/registry.h; registry.h's builtinOf makes one at its kind's defaults.
 struct BuiltinMethod {
     MethodKind kind = MethodKind::None;
-    int minLayers = 8, maxLayers = 32;  // steep, pom (LearnOpenGL's defaults)
-    int maxSteps =
-        0;  // steep, pom: 0 = unbounded (LearnOpenGL); the deferred-renderer blog uses 100
-    int linearSteps = 10, binarySteps = 5;  // relief (Policarpo et al. 2005)
-    int iterations = 4;   // iterative (Lengyel FGED 2 Listing 7.9), iterative_slope (Premecz 2006)
-    int secantSteps = 3;  // secant (Risser et al. 2007)
-    int maxIterations = 4096;  // maxmip: nodes visited at most (a safety bound)
-    int coneSteps = 32;  // cone (Dummer 2006), relaxed_cone (15); their bisections: binarySteps
+    KindParameters parameters;
+    // The kind's parameters (std::get: a kind reads only its own struct).
+    template <class P>
+    const P& as() const {
+        return std::get<P>(parameters);
+    }
+    template <class P>
+    P& as() {
+        return std::get<P>(parameters);
+    }
     bool doublePrecision = false;  // rerun in 64-bit to separate rounding from the algorithm
     bool gpu8Filter = false;       // "filter": "gpu8": bilinear weights of 8 fractional bits
     // Self-shadowing, run after the method from the point it found when the view has a light.

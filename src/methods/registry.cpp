@@ -21,7 +21,8 @@ namespace {
 constexpr int kMaxLayers = 4096;
 
 // Steep and pom: "32" when the layer count is fixed, "8_32" for a range, "_s100" with a cap.
-std::string layerLabel(const BuiltinMethod& c) {
+std::string layerLabel(const BuiltinMethod& m) {
+    const auto& c = m.as<LayerParameters>();
     std::string s = c.minLayers == c.maxLayers
                         ? std::to_string(c.maxLayers)
                         : std::to_string(c.minLayers) + "_" + std::to_string(c.maxLayers);
@@ -29,63 +30,75 @@ std::string layerLabel(const BuiltinMethod& c) {
     return s;
 }
 
-std::string reliefLabel(const BuiltinMethod& c) {
+std::string reliefLabel(const BuiltinMethod& m) {
+    const auto& c = m.as<ReliefParameters>();
     return std::to_string(c.linearSteps) + "_" + std::to_string(c.binarySteps);
 }
 
-std::string iterativeLabel(const BuiltinMethod& c) { return std::to_string(c.iterations); }
+std::string iterativeLabel(const BuiltinMethod& m) {
+    return std::to_string(m.as<IterationParameters>().iterations);
+}
 
-std::string secantLabel(const BuiltinMethod& c) {
+std::string secantLabel(const BuiltinMethod& m) {
+    const auto& c = m.as<SecantParameters>();
     return std::to_string(c.linearSteps) + "_" + std::to_string(c.secantSteps);
 }
 
-std::string contactLabel(const BuiltinMethod& c) { return std::to_string(c.minLayers); }
+std::string contactLabel(const BuiltinMethod& m) {
+    return std::to_string(m.as<ContactParameters>().layers);
+}
 
-const std::vector<IntParameter> kLayerParameters = {
-    {"min_layers", &BuiltinMethod::minLayers, nullptr, 1, kMaxLayers},
-    {"max_layers", &BuiltinMethod::maxLayers, nullptr, 1, kMaxLayers},
-    // A fixed layer count: min = max. Read after the two above, so it wins.
-    {"layers", &BuiltinMethod::minLayers, &BuiltinMethod::maxLayers, 1, kMaxLayers, false},
-    {"max_steps", &BuiltinMethod::maxSteps, nullptr, 0, kSafetyStepCap},
-};
+std::string coneLabel(const BuiltinMethod& m) {
+    const auto& c = m.as<ConeParameters>();
+    return std::to_string(c.steps) + "_" + std::to_string(c.refineSteps);
+}
 
-const std::vector<IntParameter> kReliefParameters = {
-    {"linear_steps", &BuiltinMethod::linearSteps, nullptr, 1, kMaxLayers},
-    {"binary_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64},  // 64 halvings: past a double
-};
-
-const std::vector<IntParameter> kSecantParameters = {
-    {"linear_steps", &BuiltinMethod::linearSteps, nullptr, 1, kMaxLayers},
-    {"secant_steps", &BuiltinMethod::secantSteps, nullptr, 0, 64},
-};
-
-// Contact refinement's one layer count serves both of its marches (Riccardi 2018: 16).
-const std::vector<IntParameter> kContactParameters = {
-    {"layers", &BuiltinMethod::minLayers, &BuiltinMethod::maxLayers, 1, kMaxLayers, true, 16},
-};
-
-const std::vector<IntParameter> kMaxMipParameters = {
-    {"max_iterations", &BuiltinMethod::maxIterations, nullptr, 1, 1 << 24},
-};
-
-// Dummer's cone step mapping: 32 cone steps; 5 bisections after them (pgt's refinement).
-const std::vector<IntParameter> kConeParameters = {
-    {"steps", &BuiltinMethod::coneSteps, nullptr, 0, kMaxLayers, true, 32},
-    {"refine_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64, true, 5},
-};
-
-// Policarpo & Oliveira's relaxed cone stepping: 15 cone steps, 6 binary steps (listing 18-3).
-const std::vector<IntParameter> kRelaxedConeParameters = {
-    {"cone_steps", &BuiltinMethod::coneSteps, nullptr, 0, kMaxLayers, true, 15},
-    {"binary_steps", &BuiltinMethod::binarySteps, nullptr, 0, 64, true, 6},
-};
-
-std::string coneLabel(const BuiltinMethod& c) {
+std::string relaxedConeLabel(const BuiltinMethod& m) {
+    const auto& c = m.as<RelaxedConeParameters>();
     return std::to_string(c.coneSteps) + "_" + std::to_string(c.binarySteps);
 }
 
+using L = LayerParameters;
+const std::vector<IntParameter> kLayerParameters = {
+    intParameter<L, &L::minLayers>("min_layers", 1, kMaxLayers),
+    intParameter<L, &L::maxLayers>("max_layers", 1, kMaxLayers),
+    // A fixed layer count: min = max. Read after the two above, so it wins.
+    intParameter<L, &L::minLayers, &L::maxLayers>("layers", 1, kMaxLayers, false),
+    intParameter<L, &L::maxSteps>("max_steps", 0, kSafetyStepCap),
+};
+
+const std::vector<IntParameter> kReliefParameters = {
+    intParameter<ReliefParameters, &ReliefParameters::linearSteps>("linear_steps", 1, kMaxLayers),
+    // 64 halvings: past a double's precision
+    intParameter<ReliefParameters, &ReliefParameters::binarySteps>("binary_steps", 0, 64),
+};
+
+const std::vector<IntParameter> kSecantParameters = {
+    intParameter<SecantParameters, &SecantParameters::linearSteps>("linear_steps", 1, kMaxLayers),
+    intParameter<SecantParameters, &SecantParameters::secantSteps>("secant_steps", 0, 64),
+};
+
+const std::vector<IntParameter> kContactParameters = {
+    intParameter<ContactParameters, &ContactParameters::layers>("layers", 1, kMaxLayers),
+};
+
+const std::vector<IntParameter> kMaxMipParameters = {
+    intParameter<MaxMipParameters, &MaxMipParameters::maxIterations>("max_iterations", 1, 1 << 24),
+};
+
+const std::vector<IntParameter> kConeParameters = {
+    intParameter<ConeParameters, &ConeParameters::steps>("steps", 0, kMaxLayers),
+    intParameter<ConeParameters, &ConeParameters::refineSteps>("refine_steps", 0, 64),
+};
+
+using R = RelaxedConeParameters;
+const std::vector<IntParameter> kRelaxedConeParameters = {
+    intParameter<R, &R::coneSteps>("cone_steps", 0, kMaxLayers),
+    intParameter<R, &R::binarySteps>("binary_steps", 0, 64),
+};
+
 const std::vector<IntParameter> kIterativeParameters = {
-    {"iterations", &BuiltinMethod::iterations, nullptr, 1, 1024},
+    intParameter<IterationParameters, &IterationParameters::iterations>("iterations", 1, 1024),
 };
 
 }  // namespace
@@ -125,6 +138,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Steep,
      .summary = "march of equal depth layers, layer count mixed by V.z; stops below the surface",
      .cite = "mcguire2005 devries2020 deferredblog2025",
+     .defaults = LayerParameters{},
      .parameters = kLayerParameters,
      .stepKey = "layers",
      .labelParameters = layerLabel,
@@ -140,6 +154,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Pom,
      .summary = "steep's march, then the line through its last two samples meets the ray",
      .cite = "brawley2004 tatarchuk2006 devries2020",
+     .defaults = LayerParameters{},
      .parameters = kLayerParameters,
      .stepKey = "layers",
      .labelParameters = layerLabel,
@@ -155,6 +170,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Relief,
      .summary = "linear search, then binary search of the bracket",
      .cite = "policarpo2005",
+     .defaults = ReliefParameters{},
      .parameters = kReliefParameters,
      .stepKey = "linear_steps",
      .labelParameters = reliefLabel,
@@ -169,6 +185,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Iterative,
      .summary = "k equal steps along V.xy by the parallax map P = m_z (s h + b)",
      .cite = "lengyel2019",
+     .defaults = IterationParameters{},
      .parameters = kIterativeParameters,
      .stepKey = "iterations",
      .labelParameters = iterativeLabel,
@@ -194,6 +211,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Secant,
      .summary = "relief's linear search, then secant steps in the bracket",
      .cite = "risser2007",
+     .defaults = SecantParameters{},
      .parameters = kSecantParameters,
      .stepKey = "linear_steps",
      .labelParameters = secantLabel,
@@ -208,6 +226,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Contact,
      .summary = "a coarse march, one step back, a fine march inside it, pom's interpolation",
      .cite = "riccardi2018",
+     .defaults = ContactParameters{},
      .parameters = kContactParameters,
      .stepKey = "layers",
      .labelParameters = contactLabel,
@@ -222,6 +241,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::MaxMip,
      .summary = "exact first crossing with the bilinear surface over a min-max pyramid",
      .cite = "tevs2008",
+     .defaults = MaxMipParameters{},
      .parameters = kMaxMipParameters,
      .runFloat = methodMaxMip<float>,
      .runDouble = methodMaxMip<double>,
@@ -234,6 +254,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::Cone,
      .summary = "cone step mapping on a conservative cone map, then bisections",
      .cite = "dummer2006",
+     .defaults = ConeParameters{},
      .parameters = kConeParameters,
      .stepKey = "steps",
      .labelParameters = coneLabel,
@@ -248,9 +269,10 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::RelaxedCone,
      .summary = "relaxed cone stepping, then binary steps",
      .cite = "policarpo2007",
+     .defaults = RelaxedConeParameters{},
      .parameters = kRelaxedConeParameters,
      .stepKey = "cone_steps",
-     .labelParameters = coneLabel,
+     .labelParameters = relaxedConeLabel,
      .runFloat = methodRelaxedCone<float>,
      .runDouble = methodRelaxedCone<double>,
      .maps = {M::Height, M::RelaxedCone},
@@ -262,6 +284,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .kind = K::IterativeSlope,
      .summary = "the ray point climbs k times toward the tangent plane at its own uv",
      .cite = "premecz2006 szirmaykalos2008",
+     .defaults = IterationParameters{},
      .parameters = kIterativeParameters,
      .stepKey = "iterations",
      .labelParameters = iterativeLabel,
@@ -303,12 +326,8 @@ const std::vector<std::string>& methodNames() {
     return names;
 }
 
-void applyKindDefaults(BuiltinMethod& m) {
-    for (const IntParameter& p : kindInfo(m.kind).parameters) {
-        if (!p.byDefault) continue;
-        m.*p.field = *p.byDefault;
-        if (p.alsoField) m.*p.alsoField = *p.byDefault;
-    }
+BuiltinMethod builtinOf(MethodKind kind) {
+    return BuiltinMethod{.kind = kind, .parameters = kindInfo(kind).defaults};
 }
 
 bool setBuiltinStepCount(BuiltinMethod& m, int steps) {
@@ -316,8 +335,7 @@ bool setBuiltinStepCount(BuiltinMethod& m, int steps) {
     if (!info.stepKey) return false;
     for (const IntParameter& p : info.parameters) {
         if (std::string(p.key) != info.stepKey) continue;
-        m.*p.field = steps;
-        if (p.alsoField) m.*p.alsoField = steps;
+        p.set(m, steps);
         return true;
     }
     return false;

@@ -14,15 +14,32 @@
 
 namespace pgt {
 
-// One integer parameter of a method kind.
+// One integer parameter of a method kind: a field of its kind's parameter struct
+// (methods/method.h), made by intParameter below.
 struct IntParameter {
-    const char* key;                          // the scene's key: "min_layers"
-    int BuiltinMethod::*field;                // the configuration field it sets
-    int BuiltinMethod::*alsoField = nullptr;  // a second field set to the same value, or null
-    int lo = 1, hi = 1;                       // accepted range
+    const char* key;                                // the scene's key: "min_layers"
+    int& (*field)(KindParameters&) = nullptr;       // the field it sets
+    int (*value)(const KindParameters&) = nullptr;  // and reads
+    int& (*alsoField)(KindParameters&) = nullptr;   // a second field set to the same value
+    int lo = 1, hi = 1;                             // accepted range
     bool written = true;  // part of the configuration's JSON (an alias like "layers" is not)
-    std::optional<int> byDefault = std::nullopt;  // the kind's own default, if not MethodConfig's
+    void set(BuiltinMethod& m, int v) const {
+        field(m.parameters) = v;
+        if (alsoField) alsoField(m.parameters) = v;
+    }
+    int get(const BuiltinMethod& m) const { return value(m.parameters); }
 };
+// Parameter `key` of struct P's field F (and G, an alias's second field).
+template <class P, int P::*F, int P::*G = nullptr>
+IntParameter intParameter(const char* key, int lo, int hi, bool written = true) {
+    IntParameter p{key};
+    p.field = [](KindParameters& k) -> int& { return std::get<P>(k).*F; };
+    p.value = [](const KindParameters& k) { return std::get<P>(k).*F; };
+    if constexpr (G != nullptr)
+        p.alsoField = [](KindParameters& k) -> int& { return std::get<P>(k).*G; };
+    p.lo = lo, p.hi = hi, p.written = written;
+    return p;
+}
 
 template <class Real>
 using MethodFunction = Vec2<Real> (*)(MethodContext<Real>&, Vec2<Real>, Vec3<Real>,
@@ -49,8 +66,9 @@ struct MethodKindInfo {
     MethodKind kind;
     const char* summary = "";  // one line: what it computes (`pgt methods`)
     const char* cite = "";     // its sources' keys in docs/references.md, space-separated
-    std::vector<IntParameter> parameters = {};
-    const char* stepKey = nullptr;  // the key of `parameters` a fit varies, or null
+    KindParameters defaults = NoParameters{};   // its parameter struct at the sources' settings
+    std::vector<IntParameter> parameters = {};  // the scene's keys of its fields
+    const char* stepKey = nullptr;              // the key of `parameters` a fit varies, or null
     // The parameters shown in a generated label ("8_32" for pom), "" when there are none.
     std::string (*labelParameters)(const BuiltinMethod&) = nullptr;
     MethodFunction<float> runFloat = nullptr;
@@ -63,8 +81,8 @@ struct MethodKindInfo {
 const std::vector<MethodKindInfo>& methodKinds();
 // The row of a built-in kind.
 const MethodKindInfo& kindInfo(MethodKind kind);
-// Sets the parameters whose default is the kind's own (contact's 16 layers, not pom's 8-32).
-void applyKindDefaults(BuiltinMethod& m);
+// A built-in of `kind` at its row's defaults.
+BuiltinMethod builtinOf(MethodKind kind);
 // The parameter a fit varies set to `steps` (every field it sets); false when the kind has none.
 bool setBuiltinStepCount(BuiltinMethod& m, int steps);
 

@@ -48,14 +48,15 @@ bool eyeAbove(MethodContext<Real>& c, Vec3<Real> v) {
 // (refine_steps 0) never passes the first intersection.
 template <class Real>
 Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                      const BuiltinMethod& cfg) {
+                      const BuiltinMethod& method) {
+    const auto& cfg = method.as<ConeParameters>();
     const ConeMap& m = *c.cone;
     if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
     const ConeRay<Real> ray(m, c, uv0, v);
     const Real sign = ray.sign;
     Real e = Real(m.top);
     Vec2<Real> uv = ray.at(e);
-    for (int i = 0; i < cfg.coneSteps; ++i) {
+    for (int i = 0; i < cfg.steps; ++i) {
         const Real gap = e - sign * c.h(uv);
         if (!(gap > Real(0))) break;  // on the surface (or a NaN height)
         ++c.fetches;
@@ -63,11 +64,11 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
         e -= ratio * gap / (ratio + ray.r);
         uv = ray.at(e);
     }
-    if (cfg.binarySteps == 0) return ray.found(c, e);
+    if (cfg.refineSteps == 0) return ray.found(c, e);
     const Real gap = e - sign * c.h(uv);
     if (!(gap > Real(0))) return ray.found(c, e);
     Real above = e, below = e - gap;
-    for (int i = 0; i < cfg.binarySteps; ++i) {
+    for (int i = 0; i < cfg.refineSteps; ++i) {
         const Real mid = (above + below) * Real(0.5);
         (mid - sign * c.h(ray.at(mid)) > Real(0) ? above : below) = mid;
     }
@@ -82,7 +83,8 @@ Vec2<Real> methodCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // v): deeper where the point is above the surface, back up where not; one fetch each.
 template <class Real>
 Vec2<Real> methodRelaxedCone(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                             const BuiltinMethod& cfg) {
+                             const BuiltinMethod& method) {
+    const auto& cfg = method.as<RelaxedConeParameters>();
     const ConeMap& m = *c.relaxedCone;
     if (!eyeAbove(c, v)) return Vec2<Real>(NAN);
     const ConeRay<Real> ray(m, c, uv0, v);

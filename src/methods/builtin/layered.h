@@ -34,7 +34,7 @@ struct SteepMarch {
 // deferred-renderer blog's for-loop does.
 template <class Real>
 SteepMarch<Real> steepMarch(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                            const BuiltinMethod& cfg) {
+                            const LayerParameters& cfg) {
     SteepMarch<Real> m;
     Real numLayers = glslMix(Real(cfg.maxLayers), Real(cfg.minLayers), std::fabs(v.z));
     m.layerDepth = Real(1) / numLayers;
@@ -68,7 +68,7 @@ inline Real marchHeight(const MethodContext<Real>& c, Real t) {
 template <class Real>
 Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                        const BuiltinMethod& cfg) {
-    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg);
+    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg.as<LayerParameters>());
     c.foundHeight = marchHeight(c, m.layer);
     return m.uv;
 }
@@ -78,7 +78,7 @@ Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 template <class Real>
 Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
                      const BuiltinMethod& cfg) {
-    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg);
+    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg.as<LayerParameters>());
     Vec2<Real> prev = m.uv + m.delta;
     Real after = m.depthValue - m.layer;
     Real before = c.depth(prev) - m.layer + m.layerDepth;
@@ -94,7 +94,8 @@ Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // runs, as in the shader.
 template <class Real>
 Vec2<Real> methodRelief(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                        const BuiltinMethod& cfg) {
+                        const BuiltinMethod& method) {
+    const auto& cfg = method.as<ReliefParameters>();
     Vec2<Real> dp = reliefTopEntry(uv0, v, c.scale, c.bias);
     Vec2<Real> ds = -Vec2<Real>(v.x, v.y) / v.z * c.scale;
     Real size = Real(1) / Real(cfg.linearSteps);

@@ -13,7 +13,8 @@ namespace pgt {
 // P. Our P already holds s (UV units) and the bias, so scale = 1/k (Eq. 7.52 without s, r, 2).
 template <class Real>
 Vec2<Real> methodIterative(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                           const BuiltinMethod& cfg) {
+                           const BuiltinMethod& method) {
+    const auto& cfg = method.as<IterationParameters>();
     Vec2<Real> pdir = Vec2<Real>(v.x, v.y) / Real(cfg.iterations);
     Vec2<Real> uv = uv0;
     Real sum = Real(0);

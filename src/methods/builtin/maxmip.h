@@ -70,7 +70,8 @@ bool firstRoot(Real A, Real B, Real C, Real sigma1, Real& sigma) {
 // visited is one of max_iterations; the bound reached is flagged as a step limit.
 template <class Real>
 Vec2<Real> methodMaxMip(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                        const BuiltinMethod& cfg) {
+                        const BuiltinMethod& method) {
+    const auto& cfg = method.as<MaxMipParameters>();
     const MinMaxPyramid& p = *c.pyramid;
     const Real s = c.scale, b = c.bias;
     const Vec2<Real> dir = Vec2<Real>(v.x, v.y) / v.z;

@@ -20,7 +20,8 @@ namespace pgt {
 // search when secant_steps is 0 or no sample lies below the surface.
 template <class Real>
 Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                        const BuiltinMethod& cfg) {
+                        const BuiltinMethod& method) {
+    const auto& cfg = method.as<SecantParameters>();
     const Vec2<Real> dp = reliefTopEntry(uv0, v, c.scale, c.bias);
     const Vec2<Real> ds = -Vec2<Real>(v.x, v.y) / v.z * c.scale;
     const Real size = Real(1) / Real(cfg.linearSteps);
@@ -56,8 +57,9 @@ Vec2<Real> methodSecant(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // between the second march's last two layers (docs/model.md §6b pom, with the finer step).
 template <class Real>
 Vec2<Real> methodContact(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                         const BuiltinMethod& cfg) {
-    const Real n = Real(cfg.minLayers);
+                         const BuiltinMethod& method) {
+    const auto& cfg = method.as<ContactParameters>();
+    const Real n = Real(cfg.layers);
     Real layerDepth = Real(1) / n;
     Vec2<Real> delta = Vec2<Real>(v.x, v.y) / v.z * c.scale / n;
     Vec2<Real> uv = reliefTopEntry(uv0, v, c.scale, c.bias);

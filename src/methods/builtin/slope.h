@@ -14,7 +14,8 @@ namespace pgt {
 // filtered normal is used as read (not renormalised), as the survey's listing uses its texel.
 template <class Real>
 Vec2<Real> methodIterativeSlope(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                                const BuiltinMethod& cfg) {
+                                const BuiltinMethod& method) {
+    const auto& cfg = method.as<IterationParameters>();
     Vec2<Real> uv = uv0;
     Real z = Real(0);
     for (int i = 0; i < cfg.iterations; ++i) {

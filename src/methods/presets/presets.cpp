@@ -17,7 +17,7 @@ namespace {
 // A single-fetch built-in (parallax, offset_limited) with its own (s, b).
 MethodConfig singleFetch(MethodKind kind, double scale, double bias) {
     MethodConfig c;
-    c.method = BuiltinMethod{.kind = kind};
+    c.method = builtinOf(kind);
     c.name = toString(kind);
     c.scale = scale, c.bias = bias;
     return c;
@@ -27,7 +27,7 @@ MethodConfig singleFetch(MethodKind kind, double scale, double bias) {
 MethodConfig layered(MethodKind kind, int minLayers, int maxLayers, int maxSteps, double scale,
                      double bias) {
     MethodConfig c = singleFetch(kind, scale, bias);
-    BuiltinMethod& m = *c.builtin();
+    auto& m = c.builtin()->as<LayerParameters>();
     m.minLayers = minLayers, m.maxLayers = maxLayers, m.maxSteps = maxSteps;
     return c;
 }

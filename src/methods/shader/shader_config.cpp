@@ -94,7 +94,7 @@ Json twinEntry(const MethodConfig& builtIn) {
         if (!p.written) continue;
         const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
                                        p.key) != twin.floatParameters.end();
-        u[p.key] = asFloat ? Json(double(b->*p.field)) : Json(b->*p.field);
+        u[p.key] = asFloat ? Json(double(p.get(*b))) : Json(p.get(*b));
     }
     if (!u.empty()) j["uniforms"] = u;
     if (builtIn.lodGrad) j["lod"] = "grad";
@@ -119,7 +119,7 @@ MethodConfig glslTwin(const MethodConfig& builtIn) {
         if (!p.written) continue;
         const bool asFloat = std::find(twin.floatParameters.begin(), twin.floatParameters.end(),
                                        p.key) != twin.floatParameters.end();
-        spec->uniforms.push_back({p.key, {double(b.*p.field)}, !asFloat, "", 1});
+        spec->uniforms.push_back({p.key, {double(p.get(b))}, !asFloat, "", 1});
     }
     MethodConfig cfg;
     cfg.name = cfg.label = builtIn.label + "_gl";
