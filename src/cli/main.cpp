@@ -5,7 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -411,11 +410,10 @@ int runCommand(const CommandLine& c) {
 // glibc.malloc.hugetlb=0 keeps 4 KB pages). Measured: the 2048^2 default frame 12 % faster,
 // the same peak memory to 1 % (docs/performance.md). Where exec fails, pgt runs on as it is.
 void restartOnHugePages(char** argv) {
-    constexpr const char* kTunable = "glibc.malloc.hugetlb";
+    if (pgt::hugePagesTunableGiven()) return;
     const char* given = std::getenv("GLIBC_TUNABLES");
-    if (given && std::strstr(given, kTunable)) return;
-    const std::string value =
-        (given && *given ? std::string(given) + ":" : std::string()) + kTunable + "=1";
+    const std::string value = (given && *given ? std::string(given) + ":" : std::string()) +
+                              pgt::kHugePagesTunable + "=1";
     if (setenv("GLIBC_TUNABLES", value.c_str(), 1) != 0) return;
     execv("/proc/self/exe", argv);
     // Not restarted: as before, with 4 KB pages (the tunable left set for child processes).

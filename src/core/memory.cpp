@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
 
 #include "core/error.h"
 #include "core/format.h"
@@ -42,6 +45,21 @@ void checkMemory(double bytes, const std::string& file, const std::string& field
                              std::to_string(memoryLimitMb()) +
                              " MB (raise it with --memory-limit MB)");
     }
+}
+
+namespace {
+const char* tunables() { return std::getenv("GLIBC_TUNABLES"); }
+}  // namespace
+
+bool hugePagesTunableGiven() {
+    const char* t = tunables();
+    return t && std::strstr(t, kHugePagesTunable);
+}
+
+bool mallocOnHugePages() {
+    const char* t = tunables();
+    const std::string on = std::string(kHugePagesTunable) + "=";
+    return t && (std::strstr(t, (on + "1").c_str()) || std::strstr(t, (on + "2").c_str()));
 }
 
 }  // namespace pgt

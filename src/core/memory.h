@@ -22,4 +22,13 @@ uint64_t memoryLimitMb();
 void checkMemory(double bytes, const std::string& file, const std::string& field,
                  const std::string& value, const std::string& what);
 
+// glibc's malloc puts its large chunks on transparent huge pages when this tunable is 1 (or 2),
+// read from GLIBC_TUNABLES only when a process starts (the `pgt` command restarts itself with
+// it: cli/main.cpp; docs/performance.md).
+inline constexpr const char* kHugePagesTunable = "glibc.malloc.hugetlb";
+// Whether this process's environment names the tunable at all (a user's choice stands).
+bool hugePagesTunableGiven();
+// Whether it asks for huge pages (what summary.json's provenance reports).
+bool mallocOnHugePages();
+
 }  // namespace pgt

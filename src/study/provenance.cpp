@@ -11,7 +11,6 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <mutex>
@@ -19,6 +18,7 @@
 
 #include "build_id.h"
 #include "core/json_read.h"
+#include "core/memory.h"
 #include "io/staged_files.h"
 #include "methods/shader/glsl_method.h"
 
@@ -70,21 +70,13 @@ std::string operatingSystem() {
     return std::string(u.sysname) + " " + u.release + " " + u.machine;
 }
 
-// Whether glibc's malloc puts large buffers on transparent huge pages (the tunable pgt's
-// command sets when it starts, cli/main.cpp; the Python module's process as its user set it).
-bool mallocHugePages() {
-    const char* t = std::getenv("GLIBC_TUNABLES");
-    return t &&
-           (std::strstr(t, "glibc.malloc.hugetlb=1") || std::strstr(t, "glibc.malloc.hugetlb=2"));
-}
-
 // The machine's facts, read once (every summary.json of a study with images asks).
 const Json& machine() {
     static const Json facts = {{"cpu", cpuModel()},
                                {"cores", std::thread::hardware_concurrency()},
                                {"os", operatingSystem()},
                                {"embree_kernel", embreeKernel()},
-                               {"huge_pages", mallocHugePages()}};
+                               {"huge_pages", mallocOnHugePages()}};
     return facts;
 }
 
