@@ -67,8 +67,8 @@ inline Real marchHeight(const MethodContext<Real>& c, Real t) {
 
 template <class Real>
 Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                       const BuiltinMethod& cfg) {
-    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg.as<LayerParameters>());
+                       const BuiltinMethod& method) {
+    SteepMarch<Real> m = steepMarch(c, uv0, v, method.as<LayerParameters>());
     c.foundHeight = marchHeight(c, m.layer);
     return m.uv;
 }
@@ -77,8 +77,8 @@ Vec2<Real> methodSteep(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
 // crossing.
 template <class Real>
 Vec2<Real> methodPom(MethodContext<Real>& c, Vec2<Real> uv0, Vec3<Real> v,
-                     const BuiltinMethod& cfg) {
-    SteepMarch<Real> m = steepMarch(c, uv0, v, cfg.as<LayerParameters>());
+                     const BuiltinMethod& method) {
+    SteepMarch<Real> m = steepMarch(c, uv0, v, method.as<LayerParameters>());
     Vec2<Real> prev = m.uv + m.delta;
     Real after = m.depthValue - m.layer;
     Real before = c.depth(prev) - m.layer + m.layerDepth;
