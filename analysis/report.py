@@ -248,6 +248,8 @@ def provenance_lines(directory):
             f"- {r.get('date', '?')}: pgt {p.get('version', '?')} commit {p.get('commit', '?')} "
             f"({p.get('build_type', '?')}, {p.get('compiler', '?')}); {m.get('cpu', '?')}, "
             f"{m.get('cores', '?')} cores, Embree kernel {m.get('embree_kernel', '?')}"
+            + ("" if "huge_pages" not in m else
+               ", huge pages" if m["huge_pages"] else ", 4 KB pages")
             + (f"; GL {gl.get('renderer', '?')} ({gl.get('version', '?')})" if gl else "")
             + (f"; {r['cases_run']} cases" if "cases_run" in r else "; did not finish")
             + f"; `{r.get('command', '?')}`")

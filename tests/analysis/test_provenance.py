@@ -104,7 +104,9 @@ with tempfile.TemporaryDirectory() as d:
     if os.path.exists(report):
         text = open(report).read()
         check("report.md states the runs", "Made by 2 run(s)" in text and
-              runs[-1]["pgt"]["commit"] in text, text[:1500])
+              runs[-1]["pgt"]["commit"] in text and
+              (", huge pages" if runs[-1]["machine"]["huge_pages"] else ", 4 KB pages") in text,
+              text[:1500])
     r = run("sweep", path, "--out", study, "--fresh", "--no-report")
     runs = json.load(open(os.path.join(study, "provenance.json")))["runs"]
     check("--fresh starts the runs again", len(runs) == 1 and runs[0]["cases_run"] == 2, runs)
