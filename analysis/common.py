@@ -17,8 +17,10 @@ try:
     import numpy as np  # noqa: F401
     import pandas as pd
 except ImportError as e:  # pragma: no cover - depends on the machine
-    sys.exit(f"{os.path.basename(sys.argv[0])}: {e.name} is missing; install python3-matplotlib "
-             "python3-pandas python3-numpy and run with /usr/bin/python3")
+    # Status 3 tells `pgt` (cli/report.cpp) that a package is missing, not that the script failed.
+    print(f"{os.path.basename(sys.argv[0])}: {e.name} is missing; install python3-matplotlib "
+          "python3-pandas python3-numpy and run with /usr/bin/python3", file=sys.stderr)
+    sys.exit(3)
 
 # Where the documents put the bias, as a ratio b/s (docs/model.md §3): Welsh's ARB code
 # b = -s/2; LearnOpenGL's depth map b = -s; Lengyel's signed height 2h - 1 is b = -s/2.

@@ -132,6 +132,22 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study,
     return finished;
 }
 
+// What an earlier study's report and --images wrote in `dir` (report.md, defaults.csv, the
+// figures, images/case_*), so that a fresh study's report shows none of it: a figure of a scale
+// the new study lacks would otherwise stay beside the new ones. Other files are left.
+void removeStudyOutputs(const fs::path& dir) {
+    std::error_code ec;
+    std::vector<fs::path> gone = {dir / "report.md", dir / "defaults.csv"};
+    for (const auto& e : fs::directory_iterator(dir / "figures", ec)) {
+        const std::string ext = e.path().extension().string();
+        if (e.is_regular_file(ec) && (ext == ".png" || ext == ".svg")) gone.push_back(e.path());
+    }
+    for (const auto& e : fs::directory_iterator(dir / "images", ec))
+        if (e.is_directory(ec) && e.path().filename().string().rfind("case_", 0) == 0)
+            gone.push_back(e.path());
+    for (const fs::path& p : gone) fs::remove_all(p, ec);
+}
+
 }  // namespace
 
 std::set<std::string> openStudyDir(const Study& study, const Json& identity, bool fresh,
@@ -141,6 +157,7 @@ std::set<std::string> openStudyDir(const Study& study, const Json& identity, boo
         if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
             throw OutputError("cannot use " + path + ": it is not a regular file");
     if (fresh) {
+        if (fs::is_regular_file(studyPath, ec)) removeStudyOutputs(fs::path(studyPath).parent_path());
         fs::remove(csvPath, ec);
         fs::remove(studyPath, ec);
     }

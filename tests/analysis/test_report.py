@@ -144,7 +144,29 @@ with tempfile.TemporaryDirectory() as d:
             if not whole:
                 failures.append(f"killed at {0.5 + 0.1 * k:.2f} s: {name} is cut "
                                 f"({len(data)} bytes)")
+    # --fresh into a directory holding another study: none of the earlier report's figures
+    # stays (here the scale 0.06 the new study lacks).
+    json.dump(dict(scene, sweep={"theta": [0, 40], "scale": [0.03], "timing": {"repeats": 0}}),
+              open(path, "w"))
+    r = subprocess.run([pgt, "sweep", path, "--out", out, "--fresh"], capture_output=True,
+                       text=True,
+                       env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
+    left = sorted(n for n in os.listdir(figdir) if "s0.06" in n or n.startswith("pareto_ns"))
+    if r.returncode != 0 or left or not os.path.exists(os.path.join(figdir, "error_vs_theta_s0.03.png")):
+        failures.append(f"--fresh left the earlier study's figures {left}: {r.stdout} {r.stderr}")
+    # The report script's own exit status says why no report was written: 3, a plotting
+    # package missing (pgt asks no second interpreter first); another, the script failed.
+    for status, why in ((3, "matplotlib, pandas and numpy is needed"),
+                        (1, "the report script failed")):
+        fake = os.path.join(d, f"fake{status}")
+        os.makedirs(fake)
+        open(os.path.join(fake, "report.py"), "w").write(f"import sys\nsys.exit({status})\n")
+        r = subprocess.run([pgt, "sweep", path, "--out", os.path.join(d, f"why{status}")],
+                           capture_output=True, text=True,
+                           env={**os.environ, "PGT_ANALYSIS_DIR": fake})
+        if r.returncode != 0 or f"report not written: " not in r.stdout or why not in r.stdout:
+            failures.append(f"report script exiting {status}: {r.returncode} {r.stdout} {r.stderr}")
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("8 passed, 0 failed")
+print("10 passed, 0 failed")
