@@ -50,7 +50,7 @@ def mark_precomputed(ax, agg, pts):
 def place_labels(ax, items, fontsize=7, color="k"):
     """Writes (text, x, y) beside their points, each moved down in steps of a line until it
     clears the labels placed before it (in display pixels), so that none overlaps another."""
-    ax.figure.canvas.draw()  # the transforms of the final axes limits
+    ax.autoscale_view()  # the final axes limits: transData maps them (no drawing pass)
     placed = []
     line = fontsize * 1.4
     for text, x, y in sorted(items, key=lambda t: (t[1], -t[2])):
@@ -129,6 +129,11 @@ def fig_pareto(df, figdir):
         candidates = [i for i in range(len(pts)) if xkey != "ns" or not gl.iloc[i]]
         front = [candidates[i] for i in pareto_front([pts[i] for i in candidates])]
         fig, ax = plt.subplots(figsize=(8, 5.5))
+        # Fixed margins in inches, set before the labels are placed in display pixels (the
+        # canvas is measured by neither format): the y labels' room on the left, the x
+        # label's below, the title's above.
+        fig.subplots_adjust(left=0.8 / 8, right=1 - 0.15 / 8, bottom=0.55 / 5.5,
+                            top=1 - 0.35 / 5.5)
         scatter_families(ax, agg, gl, xkey)
         fx = [pts[i][0] for i in front]
         fy = [pts[i][1] for i in front]
@@ -158,10 +163,9 @@ def fig_pareto(df, figdir):
                      + (" (bars: 95 % interval over the replicate seeds)"
                         if np.isfinite(agg["mean_h"]).any() else ""))
         ax.legend(fontsize=6, ncol=2)
-        fig.tight_layout()
         name = f"pareto_{xkey}.png"
-        save_figure(fig, os.path.join(figdir, name))
-        save_figure(fig, os.path.join(figdir, f"pareto_{xkey}.svg"))
+        save_figure(fig, os.path.join(figdir, name), fixed=True)
+        save_figure(fig, os.path.join(figdir, f"pareto_{xkey}.svg"), fixed=True)
         plt.close(fig)
         files[xkey] = name
         fronts[xkey] = [agg["label"].iloc[i] for i in front]
@@ -499,12 +503,12 @@ def main():
     curves = common["theta"].nunique() > 1
     depth_job = pool.submit(depth_shadow_lines, common, figdir)
     pareto_job = pool.submit(fig_pareto, common, figdir)
-    heat_jobs = [pool.submit(fig_heatmaps, common, figdir, [family])
-                 for family in families(common)]
     theta_jobs = [pool.submit(fig_error_vs_theta, common, figdir, [scale])
                   for scale in (sorted(common["scale"].unique()) if curves else [])]
     paper_job = pool.submit(fig_paper, common, figdir) if curves else None
     engines_job = pool.submit(engine_lines, df, figdir)
+    heat_jobs = [pool.submit(fig_heatmaps, common, figdir, [family])
+                 for family in families(common)]
     table = defaults_table(common)
     write_text(os.path.join(args.dir, "defaults.csv"), table.to_csv(index=False))
     # Grazing views (the last few degrees) dominate means over all angles; the same table

@@ -108,7 +108,12 @@ def _against_cost(agg, figdir):
         ax.set_ylabel(ylabel)
         ax.tick_params(which="both", labelsize=7)
     axes[0].legend(fontsize=6, ncol=2)
-    return _save(fig, figdir, "depth_shadow_vs_cost.png")
+    # Fixed margins in inches: the tick and axis labels' room on the left and below (the x
+    # label has two lines).
+    width = 5.5 * len(measures)
+    fig.subplots_adjust(left=0.8 / width, right=1 - 0.15 / width, bottom=0.65 / 4.5,
+                        top=1 - 0.15 / 4.5, wspace=1.0 / 5.5)
+    return _save(fig, figdir, "depth_shadow_vs_cost.png", fixed=True)
 
 
 def depth_shadow_lines(df, figdir):

@@ -69,12 +69,19 @@ def fig_paper(df, figdir):
         ax.tick_params(labelsize=7)
     for ax in axes[:, 0]:
         ax.set_ylabel("mean UV error [texels]", fontsize=8)
-    axes[0][cols - 1].legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.02, 1.0),
-                             frameon=False)
-    fig.tight_layout()
+    legend = axes[0][cols - 1].legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                                      frameon=False)
+    # Fixed margins in inches (neither format measures the canvas again): the panels keep
+    # their size and the figure grows to the legend's measured width on the right.
+    panels = 3.6 * cols
+    legend_width = legend.get_window_extent(fig.canvas.get_renderer()).width / fig.dpi
+    width, height = 0.75 + panels + 0.2 + legend_width, 3.2 * rows
+    fig.set_size_inches(width, height)
+    fig.subplots_adjust(left=0.75 / width, right=(0.75 + panels) / width, bottom=0.5 / height,
+                        top=1 - 0.3 / height, wspace=0.08, hspace=0.4)
     name = "paper_error_vs_theta"
     for ext in ("png", "svg"):
-        save_figure(fig, os.path.join(figdir, f"{name}.{ext}"))
+        save_figure(fig, os.path.join(figdir, f"{name}.{ext}"), fixed=True)
     plt.close(fig)
     band = (f"band: 95 % interval over the {seeds} replicate seeds (Student's t on the log of "
             "each seed's mean)" if seeds > 1 else
