@@ -12,23 +12,39 @@ namespace pgt {
 
 namespace {
 
-// e = sign * h over the bilinear surface, in texel-centre lattice units (x = u W - 0.5).
+// e = sign * h over the bilinear surface, in texel-centre lattice units (x = u W - 0.5): the
+// texels (negated where the map is inverted: exact in float) with a border of kPad texels
+// wrapped (repeat) or repeated (clamp), so that a walk's lookups need no addressing; the same
+// values texelPair's addressing gives.
 struct Surface {
-    const Texture& t;
-    double sign;
+    static constexpr int kPad = kRelaxedRadius + 4;  // a walk stays within kRelaxedRadius + 1
+    int width = 0, height = 0, stride = 0;
+    std::vector<float> e;
+
+    Surface(const Texture& t, double sign)
+        : width(t.width), height(t.height), stride(t.width + 2 * kPad) {
+        e.resize(size_t(stride) * size_t(t.height + 2 * kPad));
+        for (int j = -kPad; j < t.height + kPad; ++j)
+            for (int i = -kPad; i < t.width + kPad; ++i)
+                at(i, j) = float(sign) * t.texel(coneIndex(double(i), t.width, t.address),
+                                                 coneIndex(double(j), t.height, t.address));
+    }
+    float& at(int i, int j) { return e[size_t(j + kPad) * size_t(stride) + size_t(i + kPad)]; }
+    double at(int i, int j) const {
+        return e[size_t(j + kPad) * size_t(stride) + size_t(i + kPad)];
+    }
 
     // The patch of the cell holding lattice point (x, y), along the line (x, y) + (dx, dy) s:
     // e = h0 + h1 s + h2 s^2 (docs/model.md §1).
     void along(double x, double y, double dx, double dy, double& h0, double& h1, double& h2) const {
-        int i0, i1, j0, j1;
-        double fx, fy;
-        detail::texelPair(x, t.width, t.address, i0, i1, fx);
-        detail::texelPair(y, t.height, t.address, j0, j1, fy);
-        const double a = sign * t.texel(i0, j0), b = sign * t.texel(i1, j0);
-        const double c = sign * t.texel(i0, j1), d = sign * t.texel(i1, j1);
-        const double e = b - a, f = c - a, g = a - b - c + d;
-        h0 = a + e * fx + f * fy + g * fx * fy;
-        h1 = e * dx + f * dy + g * (fx * dy + fy * dx);
+        const double flx = std::floor(x), fly = std::floor(y), fx = x - flx, fy = y - fly;
+        const int i = int(flx), j = int(fly);
+        PGT_CHECK(i >= -kPad && i + 1 < width + kPad && j >= -kPad && j + 1 < height + kPad);
+        const float* row = &e[size_t(j + kPad) * size_t(stride) + size_t(i + kPad)];
+        const double a = row[0], b = row[1], c = row[size_t(stride)], d = row[size_t(stride) + 1];
+        const double ee = b - a, f = c - a, g = a - b - c + d;
+        h0 = a + ee * fx + f * fy + g * fx * fy;
+        h1 = ee * dx + f * dy + g * (fx * dy + fy * dx);
         h2 = g * dx * dy;
     }
 };
@@ -92,25 +108,29 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
     m.cellsX = t.width;  // one ratio per texel
     m.cellsY = t.height;
     m.ratio.assign(size_t(t.width) * t.height, 0.0f);
-    const Surface surf{t, conservative.inverted ? -1.0 : 1.0};
+    const double sign = conservative.inverted ? -1.0 : 1.0;
+    const Surface surf(t, sign);
     const double W = t.width, H = t.height, top = conservative.top;
     const double reach = kRelaxedRadius * std::min(1 / W, 1 / H);  // UV
     // The texels D around T, nearest first: near exits narrow the cone early, and a narrower
     // cone shortens every later ray's walk.
-    std::vector<std::pair<int, int>> around;
+    struct Neighbour {
+        int di, dj;
+        double rho;  // UV from T to D
+    };
+    std::vector<Neighbour> around;
     for (int dj = -kRelaxedRadius; dj <= kRelaxedRadius; ++dj)
         for (int di = -kRelaxedRadius; di <= kRelaxedRadius; ++di)
-            if (di != 0 || dj != 0) around.push_back({di, dj});
-    std::stable_sort(around.begin(), around.end(), [&](auto a, auto b) {
-        return std::hypot(a.first / W, a.second / H) < std::hypot(b.first / W, b.second / H);
-    });
+            if (di != 0 || dj != 0) around.push_back({di, dj, std::hypot(di / W, dj / H)});
+    std::stable_sort(around.begin(), around.end(),
+                     [](const Neighbour& a, const Neighbour& b) { return a.rho < b.rho; });
     // Minutes at 2048^2 and beyond (docs/performance.md): progress, and Ctrl-C stops it.
     Progress progress(
         "relaxed cone map " + std::to_string(t.width) + "x" + std::to_string(t.height), t.height);
     tbb::parallel_for(0, t.height, [&](int j) {
         throwIfCancelled();
         for (int i = 0; i < t.width; ++i) {
-            const double eT = surf.sign * t.texel(i, j);
+            const double eT = surf.at(i, j);
             // Apex at T: the conservative ratio of the cells around it holds too.
             double safe = kConeRatioCap;
             for (int cj : {j - 1, j})
@@ -119,11 +139,8 @@ ConeMap buildRelaxedConeMap(const Texture& t, const ConeMap& conservative) {
                     safe = std::min(safe, double(conservative.ratio[size_t(k)]));
                 }
             double best = top > eT ? std::min(kConeRatioCap, reach / (top - eT)) : kConeRatioCap;
-            for (auto [di, dj] : around) {
-                const double eD =
-                    surf.sign * t.texel(coneIndex(double(i + di), t.width, t.address),
-                                        coneIndex(double(j + dj), t.height, t.address));
-                const double rho = std::hypot(di / W, dj / H);  // UV from T to D
+            for (const auto& [di, dj, rho] : around) {
+                const double eD = surf.at(i + di, j + dj);
                 if (!(top > eD)) continue;
                 // The ray from (T, top) through (D, eD), in lattice steps of one (di, dj),
                 // to where it meets the side of the cone as it stands (an exit beyond
