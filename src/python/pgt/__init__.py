@@ -3,7 +3,7 @@
     import pgt
     frame = pgt.render("scenes/default.json")          # a path, or the scene as a dict
     err = frame["pom.err"]                              # float32 H x W, texels (NaN: none)
-    frame.summary["methods"][0]["error"]["mean"]        # summary.json as a dict
+    frame.summary["methods"][0]["error_texels"]["mean"] # summary.json as a dict
     results = pgt.sweep("scenes/default.json", "out/study")   # results.csv as a DataFrame
     verdict = pgt.compare("old/study", "new/study", out="cmp")   # pgt compare's verdict
 
@@ -118,5 +118,5 @@ def compare(old, *new, out, metric="mean", bands=None, pairs=None, alpha=0.01,
 
 
 def set_memory_limit_mb(mb):
-    """Refuse inputs estimated to need more memory than this (the CLI's --memory-limit-mb)."""
+    """Refuse inputs estimated to need more memory than this (the CLI's --memory-limit)."""
     _pgt.set_memory_limit_mb(mb)
