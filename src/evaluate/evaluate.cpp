@@ -217,6 +217,12 @@ void compileMethod(const MethodConfig& cfg) {
     if (const GlslSpec* g = cfg.shader()) compileGlsl(*g);
 }
 
+std::optional<GlUsed> glUsed() {
+    const auto gl = glContextIfMade();
+    if (!gl) return std::nullopt;
+    return GlUsed{gl->vendor, gl->renderer, gl->version};
+}
+
 std::string timingBackend(const MethodConfig& cfg) {
     if (!runsInGl(cfg)) return "cpu";
     const GlInfo& gl = glContext();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/image.h"
@@ -164,5 +165,12 @@ MethodTiming timeMethod(const MethodConfig& cfg, const FragmentList& frags,
 
 // Where a method's ns/px comes from: "cpu" (single thread) or "gl: <GL_RENDERER>".
 std::string timingBackend(const MethodConfig& cfg);
+
+// The GL that ran this process's GLSL/HLSL methods (its vendor, renderer and version), none
+// when none ran: an output's provenance records the GL only when it was used.
+struct GlUsed {
+    std::string vendor, renderer, version;
+};
+std::optional<GlUsed> glUsed();
 
 }  // namespace pgt

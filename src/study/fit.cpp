@@ -11,7 +11,6 @@
 #include "frame/render.h"
 #include "methods/config.h"
 #include "methods/registry.h"
-#include "methods/shader/glsl_spec.h"
 #include "study/provenance.h"
 
 namespace pgt {

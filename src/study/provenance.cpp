@@ -19,8 +19,8 @@
 #include "build_id.h"
 #include "core/json_read.h"
 #include "core/memory.h"
+#include "evaluate/evaluate.h"
 #include "io/staged_files.h"
-#include "methods/shader/glsl_method.h"
 
 #define PGT_STRINGIFY2(x) #x
 #define PGT_STRINGIFY(x) PGT_STRINGIFY2(x)
@@ -149,7 +149,7 @@ Json provenance(const std::string& sceneSha1) {
         std::lock_guard<std::mutex> lock(gCommandMutex);
         j["command"] = gCommand;
     }
-    if (const auto gl = glContextIfMade())
+    if (const auto gl = glUsed())
         j["gl"] = {{"vendor", gl->vendor}, {"renderer", gl->renderer}, {"version", gl->version}};
     if (!sceneSha1.empty()) j["scene_sha1"] = sceneSha1;
     return j;

@@ -32,7 +32,6 @@
 #include "core/process.h"
 #include "io/staged_files.h"
 #include "methods/config.h"
-#include "methods/shader/glsl_method.h"
 #include "study/outputs.h"
 #include "study/provenance.h"
 #include "study/study_cases.h"
