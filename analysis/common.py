@@ -22,8 +22,9 @@ try:
     import pandas as pd
 except ImportError as e:  # pragma: no cover - depends on the machine
     # Status 3 tells `pgt` (cli/report.cpp) that a package is missing, not that the script failed.
-    print(f"{os.path.basename(sys.argv[0])}: {e.name} is missing; install python3-matplotlib "
-          "python3-pandas python3-numpy and run with /usr/bin/python3", file=sys.stderr)
+    print(f"{os.path.basename(sys.argv[0])}: {e.name or e} is missing or broken ({e}); install "
+          "python3-matplotlib python3-pandas python3-numpy and run with /usr/bin/python3",
+          file=sys.stderr)
     sys.exit(3)
 
 # Where the documents put the bias, as a ratio b/s (docs/model.md §3): Welsh's ARB code
@@ -156,6 +157,16 @@ def log_axis(ax, which="y"):
     lo, hi = ax.get_ylim() if which == "y" else ax.get_xlim()
     if lo > 0 and hi >= 100 * lo:
         axis.set_minor_locator(matplotlib.ticker.NullLocator())
+
+
+def widen_left_margin(fig, axes, pad=0.05):
+    """Moves a figure's fixed left margin right where the y axes' tick and axis labels would
+    pass the canvas's edge (`pad` inches kept): one measure of those axes, not of the figure."""
+    renderer = fig.canvas.get_renderer()
+    x0 = min(ax.yaxis.get_tightbbox(renderer).x0 for ax in axes)
+    need = pad * fig.dpi - x0
+    if need > 0:
+        fig.subplots_adjust(left=fig.subplotpars.left + need / (fig.get_figwidth() * fig.dpi))
 
 
 def write_text(path, text):

@@ -18,12 +18,41 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from common import DOCUMENT_BIAS_RATIO, nice, np, pd, plt, read_results, read_study  # noqa: E402
 from common import case_keys, interval_note, save_figure, seed_count, seed_interval  # noqa: E402
-from common import label_halves, log_axis, plus_minus, write_text  # noqa: E402
+from common import label_halves, log_axis, plus_minus, widen_left_margin, write_text  # noqa: E402
 from report_configs import angle_table_lines, common_cases, fig_error_vs_theta  # noqa: E402
 from report_paper import fig_paper  # noqa: E402
 from report_configs import families, fig_heatmaps, own_surface, storage_lines  # noqa: E402
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
+
+
+# The beginnings of every figure's name the report writes (tests/analysis/test_report.py checks
+# that each figure it writes has one): what it removes when an earlier report's figure was not
+# written again (a scale the study no longer has, `pgt sweep --fresh` into the directory of
+# another study). Other files in figures/ are the user's and stay.
+REPORT_FIGURES = ("pareto_", "error_vs_theta_s", "heatmap_", "depth_", "shadow_",
+                  "presets_vs_theta", "paper_error_vs_theta")
+
+
+def report_figures(figdir):
+    """The report's figures now in `figdir` (REPORT_FIGURES; links left out), by name: their
+    inode numbers. Each figure is written to a temporary renamed over it (common.save_figure),
+    so one written again has a new inode."""
+    found = {}
+    for name in os.listdir(figdir):
+        path = os.path.join(figdir, name)
+        if (name.startswith(REPORT_FIGURES) and name.endswith((".png", ".svg"))
+                and not os.path.islink(path)):
+            found[name] = os.stat(path).st_ino
+    return found
+
+
+def remove_stale_figures(figdir, before):
+    """Removes the report's figures that were there `before` (report_figures) and were not
+    written again since."""
+    for name, inode in report_figures(figdir).items():
+        if before.get(name) == inode:
+            os.remove(os.path.join(figdir, name))
 
 
 def pareto_front(points):
@@ -49,20 +78,26 @@ def mark_precomputed(ax, agg, pts):
 
 def place_labels(ax, items, fontsize=7, color="k"):
     """Writes (text, x, y) beside their points, each moved down in steps of a line until it
-    clears the labels placed before it (in display pixels), so that none overlaps another."""
+    clears the labels placed before it (in display pixels), so that none overlaps another; a
+    label that would run past the axes' right edge goes on its point's left. The figure's
+    margins are fixed before (the labels are not measured again)."""
     ax.autoscale_view()  # the final axes limits: transData maps them (no drawing pass)
+    right = ax.get_window_extent().x1
     placed = []
     line = fontsize * 1.4
     for text, x, y in sorted(items, key=lambda t: (t[1], -t[2])):
         px, py = ax.transData.transform((max(x, 1e-2), y))
         width = 0.62 * fontsize * len(text)
+        left = px + 4 + width > right
+        lx = px - 4 - width if left else px + 4  # the label's left end
         dy = 4.0
-        while any(abs((px + 4) - qx) < max(width, qw) and abs(py + dy - qy) < line
+        while any(abs(lx - qx) < max(width, qw) and abs(py + dy - qy) < line
                   for qx, qy, qw in placed):
             dy -= line
-        placed.append((px + 4, py + dy, width))
+        placed.append((lx, py + dy, width))
         ax.annotate(text, (max(x, 1e-2), y), fontsize=fontsize, color=color,
-                    textcoords="offset points", xytext=(4, dy * 72 / ax.figure.dpi),
+                    textcoords="offset points", ha="right" if left else "left",
+                    xytext=(-4 if left else 4, dy * 72 / ax.figure.dpi),
                     arrowprops=dict(arrowstyle="-", color="0.6", lw=0.4) if dy < 0 else None)
 
 
@@ -156,13 +191,14 @@ def fig_pareto(df, figdir):
             named += [(l + " [GL]", pts[i][0], pts[i][1]) for i, l in
                       zip(agg.index[agg["label"].isin(fronts["gl"])],
                           agg["label"][agg["label"].isin(fronts["gl"])])]
-        place_labels(ax, named)
         ax.set_xlabel(xlabel)
         ax.set_ylabel("mean UV error over the cases [texels]")
         ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches")
                      + (" (bars: 95 % interval over the replicate seeds)"
                         if np.isfinite(agg["mean_h"]).any() else ""))
         ax.legend(fontsize=6, ncol=2)
+        widen_left_margin(fig, [ax])  # long minor tick labels (0.000115) on a short span
+        place_labels(ax, named)
         name = f"pareto_{xkey}.png"
         save_figure(fig, os.path.join(figdir, name), fixed=True)
         save_figure(fig, os.path.join(figdir, f"pareto_{xkey}.svg"), fixed=True)
@@ -484,6 +520,7 @@ def main():
     study = read_study(args.dir)
     figdir = os.path.join(args.dir, "figures")
     os.makedirs(figdir, exist_ok=True)
+    earlier = report_figures(figdir)
     # Rankings and averages over the cases every configuration finished (a killed or partial
     # study has cases some configurations lack; a mean of different cases ranks nothing).
     common, n_common, n_total, flagged = common_cases(df)
@@ -535,6 +572,7 @@ def main():
              + frame_and_stiff_lines(df, ((study or {}).get("scene", {}).get("base", {})
                                           .get("frames", "pgt"))))
     write_text(os.path.join(args.dir, "report.md"), "\n".join(lines))
+    remove_stale_figures(figdir, earlier)
     print(f"wrote {os.path.join(args.dir, 'report.md')}")
 
 

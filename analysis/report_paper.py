@@ -72,10 +72,12 @@ def fig_paper(df, figdir):
     legend = axes[0][cols - 1].legend(fontsize=6, loc="upper left", bbox_to_anchor=(1.02, 1.0),
                                       frameon=False)
     # Fixed margins in inches (neither format measures the canvas again): the panels keep
-    # their size and the figure grows to the legend's measured width on the right.
+    # their width and the figure grows to the legend's measured width on the right, and to its
+    # height below the top panel's top (a long list of configurations).
     panels = 3.6 * cols
-    legend_width = legend.get_window_extent(fig.canvas.get_renderer()).width / fig.dpi
-    width, height = 0.75 + panels + 0.2 + legend_width, 3.2 * rows
+    extent = legend.get_window_extent(fig.canvas.get_renderer())
+    width = 0.75 + panels + 0.2 + extent.width / fig.dpi
+    height = max(3.2 * rows, 0.3 + extent.height / fig.dpi + 0.15)
     fig.set_size_inches(width, height)
     fig.subplots_adjust(left=0.75 / width, right=(0.75 + panels) / width, bottom=0.5 / height,
                         top=1 - 0.3 / height, wspace=0.08, hspace=0.4)

@@ -132,19 +132,19 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study,
     return finished;
 }
 
-// What an earlier study's report and --images wrote in `dir` (report.md, defaults.csv, the
-// figures, images/case_*), so that a fresh study's report shows none of it: a figure of a scale
-// the new study lacks would otherwise stay beside the new ones. Other files are left.
+// What an earlier study's report and --images wrote in `dir` beside its results: report.md,
+// defaults.csv and images/case_* (the figures are the report's: it removes those it did not
+// write, analysis/report.py). A symlinked images/ is left whole (it may be the user's folder
+// elsewhere), and a link named case_* is removed as a link. Other files are left.
 void removeStudyOutputs(const fs::path& dir) {
     std::error_code ec;
     std::vector<fs::path> gone = {dir / "report.md", dir / "defaults.csv"};
-    for (const auto& e : fs::directory_iterator(dir / "figures", ec)) {
-        const std::string ext = e.path().extension().string();
-        if (e.is_regular_file(ec) && (ext == ".png" || ext == ".svg")) gone.push_back(e.path());
+    const fs::path images = dir / "images";
+    if (fs::is_directory(fs::symlink_status(images, ec))) {
+        fs::directory_iterator it(images, ec), end;
+        for (; !ec && it != end; it.increment(ec))
+            if (it->path().filename().string().rfind("case_", 0) == 0) gone.push_back(it->path());
     }
-    for (const auto& e : fs::directory_iterator(dir / "images", ec))
-        if (e.is_directory(ec) && e.path().filename().string().rfind("case_", 0) == 0)
-            gone.push_back(e.path());
     for (const fs::path& p : gone) fs::remove_all(p, ec);
 }
 

@@ -144,15 +144,24 @@ with tempfile.TemporaryDirectory() as d:
             if not whole:
                 failures.append(f"killed at {0.5 + 0.1 * k:.2f} s: {name} is cut "
                                 f"({len(data)} bytes)")
+    # Every figure the report writes has a name it knows as its own (what it removes when a
+    # later report does not write it again).
+    sys.path.insert(0, os.path.join(source, "analysis"))
+    from report import REPORT_FIGURES  # noqa: E402
+    strays = [n for n in os.listdir(figdir) if not n.startswith((".",) + REPORT_FIGURES)]
+    if strays:
+        failures.append(f"figures not named in report.REPORT_FIGURES: {strays}")
     # --fresh into a directory holding another study: none of the earlier report's figures
-    # stays (here the scale 0.06 the new study lacks).
+    # stays (here the scale 0.06 the new study lacks); a file of the user's there stays.
+    open(os.path.join(figdir, "mine.png"), "wb").write(b"\x89PNG not the report's")
     json.dump(dict(scene, sweep={"theta": [0, 40], "scale": [0.03], "timing": {"repeats": 0}}),
               open(path, "w"))
     r = subprocess.run([pgt, "sweep", path, "--out", out, "--fresh"], capture_output=True,
                        text=True,
                        env={**os.environ, "PGT_ANALYSIS_DIR": os.path.join(source, "analysis")})
     left = sorted(n for n in os.listdir(figdir) if "s0.06" in n or n.startswith("pareto_ns"))
-    if r.returncode != 0 or left or not os.path.exists(os.path.join(figdir, "error_vs_theta_s0.03.png")):
+    if (r.returncode != 0 or left or not os.path.exists(os.path.join(figdir, "mine.png"))
+            or not os.path.exists(os.path.join(figdir, "error_vs_theta_s0.03.png"))):
         failures.append(f"--fresh left the earlier study's figures {left}: {r.stdout} {r.stderr}")
     # The report script's own exit status says why no report was written: 3, a plotting
     # package missing (pgt asks no second interpreter first); another, the script failed.
