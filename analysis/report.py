@@ -145,6 +145,17 @@ def scatter_families(ax, agg, gl, xkey):
                         color=colours(k % 20))
 
 
+def label_pareto(ax, xkey, xlabel, bars):
+    """A Pareto figure's axis labels, title and legend, its left margin grown to its y axis
+    (long minor tick labels, 0.000115, on a short span)."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("mean UV error over the cases [texels]")
+    ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches")
+                 + (" (bars: 95 % interval over the replicate seeds)" if bars else ""))
+    ax.legend(fontsize=6, ncol=2)
+    widen_left_margin(ax.figure, [ax])
+
+
 def fig_pareto(df, figdir):
     if "timing_backend" not in df.columns:  # studies written before GLSL methods existed
         df = df.assign(timing_backend="cpu")
@@ -191,13 +202,7 @@ def fig_pareto(df, figdir):
             named += [(l + " [GL]", pts[i][0], pts[i][1]) for i, l in
                       zip(agg.index[agg["label"].isin(fronts["gl"])],
                           agg["label"][agg["label"].isin(fronts["gl"])])]
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel("mean UV error over the cases [texels]")
-        ax.set_title("error against " + ("run time" if xkey == "ns" else "fetches")
-                     + (" (bars: 95 % interval over the replicate seeds)"
-                        if np.isfinite(agg["mean_h"]).any() else ""))
-        ax.legend(fontsize=6, ncol=2)
-        widen_left_margin(fig, [ax])  # long minor tick labels (0.000115) on a short span
+        label_pareto(ax, xkey, xlabel, np.isfinite(agg["mean_h"]).any())
         place_labels(ax, named)
         name = f"pareto_{xkey}.png"
         save_figure(fig, os.path.join(figdir, name), fixed=True)
@@ -512,6 +517,16 @@ def frame_and_stiff_lines(df, frames="pgt"):
     return lines
 
 
+def figure_pool():
+    """Every figure is a job for two forked workers (one a core), the largest first, while
+    the main process writes the tables: drawing is most of the report's time, and small jobs
+    keep both cores busy to the end. An executor, not a multiprocessing.Pool: a worker that
+    dies fails the report (BrokenProcessPool) instead of leaving it waiting for a result."""
+    return concurrent.futures.ProcessPoolExecutor(
+        2, mp_context=multiprocessing.get_context("fork"), initializer=die_with_parent,
+        initargs=(os.getpid(),))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("dir", help="study directory (results.csv, study.json)")
@@ -529,13 +544,7 @@ def main():
     common, renamed = own_surface(common)
     flagged = {renamed.get(l, l): n for l, n in flagged.items()}
 
-    # Every figure is a job for two forked workers (one a core), the largest first, while
-    # this process writes the tables: drawing is most of the report's time, and small jobs
-    # keep both cores busy to the end. An executor, not a multiprocessing.Pool: a worker that
-    # dies fails the report (BrokenProcessPool) instead of leaving it waiting for a result.
-    pool = concurrent.futures.ProcessPoolExecutor(
-        2, mp_context=multiprocessing.get_context("fork"), initializer=die_with_parent,
-        initargs=(os.getpid(),))
+    pool = figure_pool()
     # One view angle draws no curve against it (a panel of single points): the tables say it.
     curves = common["theta"].nunique() > 1
     depth_job = pool.submit(depth_shadow_lines, common, figdir)
