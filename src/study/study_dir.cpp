@@ -157,7 +157,8 @@ std::set<std::string> openStudyDir(const Study& study, const Json& identity, boo
         if (fs::exists(fs::symlink_status(path)) && !fs::is_regular_file(path))
             throw OutputError("cannot use " + path + ": it is not a regular file");
     if (fresh) {
-        if (fs::is_regular_file(studyPath, ec)) removeStudyOutputs(fs::path(studyPath).parent_path());
+        if (fs::is_regular_file(studyPath, ec))
+            removeStudyOutputs(fs::path(studyPath).parent_path());
         fs::remove(csvPath, ec);
         fs::remove(studyPath, ec);
     }
