@@ -30,32 +30,16 @@ std::string layerLabel(const BuiltinMethod& m) {
     return s;
 }
 
-std::string reliefLabel(const BuiltinMethod& m) {
-    const auto& c = m.as<ReliefParameters>();
-    return std::to_string(c.linearSteps) + "_" + std::to_string(c.binarySteps);
-}
-
-std::string iterativeLabel(const BuiltinMethod& m) {
-    return std::to_string(m.as<IterationParameters>().iterations);
-}
-
-std::string secantLabel(const BuiltinMethod& m) {
-    const auto& c = m.as<SecantParameters>();
-    return std::to_string(c.linearSteps) + "_" + std::to_string(c.secantSteps);
-}
-
-std::string contactLabel(const BuiltinMethod& m) {
-    return std::to_string(m.as<ContactParameters>().layers);
-}
-
-std::string coneLabel(const BuiltinMethod& m) {
-    const auto& c = m.as<ConeParameters>();
-    return std::to_string(c.steps) + "_" + std::to_string(c.refineSteps);
-}
-
-std::string relaxedConeLabel(const BuiltinMethod& m) {
-    const auto& c = m.as<RelaxedConeParameters>();
-    return std::to_string(c.coneSteps) + "_" + std::to_string(c.binarySteps);
+// Any other kind's label: its written parameters' values in its row's order, joined by "_"
+// (relief "10_5", cone "32_5", iterative "4").
+std::string parameterValues(const BuiltinMethod& m) {
+    std::string s;
+    for (const IntParameter& p : kindInfo(m.kind).parameters) {
+        if (!p.written) continue;
+        if (!s.empty()) s += '_';
+        s += std::to_string(p.get(m));
+    }
+    return s;
 }
 
 using L = LayerParameters;
@@ -173,7 +157,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = ReliefParameters{},
      .parameters = kReliefParameters,
      .stepKey = "linear_steps",
-     .labelParameters = reliefLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodRelief<float>,
      .runDouble = methodRelief<double>,
      .maps = {M::Height},
@@ -188,7 +172,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = IterationParameters{},
      .parameters = kIterativeParameters,
      .stepKey = "iterations",
-     .labelParameters = iterativeLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodIterative<float>,
      .runDouble = methodIterative<double>,
      .maps = {M::Height, M::Normal, M::Parallax},
@@ -214,7 +198,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = SecantParameters{},
      .parameters = kSecantParameters,
      .stepKey = "linear_steps",
-     .labelParameters = secantLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodSecant<float>,
      .runDouble = methodSecant<double>,
      .maps = {M::Height},
@@ -229,7 +213,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = ContactParameters{},
      .parameters = kContactParameters,
      .stepKey = "layers",
-     .labelParameters = contactLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodContact<float>,
      .runDouble = methodContact<double>,
      .maps = {M::Height},
@@ -257,7 +241,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = ConeParameters{},
      .parameters = kConeParameters,
      .stepKey = "steps",
-     .labelParameters = coneLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodCone<float>,
      .runDouble = methodCone<double>,
      .maps = {M::Height, M::Cone},
@@ -272,7 +256,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = RelaxedConeParameters{},
      .parameters = kRelaxedConeParameters,
      .stepKey = "cone_steps",
-     .labelParameters = relaxedConeLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodRelaxedCone<float>,
      .runDouble = methodRelaxedCone<double>,
      .maps = {M::Height, M::RelaxedCone},
@@ -287,7 +271,7 @@ const std::vector<MethodKindInfo> kMethodKinds = {
      .defaults = IterationParameters{},
      .parameters = kIterativeParameters,
      .stepKey = "iterations",
-     .labelParameters = iterativeLabel,
+     .labelParameters = parameterValues,
      .runFloat = methodIterativeSlope<float>,
      .runDouble = methodIterativeSlope<double>,
      .maps = {M::Height, M::Normal},

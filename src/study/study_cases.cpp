@@ -8,8 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <condition_variable>
-#include <cstdio>
-#include <filesystem>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -17,10 +15,9 @@
 #include "core/clock.h"
 #include "core/interrupt.h"
 #include "study/outputs.h"
+#include "study/study_dir.h"
 
 namespace pgt {
-
-namespace fs = std::filesystem;
 
 ViewSpec caseView(const Scene& scene, const Study& study, const StudyCase& c) {
     ViewSpec view = scene.view();
@@ -46,11 +43,9 @@ RenderResult renderCase(const Scene& scene, const Study& study, const CaseOption
     const ViewSpec view = caseView(scene, study, c);
     FrameOptions frame{.keepImages = false, .deferTiming = true, .glDraw = glDraw};
     if (!opt.imagesDir.empty()) {
-        char dir[32];
-        std::snprintf(dir, sizeof dir, "case_%05d", c.index);
-        writer = std::make_unique<RenderWriter>(
-            scene, (fs::path(opt.imagesDir) / "images" / dir).string(), view.camera.width,
-            view.camera.height, study.configs);
+        writer =
+            std::make_unique<RenderWriter>(scene, caseImagesDir(opt.imagesDir, c.index),
+                                           view.camera.width, view.camera.height, study.configs);
         frame.sinks.push_back(writer.get());
         frame.keepCodedErrors = true;
     }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -132,6 +133,10 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study,
     return finished;
 }
 
+// DIR/images/case_NNNNN/ (caseImagesDir).
+constexpr const char* kImagesFolder = "images";
+constexpr const char* kCaseFolderPrefix = "case_";
+
 // What an earlier study's report and --images wrote in `dir` beside its results: report.md,
 // defaults.csv and images/case_* (the figures are the report's: it removes those it did not
 // write, analysis/report.py). A symlinked images/ is left whole (it may be the user's folder
@@ -139,16 +144,23 @@ std::set<std::string> loadFinished(const std::string& path, const Study& study,
 void removeStudyOutputs(const fs::path& dir) {
     std::error_code ec;
     std::vector<fs::path> gone = {dir / "report.md", dir / "defaults.csv"};
-    const fs::path images = dir / "images";
+    const fs::path images = dir / kImagesFolder;
     if (fs::is_directory(fs::symlink_status(images, ec))) {
         fs::directory_iterator it(images, ec), end;
         for (; !ec && it != end; it.increment(ec))
-            if (it->path().filename().string().rfind("case_", 0) == 0) gone.push_back(it->path());
+            if (it->path().filename().string().rfind(kCaseFolderPrefix, 0) == 0)
+                gone.push_back(it->path());
     }
     for (const fs::path& p : gone) fs::remove_all(p, ec);
 }
 
 }  // namespace
+
+std::string caseImagesDir(const std::string& dir, int caseIndex) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%s%05d", kCaseFolderPrefix, caseIndex);
+    return (fs::path(dir) / kImagesFolder / name).string();
+}
 
 std::set<std::string> openStudyDir(const Study& study, const Json& identity, bool fresh,
                                    const std::string& csvPath, const std::string& studyPath) {

@@ -35,9 +35,14 @@ bool holdsStudy(const std::string& studyPath, const nlohmann::json& identity);
 // docs/references.md: where a method comes from, not what it computes).
 bool sameStudy(const nlohmann::json& a, const nlohmann::json& b);
 
+// A case's files with --images: DIR/images/case_NNNNN/ (what --fresh removes of an earlier
+// study, with its report.md and defaults.csv).
+std::string caseImagesDir(const std::string& dir, int caseIndex);
+
 // The study directory ready to append to (under its lock): study.json written or checked
-// against `identity` (`fresh` removes both files first), results.csv cut to its complete
-// cases. Returns the keys (StudyCase::key) of the cases already there.
+// against `identity` (`fresh` removes both files first, and the earlier study's report.md,
+// defaults.csv and case images), results.csv cut to its complete cases. Returns the keys
+// (StudyCase::key) of the cases already there.
 std::set<std::string> openStudyDir(const Study& study, const nlohmann::json& identity, bool fresh,
                                    const std::string& csvPath, const std::string& studyPath);
 
