@@ -14,36 +14,13 @@
 #include <vector>
 
 #include "core/error.h"
+#include "raster/screen_triangle.h"
 
 namespace pgt {
 
 namespace {
 
-// A clipped vertex: camera-space position plus the attributes to interpolate.
-struct ClipVertex {
-    Vec3d cam;  // (right, up, forward)
-    Vec3d world;
-    Vec2d uv;
-    Vec3d t, b, n;
-    double w;
-    Vec3d eyeTangent;  // the vertex's eye vector in its own frame (FragmentInputs::viewVertex)
-    Vec3d bary;        // its barycentrics in the mesh's triangle (FragmentInputs::bary)
-};
-
-ClipVertex lerp(const ClipVertex& a, const ClipVertex& c, double s) {
-    return {a.cam + (c.cam - a.cam) * s,   a.world + (c.world - a.world) * s,
-            a.uv + (c.uv - a.uv) * s,      a.t + (c.t - a.t) * s,
-            a.b + (c.b - a.b) * s,         a.n + (c.n - a.n) * s,
-            a.w + (c.w - a.w) * s,         a.eyeTangent + (c.eyeTangent - a.eyeTangent) * s,
-            a.bary + (c.bary - a.bary) * s};
-}
-
-// Top-left rule in a y-down raster, for edges oriented so that the interior is on the
-// positive side: a top edge runs exactly horizontally toward +x, a left edge runs upward.
-bool isTopLeft(Vec2d a, Vec2d b) {
-    Vec2d e = b - a;
-    return (e.y == 0 && e.x > 0) || e.y < 0;
-}
+using namespace raster_detail;
 
 // Pinhole near plane: a thousandth of the eye's distance to the nearest vertex keeps
 // clipped triangles well conditioned while losing nothing visible in practice.
@@ -75,161 +52,6 @@ SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v)
     return d;
 }
 
-// The eye vector at a vertex in its Listing 7.8 frame, unnormalised (a per-vertex V).
-Vec3d vertexEyeVector(const BaseVertex& p, const Camera& camera) {
-    const Vec3d n = glm::normalize(p.normal);
-    const Vec3d t = glm::normalize(p.tangent - n * glm::dot(n, p.tangent));
-    const Vec3d b = glm::cross(n, t) * (p.handedness < 0 ? -1.0 : 1.0);
-    const Vec3d e = camera.isOrthographic() ? -camera.forward() : camera.eye() - p.position;
-    return {glm::dot(t, e), glm::dot(b, e), glm::dot(n, e)};
-}
-
-// A triangle clipped at the near plane: up to 4 vertices (one plane cuts off at most one
-// corner's worth), kept in place, no allocation.
-struct ClippedPolygon {
-    std::array<ClipVertex, 4> v;
-    int size = 0;
-};
-
-// The triangle in camera space, clipped (Sutherland-Hodgman) against forward >= nearZ for
-// a pinhole camera: 0, 3 or 4 vertices; with each vertex's eye vector when `eyeVectors`
-// (a per-vertex V is asked for).
-ClippedPolygon clipToNear(const std::array<const BaseVertex*, 3>& v, const Camera& camera,
-                          bool eyeVectors, double nearZ) {
-    std::array<ClipVertex, 3> poly;
-    for (int i = 0; i < 3; ++i) {
-        const BaseVertex* p = v[size_t(i)];
-        poly[size_t(i)] = {camera.toCamera(p->position),
-                           p->position,
-                           p->uv,
-                           p->tangent,
-                           p->bitangent,
-                           p->normal,
-                           p->handedness,
-                           eyeVectors ? vertexEyeVector(*p, camera) : Vec3d(0),
-                           Vec3d(i == 0, i == 1, i == 2)};
-    }
-    ClippedPolygon out;
-    if (camera.isOrthographic()) {
-        for (int i = 0; i < 3; ++i) out.v[size_t(i)] = poly[size_t(i)];
-        out.size = 3;
-        return out;
-    }
-    for (size_t i = 0; i < 3; ++i) {
-        const ClipVertex& a = poly[i];
-        const ClipVertex& c = poly[(i + 1) % 3];
-        bool ina = a.cam.z >= nearZ, inc = c.cam.z >= nearZ;
-        if (ina) out.v[size_t(out.size++)] = a;
-        if (ina != inc)
-            out.v[size_t(out.size++)] = lerp(a, c, (nearZ - a.cam.z) / (c.cam.z - a.cam.z));
-    }
-    return out;
-}
-
-// An edge function (b - a) x (p - a) set up once per edge, evaluated from the
-// lexicographically smaller endpoint so that edge(a, b, p) == -edge(b, a, p) bit for bit: a
-// pixel centre on an edge shared by two triangles then gets opposite signs (or zero) from
-// both, and the top-left rule decides.
-struct Edge {
-    Vec2d a{0};
-    double dx = 0, dy = 0;
-    bool negate = false;
-    Edge() = default;
-    Edge(Vec2d from, Vec2d to)
-        : a(from), negate(to.x < from.x || (to.x == from.x && to.y < from.y)) {
-        if (negate) std::swap(a, to);
-        dx = to.x - a.x, dy = to.y - a.y;
-    }
-    double at(Vec2d p) const {
-        const double e = dx * (p.y - a.y) - dy * (p.x - a.x);
-        return negate ? -e : e;
-    }
-};
-
-// One screen-space triangle of a clipped polygon, oriented so that its edge functions are
-// positive inside, with the pixel range its samples can fall in.
-struct ScreenTriangle {
-    std::array<const ClipVertex*, 3> c;
-    std::array<Vec2d, 3> s;
-    std::array<double, 3> invW;
-    std::array<Edge, 3> edge;     // edge i is opposite vertex i: s[(i+1)%3] -> s[(i+2)%3]
-    std::array<bool, 3> topLeft;  // of edge i
-    double area = 0;
-    int px0 = 0, px1 = -1, py0 = 0, py1 = -1;
-
-    // False for a degenerate (zero or non-finite area) triangle.
-    bool setup(const Camera& camera, std::array<const ClipVertex*, 3> verts) {
-        c = verts;
-        const bool ortho = camera.isOrthographic();
-        for (int i = 0; i < 3; ++i) {
-            s[i] = camera.toScreen(c[i]->cam);
-            invW[i] = ortho ? 1.0 : 1.0 / c[i]->cam.z;
-        }
-        area = (s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[1].y - s[0].y) * (s[2].x - s[0].x);
-        if (area == 0 || !std::isfinite(area)) return false;
-        if (area < 0) {
-            std::swap(c[1], c[2]);
-            std::swap(s[1], s[2]);
-            std::swap(invW[1], invW[2]);
-            area = -area;
-        }
-        double x0 = std::min({s[0].x, s[1].x, s[2].x}), x1 = std::max({s[0].x, s[1].x, s[2].x});
-        double y0 = std::min({s[0].y, s[1].y, s[2].y}), y1 = std::max({s[0].y, s[1].y, s[2].y});
-        // Every pixel whose sample position (centre or jittered, inside the pixel) can fall
-        // in the bounding box (clamped in double first: a triangle clipped just in front of
-        // a pinhole eye can project to beyond +-2^31 pixels, where an int conversion is
-        // undefined).
-        auto index = [](double x, int lo, int hi) { return x <= lo ? lo : x >= hi ? hi : int(x); };
-        const int W = camera.width(), H = camera.height();
-        px0 = index(std::floor(x0) - 1, 0, W - 1), px1 = index(std::ceil(x1), 0, W - 1);
-        py0 = index(std::floor(y0) - 1, 0, H - 1), py1 = index(std::ceil(y1), 0, H - 1);
-        for (int i = 0; i < 3; ++i) {
-            edge[i] = Edge(s[(i + 1) % 3], s[(i + 2) % 3]);
-            topLeft[i] = isTopLeft(s[(i + 1) % 3], s[(i + 2) % 3]);
-        }
-        return true;
-    }
-
-    // Whether sample p is inside (top-left rule on the edges), with its perspective-correct
-    // barycentrics.
-    bool covers(Vec2d p, std::array<double, 3>& bary) const {
-        std::array<double, 3> e;
-        for (int i = 0; i < 3; ++i) e[i] = edge[i].at(p);
-        for (int i = 0; i < 3; ++i)
-            if (e[i] < 0 || (e[i] == 0 && !topLeft[i])) return false;
-        bary = weights(e);
-        return true;
-    }
-    // The perspective-correct barycentrics of any screen point (a helper lane's).
-    std::array<double, 3> barycentrics(Vec2d p) const {
-        return weights({edge[0].at(p), edge[1].at(p), edge[2].at(p)});
-    }
-
-    // An attribute (uv, position) at any screen point, inside the triangle or not (a helper
-    // invocation's): the perspective-correct interpolation with one division (the area
-    // cancels); equal to the barycentrics' to rounding.
-    template <class Attribute>
-    Attribute at(Vec2d p, Attribute ClipVertex::*attribute) const {
-        double k[3], sum = 0;
-        for (int i = 0; i < 3; ++i) k[i] = edge[i].at(p) * invW[i], sum += k[i];
-        return (c[0]->*attribute * k[0] + c[1]->*attribute * k[1] + c[2]->*attribute * k[2]) / sum;
-    }
-    Vec2d uv(const std::array<double, 3>& b) const {
-        return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
-    }
-    Vec3d position(const std::array<double, 3>& b) const {
-        return c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
-    }
-
-  private:
-    // Screen weights divided by w, normalised.
-    std::array<double, 3> weights(const std::array<double, 3>& e) const {
-        double b0 = e[0] / area * invW[0], b1 = e[1] / area * invW[1], b2 = e[2] / area * invW[2];
-        double sum = b0 + b1 + b2;
-        return {b0 / sum, b1 / sum, b2 / sum};
-    }
-};
-
 // uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the differences
 // across the pixel centres of the quad's pair along x and along y, one of which is the
 // pixel's own centre. `centred`: the pixel is sampled at its centre, so uv0 is its uv there.
@@ -249,63 +71,117 @@ void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
     in->engine.positionDy = top ? pY - pOwn : pOwn - pY;
 }
 
-// The fragment at barycentrics b: uv0, position and V in the per-vertex tangent frame
-// (Lengyel FGED 2 Listing 7.8) and, when the triangle's UVs allow it and the options ask,
-// in the exact frame, per vertex and an engine's inputs.
-void shade(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri,
-           const std::array<double, 3>& b, const SurfaceDerivatives& d, const Camera& camera,
-           const Ray& ray, const RasterOptions& o) {
+// A fragment's light in the per-vertex frame (t, bt, n) and, with V, both in the exact frame
+// when the triangle's UVs allow it and the options ask (the rest of shadeLanes).
+void lightAndExactFrame(Fragment& f, const Vec3d& t, const Vec3d& bt, const Vec3d& n,
+                        const Vec3d& view, const SurfaceDerivatives& d, const RasterOptions& o) {
+    const Vec3d light = o.light;  // a unit vector, zero where the view has none
+    f.lightTangent = f.lightTangentExact =
+        light == Vec3d(0)
+            ? Vec3d(0)
+            : glm::normalize(Vec3d(glm::dot(t, light), glm::dot(bt, light), glm::dot(n, light)));
+    f.exactFrame = d.exact;
+    if (!d.exact || !o.exactFrame) return;
+    const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, view);
+    f.exactFrame = ve != Vec3d(0);
+    if (!f.exactFrame) return;
+    f.viewTangentExact = ve;
+    if (light != Vec3d(0))
+        f.lightTangentExact = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, light);
+}
+
+// The FragmentInputs of fragment f at barycentrics b besides an engine's interpolated
+// attributes (shadeLanes): the mesh barycentrics, the per-vertex V and an engine's camera.
+void fillInputs(FragmentInputs& in, const Fragment& f, const ScreenTriangle& tri,
+                const std::array<double, 3>& b, const Ray& ray, const Camera& camera,
+                const RasterOptions& o) {
     const auto& c = tri.c;
-    f.covered = true;
-    f.uv0 = tri.uv(b);
-    const Vec3d position = tri.position(b);
-    // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
-    // n)); b = cross(normal, tangent) * sigma.
-    const Vec3d nRaw = c[0]->n * b[0] + c[1]->n * b[1] + c[2]->n * b[2];
-    Vec3d n = glm::normalize(nRaw);
-    Vec3d t = c[0]->t * b[0] + c[1]->t * b[1] + c[2]->t * b[2];
-    double w = c[0]->w * b[0] + c[1]->w * b[1] + c[2]->w * b[2];
-    if (in && o.engineInputs) {  // as interpolated (EngineInputs)
-        in->engine.position = Vec3f(position);
-        in->engine.normal = Vec3f(nRaw);
-        in->engine.tangent = Vec3f(t);
-        in->engine.tangentW = w < 0 ? -1.0f : 1.0f;
-    }
-    t = glm::normalize(t - n * glm::dot(n, t));
-    Vec3d bt = glm::cross(n, t) * (w < 0 ? -1.0 : 1.0);
-    Vec3d view = camera.viewVector(position);
-    f.viewTangent = glm::normalize(Vec3d(glm::dot(t, view), glm::dot(bt, view), glm::dot(n, view)));
-    f.viewTangentExact = f.viewTangent;
-    if (in) {
-        in->bary = c[0]->bary * b[0] + c[1]->bary * b[1] + c[2]->bary * b[2];
-        in->viewVertex = f.viewTangent;
-        if (o.perVertexView)
-            in->viewVertex = glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] +
-                                            c[2]->eyeTangent * b[2]);
-    }
-    f.rayT = glm::dot(position - ray.origin, ray.dir);
+    in.bary = c[0]->bary * b[0] + c[1]->bary * b[1] + c[2]->bary * b[2];
+    in.viewVertex = f.viewTangent;
+    if (o.perVertexView)
+        in.viewVertex = glm::normalize(c[0]->eyeTangent * b[0] + c[1]->eyeTangent * b[1] +
+                                       c[2]->eyeTangent * b[2]);
     // The eye; orthographic rays start on a plane through the target, so their origin moves
     // back to one world unit beyond the drawn point (EngineInputs::camera).
-    if (in && o.engineInputs)
-        in->engine.camera =
+    if (o.engineInputs)
+        in.engine.camera =
             Vec3f(camera.isOrthographic() ? ray.origin - ray.dir * (std::fabs(f.rayT) + 1.0)
                                           : ray.origin);
-    const Vec3d light = o.light;  // a unit vector, zero where the view has none
-    auto toFrame = [&](Vec3d x, Vec3d y, Vec3d z) {
-        return light == Vec3d(0) ? Vec3d(0)
-                                 : glm::normalize(Vec3d(glm::dot(x, light), glm::dot(y, light),
-                                                        glm::dot(z, light)));
-    };
-    f.lightTangent = f.lightTangentExact = toFrame(t, bt, n);
-    f.exactFrame = d.exact;
-    if (d.exact && o.exactFrame) {
-        const Vec3d ve = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, view);
-        f.exactFrame = ve != Vec3d(0);
-        if (f.exactFrame) {
-            f.viewTangentExact = ve;
-            if (light != Vec3d(0))
-                f.lightTangentExact = uvSpaceDirection(d.dSdu, d.dSdv, n, o.worldPerUv, light);
+}
+
+// A pixel to shade: its fragment (and inputs, when made), barycentrics in the screen triangle,
+// sample position and pixel.
+struct LanePixel {
+    Fragment* f = nullptr;
+    FragmentInputs* in = nullptr;
+    std::array<double, 3> b{};
+    Vec2d sample{0};
+    Vec2i pixel{0};
+};
+
+// Pixels shaded together: each step of shadeLanes runs over all of them before the next, so
+// that their chains of square roots and divisions overlap.
+constexpr size_t kLanes = 4;
+
+// The fragments of up to kLanes pixels of one screen triangle (shade, one after another, gave
+// the same bits): uv0, position and V in the per-vertex tangent frame (Lengyel FGED 2 Listing
+// 7.8) and, when the triangle's UVs allow it and the options ask, in the exact frame, per
+// vertex and an engine's inputs.
+void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
+                const SurfaceDerivatives& d, const Camera& camera, const RasterOptions& o) {
+    const auto& c = tri.c;
+    const size_t count = p.size();
+    PGT_CHECK(count > 0 && count <= kLanes);
+    // Lanes past `count` repeat the first pixel and are not written.
+    std::array<std::array<double, 3>, kLanes> b;
+    std::array<Ray, kLanes> ray;
+    for (size_t l = 0; l < kLanes; ++l) {
+        const LanePixel& q = p[l < count ? l : 0];
+        b[l] = q.b;
+        ray[l] = camera.ray(q.sample.x, q.sample.y);
+    }
+    std::array<Vec2d, kLanes> uv;
+    std::array<Vec3d, kLanes> position, nRaw, n, t, bt, view, viewTangent;
+    std::array<double, kLanes> w;
+    for (size_t l = 0; l < kLanes; ++l) {
+        uv[l] = tri.uv(b[l]);
+        position[l] = tri.position(b[l]);
+        nRaw[l] = c[0]->n * b[l][0] + c[1]->n * b[l][1] + c[2]->n * b[l][2];
+        t[l] = c[0]->t * b[l][0] + c[1]->t * b[l][1] + c[2]->t * b[l][2];
+        w[l] = c[0]->w * b[l][0] + c[1]->w * b[l][1] + c[2]->w * b[l][2];
+    }
+    for (size_t l = 0; l < count; ++l)
+        if (p[l].in && o.engineInputs) {  // as interpolated (EngineInputs)
+            EngineInputs& e = p[l].in->engine;
+            e.position = Vec3f(position[l]);
+            e.normal = Vec3f(nRaw[l]);
+            e.tangent = Vec3f(t[l]);
+            e.tangentW = w[l] < 0 ? -1.0f : 1.0f;
         }
+    // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
+    // n)); b = cross(normal, tangent) * sigma.
+    for (size_t l = 0; l < kLanes; ++l) n[l] = glm::normalize(nRaw[l]);
+    for (size_t l = 0; l < kLanes; ++l) t[l] = glm::normalize(t[l] - n[l] * glm::dot(n[l], t[l]));
+    for (size_t l = 0; l < kLanes; ++l) {
+        bt[l] = glm::cross(n[l], t[l]) * (w[l] < 0 ? -1.0 : 1.0);
+        // Camera::viewVector
+        view[l] = camera.isOrthographic() ? -camera.forward()
+                                          : glm::normalize(camera.eye() - position[l]);
+    }
+    for (size_t l = 0; l < kLanes; ++l)
+        viewTangent[l] = glm::normalize(
+            Vec3d(glm::dot(t[l], view[l]), glm::dot(bt[l], view[l]), glm::dot(n[l], view[l])));
+    for (size_t l = 0; l < count; ++l) {
+        Fragment& f = *p[l].f;
+        FragmentInputs* in = p[l].in;
+        f.covered = true;
+        f.uv0 = uv[l];
+        f.viewTangent = f.viewTangentExact = viewTangent[l];
+        f.rayT = glm::dot(position[l] - ray[l].origin, ray[l].dir);
+        if (in) fillInputs(*in, f, tri, b[l], ray[l], camera, o);
+        lightAndExactFrame(f, t[l], bt[l], n[l], view[l], d, o);
+        quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, p[l].pixel.x, p[l].pixel.y,
+                        !camera.jittered());
     }
 }
 
@@ -331,6 +207,13 @@ namespace {
 void scan(const ScreenTriangle& tri, uint32_t triangle, const SurfaceDerivatives& d,
           const Camera& camera, const RasterOptions& o, PixelRect rect, Image2D<Fragment>& frags,
           Image2D<FragmentInputs>* inputs, Vec2i at, Image2D<double>& depth) {
+    std::array<LanePixel, kLanes> lanes;
+    size_t pending = 0;
+    auto flush = [&] {
+        shadeLanes({lanes.data(), pending}, tri, d, camera, o);
+        for (size_t l = 0; l < pending; ++l) lanes[l].f->triangle = triangle;
+        pending = 0;
+    };
     std::array<double, 3> b;
     const int y0 = std::max(tri.py0, rect.y0), y1 = std::min(tri.py1, rect.y1 - 1);
     const int x0 = std::max(tri.px0, rect.x0), x1 = std::min(tri.px1, rect.x1 - 1);
@@ -344,13 +227,11 @@ void scan(const ScreenTriangle& tri, uint32_t triangle, const SurfaceDerivatives
             if (!(z < nearest)) continue;
             nearest = z;
             const int ox = px - rect.x0 + at.x, oy = py - rect.y0 + at.y;
-            Fragment& f = frags.at(ox, oy);
-            FragmentInputs* in = inputs ? &inputs->at(ox, oy) : nullptr;
-            shade(f, in, tri, b, d, camera, camera.ray(sample.x, sample.y), o);
-            quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, px, py,
-                            !camera.jittered());
-            f.triangle = triangle;
+            lanes[pending++] = {&frags.at(ox, oy), inputs ? &inputs->at(ox, oy) : nullptr, b,
+                                sample, Vec2i(px, py)};
+            if (pending == kLanes) flush();
         }
+    if (pending > 0) flush();
 }
 
 std::array<const BaseVertex*, 3> triangleVertices(const BaseMesh& mesh, size_t first) {
@@ -546,18 +427,20 @@ void Rasterizer::helperLanes(uint32_t t, Vec2i owner, std::span<const Vec2i> lan
     const bool any = k + 1 < poly.size;
     const SurfaceDerivatives d = surfaceDerivatives(v);
     const Vec2d ownerSample = camera_.samplePosition(owner.x, owner.y);
+    const size_t first = out.size();
+    std::array<LanePixel, kLanes> pixels;
     for (Vec2i lane : lanes) {
         HelperLane& h = out.emplace_back();
         h.at = lane + shift;
         h.fragment.triangle = t;
-        if (!any) continue;
-        const Vec2d sample = ownerSample + Vec2d(lane - owner);
-        shade(h.fragment, &h.inputs, screen, screen.barycentrics(sample), d, camera_,
-              camera_.ray(sample.x, sample.y), options_);
-        quadDerivatives(h.fragment, options_.engineInputs ? &h.inputs : nullptr, screen, lane.x,
-                        lane.y, !camera_.jittered());
-        h.fragment.triangle = t;
     }
+    if (!any || lanes.empty()) return;
+    for (size_t i = 0; i < lanes.size(); ++i) {  // 3 lanes at most: one call
+        HelperLane& h = out[first + i];
+        const Vec2d sample = ownerSample + Vec2d(lanes[i] - owner);
+        pixels[i] = {&h.fragment, &h.inputs, screen.barycentrics(sample), sample, lanes[i]};
+    }
+    shadeLanes({pixels.data(), lanes.size()}, screen, d, camera_, options_);
 }
 
 Image2D<Fragment> rasterize(const BaseMesh& mesh, const Camera& camera,

@@ -18,6 +18,7 @@
 #include "evaluate/evaluate.h"
 #include "frame/render.h"
 #include "methods/config.h"
+#include "raster/fragment_list.h"
 #include "scene/scene.h"
 #include "study/outputs.h"
 #include "truth/builder.h"
@@ -67,6 +68,32 @@ void BM_FrameStages(benchmark::State& state) {
     state.SetLabel("default scene, none + parallax + pom, no light, finite plane");
 }
 BENCHMARK(BM_FrameStages)->Arg(512)->Arg(2048)->Iterations(3)->Unit(benchmark::kMillisecond);
+
+// The raster stage on its own, as the pipeline runs it (the Rasterizer set up once, then each
+// band rasterised and compacted), with nothing else on the cores: in BM_FrameStages the
+// previous band's frame.exr is encoded beside it.
+void BM_RasterStage(benchmark::State& state) {
+    const Scene s = stageScene(int(state.range(0)));
+    const Camera cam = makeCamera(s);
+    const BaseMesh mesh = drawnBaseMesh(s.base, cam);
+    const RasterOptions o = rasterOptions(s, s.view(), s.methods);
+    Image2D<Fragment> frags;
+    Image2D<FragmentInputs> inputs;
+    std::vector<HelperLane> helpers;
+    FragmentList list;
+    const int H = cam.height(), rows = bandRows(cam.width());
+    for (auto _ : state) {
+        const Rasterizer raster(mesh, cam, o);
+        RasterStats stats;
+        for (int y0 = 0; y0 < H; y0 += rows) {
+            raster.rasterizeRows(y0, std::min(H, y0 + rows), frags, stats, &inputs, &helpers);
+            compactFragments(frags, &inputs, false, list, nullptr);
+        }
+        benchmark::DoNotOptimize(list.pixel.data());
+    }
+    state.SetLabel("the frame of BM_FrameStages");
+}
+BENCHMARK(BM_RasterStage)->Arg(512)->Arg(2048)->Unit(benchmark::kMillisecond);
 
 // A minimal rasteriser of the drawn mesh's triangles: edge functions over each triangle's
 // bounding box, perspective-correct uv into a float image (the floor of the raster stage,
