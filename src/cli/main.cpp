@@ -15,11 +15,11 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/memory.h"
+#include "evaluate/evaluate.h"
 #include "frame/render.h"
 #include "io/staged_files.h"
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
-#include "methods/shader/glsl_method.h"
 #include "scene/scene.h"
 #include "study/fit.h"
 #include "study/merge.h"
@@ -364,7 +364,7 @@ void defineCommands(CLI::App& app, CommandLine& c) {
 int runCommand(const CommandLine& c) {
     try {
         pgt::setMemoryLimitMb(c.memoryLimitMb);
-        if (!c.glDevice.empty()) pgt::setGlDevice(c.glDevice);
+        if (!c.glDevice.empty()) pgt::selectGlDevice(c.glDevice);
         if (*c.render) {
             pgt::RenderOptions opt = c.renderOpt;
             if (c.noTiming) opt.timingRepeats = 0;

@@ -223,6 +223,8 @@ std::optional<GlUsed> glUsed() {
     return GlUsed{gl->vendor, gl->renderer, gl->version};
 }
 
+void selectGlDevice(const std::string& device) { setGlDevice(device); }
+
 std::string timingBackend(const MethodConfig& cfg) {
     if (!runsInGl(cfg)) return "cpu";
     const GlInfo& gl = glContext();

@@ -172,5 +172,8 @@ struct GlUsed {
     std::string vendor, renderer, version;
 };
 std::optional<GlUsed> glUsed();
+// Picks the GL device GLSL/HLSL methods will run on, before the first of them does (the CLI's
+// --gl-device: "" the EGL surfaceless platform, "egl-device:N" the N-th EGL device).
+void selectGlDevice(const std::string& device);
 
 }  // namespace pgt

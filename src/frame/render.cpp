@@ -14,11 +14,9 @@
 #include "core/interrupt.h"
 #include "core/memory.h"
 #include "core/overloaded.h"
+#include "evaluate/vertex_inputs.h"
 #include "frame/truth_source.h"
-#include "frame/vertex_inputs.h"
 #include "methods/config.h"
-#include "methods/shader/glsl_method.h"
-#include "methods/shader/vertex_stage.h"
 #include "truth/tessellation.h"
 
 namespace pgt {
@@ -147,18 +145,16 @@ class BandPipeline {
         // The drawn mesh culled and binned, unless the fragments are prepared; the engine
         // vertex stages run on it.
         const bool vertexStages = std::any_of(runs_.begin(), runs_.end(), [](const MethodRun& m) {
-            return m.config->shader() && m.config->shader()->vertexStage();
+            return hasVertexStage(*m.config);
         });
         const BaseMesh mesh =
             truth_.prepared() && !vertexStages ? BaseMesh{} : drawnBaseMesh(scene_.base, r_.camera);
         r_.timings.add(Stage::Raster, msSince(t0));
         t0 = Clock::now();
         if (vertexStages) {
-            const VertexStageInputs in = vertexStageInputs(mesh, r_.camera);
             for (MethodRun& m : runs_)
-                if (m.config->shader() && m.config->shader()->vertexStage())
-                    m.vertex = runVertexStage(*m.config->shader(), in, m.textures->scale,
-                                              m.textures->bias);
+                m.vertex = runMethodVertexStage(*m.config, mesh, r_.camera, m.textures->scale,
+                                                m.textures->bias);
             r_.timings.add(Stage::VertexStage, msSince(t0));
             t0 = Clock::now();
         }
@@ -458,7 +454,7 @@ RasterOptions rasterOptions(const Scene& scene, const ViewSpec& view,
         o.perVertexView = o.perVertexView || c.viewPerVertex;
         o.engineInputs = o.engineInputs || readsEngineInputs(c);
         o.quadHelpers = o.quadHelpers || runsInGl(c);
-        o.barycentrics = o.barycentrics || (c.shader() && c.shader()->vertexStage());
+        o.barycentrics = o.barycentrics || hasVertexStage(c);
     }
     return o;
 }

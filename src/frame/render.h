@@ -21,7 +21,6 @@
 #include "evaluate/evaluate.h"
 #include "frame/view_memory.h"
 #include "heightfield/heightfield.h"
-#include "methods/shader/vertex_stage.h"
 #include "raster/fragment_list.h"
 #include "raster/raster.h"
 #include "scene/scene.h"

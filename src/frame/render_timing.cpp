@@ -3,10 +3,8 @@
 #include <optional>
 
 #include "core/clock.h"
+#include "evaluate/vertex_inputs.h"
 #include "frame/render.h"
-#include "frame/vertex_inputs.h"
-#include "methods/shader/glsl_method.h"
-#include "methods/shader/vertex_stage.h"
 
 namespace pgt {
 
@@ -39,10 +37,9 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
 
 std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,
                                                const MethodConfig& cfg, double scale, double bias) {
-    if (!cfg.shader() || !cfg.shader()->vertexStage()) return std::nullopt;
+    if (!hasVertexStage(cfg)) return std::nullopt;
     const Camera camera = makeCamera(scene, view);
-    return runVertexStage(
-        *cfg.shader(), vertexStageInputs(drawnBaseMesh(scene.base, camera), camera), scale, bias);
+    return runMethodVertexStage(cfg, drawnBaseMesh(scene.base, camera), camera, scale, bias);
 }
 
 }  // namespace pgt

@@ -14,6 +14,7 @@
 
 #include "core/clock.h"
 #include "core/interrupt.h"
+#include "evaluate/vertex_inputs.h"
 #include "study/outputs.h"
 #include "study/study_dir.h"
 

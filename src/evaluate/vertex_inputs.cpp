@@ -1,5 +1,5 @@
-// A view's vertex stage inputs (frame/vertex_inputs.h).
-#include "frame/vertex_inputs.h"
+// A view's vertex stage inputs and a method's run of its stage (evaluate/vertex_inputs.h).
+#include "evaluate/vertex_inputs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +45,14 @@ VertexStageInputs vertexStageInputs(const BaseMesh& mesh, const Camera& camera) 
             glm::mat4(glm::perspective(glm::radians(camera.fovDegrees()), aspect, lo, hi));
     }
     return in;
+}
+
+bool hasVertexStage(const MethodConfig& cfg) { return cfg.shader() && cfg.shader()->vertexStage(); }
+
+std::optional<VertexOutputs> runMethodVertexStage(const MethodConfig& cfg, const BaseMesh& mesh,
+                                                  const Camera& camera, double scale, double bias) {
+    if (!hasVertexStage(cfg)) return std::nullopt;
+    return runVertexStage(*cfg.shader(), vertexStageInputs(mesh, camera), scale, bias);
 }
 
 }  // namespace pgt
