@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "raster/lanes.h"
 #include "raster/screen_triangle.h"
 
 namespace pgt {
@@ -52,23 +53,53 @@ SurfaceDerivatives surfaceDerivatives(const std::array<const BaseVertex*, 3>& v)
     return d;
 }
 
-// uv0's fine quad derivatives at pixel (px, py) (Fragment::uvDx, uvDy): the differences
-// across the pixel centres of the quad's pair along x and along y, one of which is the
-// pixel's own centre. `centred`: the pixel is sampled at its centre, so uv0 is its uv there.
-void quadDerivatives(Fragment& f, FragmentInputs* in, const ScreenTriangle& tri, int px, int py,
-                     bool centred) {
+// An engine's position derivatives at pixel (px, py) (EngineInputs::positionDx, positionDy):
+// across the pixel centres of the quad's pair along x and along y, as uv0's (quadUvDerivatives).
+void positionDerivatives(FragmentInputs& in, const ScreenTriangle& tri, int px, int py) {
     const bool left = (px & 1) == 0, top = (py & 1) == 0;  // the pixel's place in its quad
     const Vec2d own(px + 0.5, py + 0.5);
     const Vec2d xOther(own.x + (left ? 1 : -1), own.y), yOther(own.x, own.y + (top ? 1 : -1));
-    const Vec2d uvOwn = centred ? f.uv0 : tri.at(own, &ClipVertex::uv);
-    const Vec2d uvX = tri.at(xOther, &ClipVertex::uv), uvY = tri.at(yOther, &ClipVertex::uv);
-    f.uvDx = left ? uvX - uvOwn : uvOwn - uvX;
-    f.uvDy = top ? uvY - uvOwn : uvOwn - uvY;
-    if (!in) return;  // an engine's position derivatives, where asked
     const Vec3f pOwn(tri.at(own, &ClipVertex::world));
     const Vec3f pX(tri.at(xOther, &ClipVertex::world)), pY(tri.at(yOther, &ClipVertex::world));
-    in->engine.positionDx = left ? pX - pOwn : pOwn - pX;
-    in->engine.positionDy = top ? pY - pOwn : pOwn - pY;
+    in.engine.positionDx = left ? pX - pOwn : pOwn - pX;
+    in.engine.positionDy = top ? pY - pOwn : pOwn - pY;
+}
+
+// The lanes' uv at screen points (x, y), by ScreenTriangle::at's arithmetic.
+void uvAt(const ScreenTriangle& tri, const Lanes& x, const Lanes& y, Lanes& u, Lanes& v) {
+    std::array<Lanes, 3> k;
+    for (size_t i = 0; i < 3; ++i)
+        for (size_t l = 0; l < kLanes; ++l) k[i][l] = tri.edge[i].at({x[l], y[l]}) * tri.invW[i];
+    const auto& c = tri.c;
+    for (size_t l = 0; l < kLanes; ++l) {
+        const double sum = ((0.0 + k[0][l]) + k[1][l]) + k[2][l];
+        u[l] = (c[0]->uv.x * k[0][l] + c[1]->uv.x * k[1][l] + c[2]->uv.x * k[2][l]) / sum;
+        v[l] = (c[0]->uv.y * k[0][l] + c[1]->uv.y * k[1][l] + c[2]->uv.y * k[2][l]) / sum;
+    }
+}
+
+// uv0's fine quad derivatives at the lanes' pixels (Fragment::uvDx, uvDy): the differences
+// across the pixel centres of each quad's pair along x and along y, one of which is the
+// pixel's own centre. `centred`: pixels are sampled at their centres, so uv0 (u0, v0) is the
+// uv there.
+void quadUvDerivatives(const ScreenTriangle& tri, const std::array<Vec2i, kLanes>& pixel,
+                       bool centred, const Lanes& u0, const Lanes& v0, Lanes3& dx, Lanes3& dy) {
+    Lanes ownX, ownY, xX, yY, uOwn = u0, vOwn = v0, uX, vX, uY, vY;
+    for (size_t l = 0; l < kLanes; ++l) {
+        ownX[l] = pixel[l].x + 0.5, ownY[l] = pixel[l].y + 0.5;
+        xX[l] = ownX[l] + ((pixel[l].x & 1) == 0 ? 1 : -1);
+        yY[l] = ownY[l] + ((pixel[l].y & 1) == 0 ? 1 : -1);
+    }
+    if (!centred) uvAt(tri, ownX, ownY, uOwn, vOwn);
+    uvAt(tri, xX, ownY, uX, vX);
+    uvAt(tri, ownX, yY, uY, vY);
+    for (size_t l = 0; l < kLanes; ++l) {
+        const bool left = (pixel[l].x & 1) == 0, top = (pixel[l].y & 1) == 0;
+        dx.x[l] = left ? uX[l] - uOwn[l] : uOwn[l] - uX[l];
+        dx.y[l] = left ? vX[l] - vOwn[l] : vOwn[l] - vX[l];
+        dy.x[l] = top ? uY[l] - uOwn[l] : uOwn[l] - uY[l];
+        dy.y[l] = top ? vY[l] - vOwn[l] : vOwn[l] - vY[l];
+    }
 }
 
 // A fragment's light in the per-vertex frame (t, bt, n) and, with V, both in the exact frame
@@ -119,69 +150,83 @@ struct LanePixel {
     Vec2i pixel{0};
 };
 
-// Pixels shaded together: each step of shadeLanes runs over all of them before the next, so
-// that their chains of square roots and divisions overlap.
-constexpr size_t kLanes = 4;
+// Camera::viewVector at the lanes' world positions.
+Lanes3 viewLanes(const Camera& camera, const Lanes3& position) {
+    Lanes3 view;
+    const Vec3d eye = camera.eye(), back = -camera.forward();
+    for (size_t l = 0; l < kLanes; ++l)
+        if (camera.isOrthographic())
+            view.x[l] = back.x, view.y[l] = back.y, view.z[l] = back.z;
+        else
+            view.x[l] = eye.x - position.x[l], view.y[l] = eye.y - position.y[l],
+            view.z[l] = eye.z - position.z[l];
+    if (!camera.isOrthographic()) normalize(view);
+    return view;
+}
 
-// The fragments of up to kLanes pixels of one screen triangle (shade, one after another, gave
-// the same bits): uv0, position and V in the per-vertex tangent frame (Lengyel FGED 2 Listing
-// 7.8) and, when the triangle's UVs allow it and the options ask, in the exact frame, per
-// vertex and an engine's inputs.
+// The fragments of up to kLanes pixels of one screen triangle, each step over all of them
+// before the next (their square roots and divisions pack into vector registers and overlap),
+// with the bits one pixel at a time would give: uv0, position and V in the per-vertex tangent
+// frame (Lengyel FGED 2 Listing 7.8), uv0's quad derivatives and, when the triangle's UVs allow
+// it and the options ask, V in the exact frame, per vertex and an engine's inputs.
 void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
                 const SurfaceDerivatives& d, const Camera& camera, const RasterOptions& o) {
     const auto& c = tri.c;
     const size_t count = p.size();
     PGT_CHECK(count > 0 && count <= kLanes);
     // Lanes past `count` repeat the first pixel and are not written.
-    std::array<std::array<double, 3>, kLanes> b;
+    std::array<Lanes, 3> b;
+    std::array<Vec2i, kLanes> pixel;
     std::array<Ray, kLanes> ray;
     for (size_t l = 0; l < kLanes; ++l) {
         const LanePixel& q = p[l < count ? l : 0];
-        b[l] = q.b;
+        for (size_t i = 0; i < 3; ++i) b[i][l] = q.b[i];
+        pixel[l] = q.pixel;
         ray[l] = camera.ray(q.sample.x, q.sample.y);
     }
-    std::array<Vec2d, kLanes> uv;
-    std::array<Vec3d, kLanes> position, nRaw, n, t, bt, view, viewTangent;
-    std::array<double, kLanes> w;
-    for (size_t l = 0; l < kLanes; ++l) {
-        uv[l] = tri.uv(b[l]);
-        position[l] = tri.position(b[l]);
-        nRaw[l] = c[0]->n * b[l][0] + c[1]->n * b[l][1] + c[2]->n * b[l][2];
-        t[l] = c[0]->t * b[l][0] + c[1]->t * b[l][1] + c[2]->t * b[l][2];
-        w[l] = c[0]->w * b[l][0] + c[1]->w * b[l][1] + c[2]->w * b[l][2];
-    }
+    const Lanes u = interpolate(c[0]->uv.x, c[1]->uv.x, c[2]->uv.x, b);
+    const Lanes v = interpolate(c[0]->uv.y, c[1]->uv.y, c[2]->uv.y, b);
+    const Lanes3 position = interpolate(c[0]->world, c[1]->world, c[2]->world, b);
+    const Lanes3 nRaw = interpolate(c[0]->n, c[1]->n, c[2]->n, b);
+    Lanes3 t = interpolate(c[0]->t, c[1]->t, c[2]->t, b);
+    const Lanes w = interpolate(c[0]->w, c[1]->w, c[2]->w, b);
     for (size_t l = 0; l < count; ++l)
         if (p[l].in && o.engineInputs) {  // as interpolated (EngineInputs)
             EngineInputs& e = p[l].in->engine;
-            e.position = Vec3f(position[l]);
-            e.normal = Vec3f(nRaw[l]);
-            e.tangent = Vec3f(t[l]);
+            e.position = Vec3f(position.at(l));
+            e.normal = Vec3f(nRaw.at(l));
+            e.tangent = Vec3f(t.at(l));
             e.tangentW = w[l] < 0 ? -1.0f : 1.0f;
         }
     // Lengyel FGED 2 Listing 7.8: n = normalize(normal); t = normalize(tangent - n * dot(tangent,
     // n)); b = cross(normal, tangent) * sigma.
-    for (size_t l = 0; l < kLanes; ++l) n[l] = glm::normalize(nRaw[l]);
-    for (size_t l = 0; l < kLanes; ++l) t[l] = glm::normalize(t[l] - n[l] * glm::dot(n[l], t[l]));
+    Lanes3 n = nRaw;
+    normalize(n);
+    const Lanes nt = dot(n, t);
+    Lanes sign;
     for (size_t l = 0; l < kLanes; ++l) {
-        bt[l] = glm::cross(n[l], t[l]) * (w[l] < 0 ? -1.0 : 1.0);
-        // Camera::viewVector
-        view[l] = camera.isOrthographic() ? -camera.forward()
-                                          : glm::normalize(camera.eye() - position[l]);
+        t.x[l] -= n.x[l] * nt[l], t.y[l] -= n.y[l] * nt[l], t.z[l] -= n.z[l] * nt[l];
+        sign[l] = w[l] < 0 ? -1.0 : 1.0;
     }
-    for (size_t l = 0; l < kLanes; ++l)
-        viewTangent[l] = glm::normalize(
-            Vec3d(glm::dot(t[l], view[l]), glm::dot(bt[l], view[l]), glm::dot(n[l], view[l])));
+    normalize(t);
+    const Lanes3 bt = cross(n, t, sign);
+    const Lanes3 view = viewLanes(camera, position);
+    Lanes3 viewTangent{dot(t, view), dot(bt, view), dot(n, view)};
+    normalize(viewTangent);
+    Lanes3 uvDx, uvDy;
+    quadUvDerivatives(tri, pixel, !camera.jittered(), u, v, uvDx, uvDy);
     for (size_t l = 0; l < count; ++l) {
         Fragment& f = *p[l].f;
         FragmentInputs* in = p[l].in;
         f.covered = true;
-        f.uv0 = uv[l];
-        f.viewTangent = f.viewTangentExact = viewTangent[l];
-        f.rayT = glm::dot(position[l] - ray[l].origin, ray[l].dir);
-        if (in) fillInputs(*in, f, tri, b[l], ray[l], camera, o);
-        lightAndExactFrame(f, t[l], bt[l], n[l], view[l], d, o);
-        quadDerivatives(f, in && o.engineInputs ? in : nullptr, tri, p[l].pixel.x, p[l].pixel.y,
-                        !camera.jittered());
+        f.uv0 = Vec2d(u[l], v[l]);
+        f.viewTangent = f.viewTangentExact = viewTangent.at(l);
+        f.uvDx = Vec2d(uvDx.x[l], uvDx.y[l]), f.uvDy = Vec2d(uvDy.x[l], uvDy.y[l]);
+        const Vec3d at = position.at(l);
+        f.rayT = glm::dot(at - ray[l].origin, ray[l].dir);
+        if (in) fillInputs(*in, f, tri, p[l].b, ray[l], camera, o);
+        if (in && o.engineInputs) positionDerivatives(*in, tri, pixel[l].x, pixel[l].y);
+        lightAndExactFrame(f, t.at(l), bt.at(l), n.at(l), view.at(l), d, o);
     }
 }
 
