@@ -3,7 +3,9 @@ families, and the matplotlib setup. Runs on Debian's /usr/bin/python3."""
 import json
 import math
 import os
+import struct
 import sys
+import zlib
 
 try:
     import matplotlib
@@ -16,8 +18,10 @@ try:
     # axes, as in every figure here), not placed anew from the axes' measured extent at each
     # drawing: that measure was 0.2 s of a nine-panel figure's 0.65.
     matplotlib.rcParams["axes.titley"] = 1.0
+    import matplotlib.backend_bases
     import matplotlib.pyplot as plt  # noqa: F401  (re-exported)
     import matplotlib.ticker
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     import numpy as np  # noqa: F401
     import pandas as pd
 except ImportError as e:  # pragma: no cover - depends on the machine
@@ -125,16 +129,59 @@ def _replace_whole(path, write):
 FIGURE_DPI = 200
 
 
+def write_png(path, rgba, dpi):
+    """An image (rows x columns x RGBA, uint8) as a PNG (a path or a binary file): RGB where
+    every pixel is opaque, each row unfiltered, zlib at level 1, its resolution in dots per
+    inch recorded (a paper's layout sizes the figure by it). PIL's encoder (matplotlib's)
+    tries the row filters on every row, which these figures of flat colours and lines do not
+    repay: over a 54-case report's figures it took 0.67 s of CPU against this writer's 0.37,
+    for 10 % more bytes."""
+    rows, cols = rgba.shape[:2]
+    opaque = bool((rgba[:, :, 3] == 255).all())
+    pixels = rgba[:, :, :3] if opaque else rgba
+    raw = np.empty((rows, 1 + pixels.shape[1] * pixels.shape[2]), np.uint8)
+    raw[:, 0] = 0  # each row's filter: none
+    body = raw[:, 1:]
+    body.shape = pixels.shape  # a view of the rows (numpy refuses rather than copies)
+    body[...] = pixels
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    header = struct.pack(">IIBBBBB", cols, rows, 8, 2 if opaque else 6, 0, 0, 0)
+    per_metre = round(dpi / 0.0254)
+    data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+            + chunk(b"pHYs", struct.pack(">IIB", per_metre, per_metre, 1))
+            + chunk(b"IDAT", zlib.compress(raw.tobytes(), 1)) + chunk(b"IEND", b""))
+    if hasattr(path, "write"):
+        path.write(data)
+        return
+    with open(path, "wb") as f:
+        f.write(data)
+
+
+class _PngCanvas(FigureCanvasAgg):
+    """The Agg canvas with its PNGs written by write_png ("pgtpng": savefig's format)."""
+
+    def print_pgtpng(self, filename_or_obj, **_):  # savefig's other arguments: Agg's draw
+        FigureCanvasAgg.draw(self)
+        write_png(filename_or_obj, np.asarray(self.buffer_rgba()), self.figure.dpi)
+
+
+matplotlib.backend_bases.register_backend("pgtpng", _PngCanvas)
+
+
 def save_figure(fig, path, fixed=False, **kwargs):
     """fig.savefig(path) written whole or not at all (its format from the path's ending), at
     FIGURE_DPI with nothing clipped unless `kwargs` says otherwise. `fixed`: the figure's
     margins were set to hold everything (subplots_adjust), so the canvas is not measured
-    again (a second drawing pass). PNGs are compressed at zlib level 1: a fifth of a figure's
-    time at level 6, for files a third larger."""
+    again (a second drawing pass). PNGs go through write_png."""
     fmt = os.path.splitext(path)[1].lstrip(".") or "png"
     kwargs = {"dpi": FIGURE_DPI, **({} if fixed else {"bbox_inches": "tight", "pad_inches": 0.05}),
-              **({"pil_kwargs": {"compress_level": 1}} if fmt == "png" else {}), **kwargs}
-    _replace_whole(path, lambda tmp: fig.savefig(tmp, format=fmt, **kwargs))
+              **kwargs}
+    _replace_whole(path, lambda tmp: fig.savefig(tmp, format="pgtpng" if fmt == "png" else fmt,
+                                                 **kwargs))
 
 
 class _PlainLogFormatter(matplotlib.ticker.LogFormatter):

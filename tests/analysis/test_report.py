@@ -175,7 +175,30 @@ with tempfile.TemporaryDirectory() as d:
                            env={**os.environ, "PGT_ANALYSIS_DIR": fake})
         if r.returncode != 0 or f"report not written: " not in r.stdout or why not in r.stdout:
             failures.append(f"report script exiting {status}: {r.returncode} {r.stdout} {r.stderr}")
+# The report's PNG writer (common.write_png) against an independent decoder (PIL): the pixels
+# Agg drew, RGB where every pixel is opaque and RGBA where one is not, and the figure's dpi.
+import numpy as np  # noqa: E402
+from PIL import Image  # noqa: E402
+from common import plt as cplt, save_figure  # noqa: E402
+with tempfile.TemporaryDirectory() as d:
+    for alpha, mode in ((1.0, "RGB"), (0.5, "RGBA")):
+        fig, ax = cplt.subplots(figsize=(2, 1.5), dpi=200)
+        fig.patch.set_alpha(alpha)
+        ax.plot([0, 1, 2], [1, 3, 2], marker="o")
+        ax.set_title("a title")
+        path = os.path.join(d, f"f{alpha}.png")
+        save_figure(fig, path, fixed=True)
+        fig.canvas.draw()
+        drawn = np.asarray(fig.canvas.buffer_rgba())
+        cplt.close(fig)
+        im = Image.open(path)
+        got = np.asarray(im)
+        want = drawn if mode == "RGBA" else drawn[:, :, :3]
+        if im.mode != mode or got.shape != want.shape or (got != want).any() \
+                or abs(im.info.get("dpi", (0, 0))[0] - 200) > 0.01:
+            failures.append(f"write_png, figure alpha {alpha}: {im.mode} {got.shape} "
+                            f"{im.info} against {mode} {want.shape}")
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("10 passed, 0 failed")
+print("11 passed, 0 failed")
