@@ -172,11 +172,59 @@ class _PngCanvas(FigureCanvasAgg):
 matplotlib.backend_bases.register_backend("pgtpng", _PngCanvas)
 
 
+class _InView(matplotlib.ticker.Locator):
+    """Another locator's ticks that fall in its axis's view. Matplotlib makes a tick object
+    (two lines and a label, their properties copied) for every location a locator gives and
+    then draws those in view; making them was most of a many-panel figure's drawing, and a
+    locator gives a step or a decade beyond each end. The inner locator keeps its own axis
+    (a log locator's spacing reads it), so the same ticks are drawn."""
+
+    def __init__(self, inner, axis):
+        self.inner = inner
+        self.axis = axis
+
+    def set_axis(self, axis):
+        self.axis = axis
+
+    def __call__(self):
+        locs = np.asarray(self.inner(), dtype=float)
+        # As Axis._update_ticks tests a tick, in the scale's coordinates, a little wider.
+        scale = self.axis.get_transform()
+        lo, hi = sorted(scale.transform(np.asarray(self.axis.get_view_interval(), dtype=float)))
+        at = scale.transform(locs)
+        slack = 1e-6 * (hi - lo)
+        return locs[(at >= lo - slack) & (at <= hi + slack)]
+
+    def tick_values(self, vmin, vmax):
+        return self.inner.tick_values(vmin, vmax)
+
+    def nonsingular(self, v0, v1):
+        return self.inner.nonsingular(v0, v1)
+
+    def view_limits(self, vmin, vmax):
+        return self.inner.view_limits(vmin, vmax)
+
+    def set_params(self, **kwargs):
+        self.inner.set_params(**kwargs)
+
+
+def _ticks_in_view(fig):
+    """Every locator of the figure's axes wrapped in _InView (shared axes share one)."""
+    for ax in fig.axes:
+        for axis in (ax.xaxis, ax.yaxis):
+            for ticker in (axis.major, axis.minor):
+                if not isinstance(ticker.locator, (_InView, matplotlib.ticker.NullLocator)):
+                    inner = ticker.locator
+                    ticker.locator = _InView(inner, inner.axis if inner.axis else axis)
+
+
 def save_figure(fig, path, fixed=False, **kwargs):
     """fig.savefig(path) written whole or not at all (its format from the path's ending), at
     FIGURE_DPI with nothing clipped unless `kwargs` says otherwise. `fixed`: the figure's
     margins were set to hold everything (subplots_adjust), so the canvas is not measured
-    again (a second drawing pass). PNGs go through write_png."""
+    again (a second drawing pass). Ticks are made only where they are drawn (_InView); PNGs
+    go through write_png."""
+    _ticks_in_view(fig)
     fmt = os.path.splitext(path)[1].lstrip(".") or "png"
     kwargs = {"dpi": FIGURE_DPI, **({} if fixed else {"bbox_inches": "tight", "pad_inches": 0.05}),
               **kwargs}
