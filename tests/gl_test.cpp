@@ -88,22 +88,68 @@ TEST(Gl, BuiltInShadersMatchTheCppMethods) {
     }
 }
 
-// scenes/glsl_twins.json lists every built-in (at its own settings) followed by its twin as
-// the method table writes it, and nothing else but other built-ins' twins.
-TEST(Gl, TwinsSceneIsTheMethodTablesTwins) {
-    const nlohmann::json scene = readJsonFile(test::sceneDir() + "/glsl_twins.json");
-    const nlohmann::json& methods = scene.at("methods");
-    std::set<std::string> kinds;
-    for (size_t i = 0; i < methods.size(); ++i) {
-        if (methods[i].is_object() && methods[i].contains("glsl")) continue;  // checked below
-        MethodConfig cpu = parseMethod(methods[i], "twins", "m");
-        if (cpu.label.empty()) cpu.label = cpu.name;
-        kinds.insert(cpu.name);
-        ASSERT_LT(i + 1, methods.size()) << cpu.label << " has no twin after it";
-        EXPECT_EQ(methods[i + 1].dump(), twinEntry(cpu).dump()) << cpu.label;
+// {"builtins": "all", "twins": true} (scenes/glsl_twins.json) is every kind of the method table
+// at its defaults, in the table's order, each followed by its GLSL twin "NAME_gl" as the table
+// writes it (twinEntry); "twin": true does the same for one entry, "LABEL_gl" where it has a
+// label; without "twins" the kinds alone.
+TEST(Gl, BuiltinsAllListsEveryKindBesideItsTwin) {
+    const auto kinds = methodKinds();
+    const auto both = parseMethods(nlohmann::json::parse(R"([{"builtins": "all", "twins": true},
+        {"name": "pom", "label": "pom_grad", "lod": "grad", "twin": true}])"),
+                                   "t", "methods");
+    ASSERT_EQ(both.size(), 2 * kinds.size() + 2);
+    auto unlabelled = [](MethodConfig c) {  // parseMethod alone leaves labels to parseMethods
+        c.label.clear();
+        return toJson(c).dump();
+    };
+    for (size_t k = 0; k <= kinds.size(); ++k) {
+        const MethodConfig& cpu = both[2 * k];
+        const MethodConfig& gl = both[2 * k + 1];
+        const std::string name = k < kinds.size() ? kinds[k].name : "pom";
+        ASSERT_TRUE(cpu.builtin()) << k;
+        EXPECT_EQ(cpu.name, name);
+        EXPECT_TRUE(runsInGl(gl)) << cpu.label;
+        // Named after the entry's own label, else its name (the list's two pom get the
+        // labels pom_8_32 and pom_grad only after).
+        MethodConfig entry = cpu;
+        entry.label = k < kinds.size() ? name : "pom_grad";
+        EXPECT_EQ(gl.label, entry.label + "_gl");
+        const MethodConfig again = parseMethod(twinEntry(entry), "t", "m");
+        EXPECT_EQ(unlabelled(gl), unlabelled(again)) << cpu.label;
+        if (k < kinds.size()) {  // at the kind's defaults
+            EXPECT_EQ(unlabelled(cpu), unlabelled(parseMethod(name, "t", "m"))) << name;
+        }
     }
-    for (const MethodKindInfo& kind : methodKinds())
-        EXPECT_TRUE(kinds.count(kind.name)) << kind.name;
+    EXPECT_TRUE(both.back().lodGrad);
+    const auto alone =
+        parseMethods(nlohmann::json::parse(R"([{"builtins": "all"}])"), "t", "methods");
+    ASSERT_EQ(alone.size(), kinds.size());
+    for (size_t k = 0; k < kinds.size(); ++k) EXPECT_EQ(alone[k].name, kinds[k].name);
+    // The bundled scene is that list.
+    const auto scene = parseMethods(readJsonFile(test::sceneDir() + "/glsl_twins.json")["methods"],
+                                    "glsl_twins.json", "methods");
+    ASSERT_EQ(scene.size(), both.size());
+    for (size_t i = 0; i < both.size(); ++i)
+        EXPECT_EQ(toJson(scene[i]).dump(), toJson(both[i]).dump()) << i;
+}
+
+// A twin asked where there is none, or asked wrongly, is refused naming the field.
+TEST(Gl, TwinRequestsAreChecked) {
+    auto error = [](const char* list) -> std::string {
+        try {
+            parseMethods(nlohmann::json::parse(list), "bad.json", "methods");
+        } catch (const InputError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_NE(error(R"([{"preset": "godot", "twin": true}])").find("methods[0].twin"),
+              std::string::npos);
+    EXPECT_NE(error(R"([{"name": "pom", "twin": "yes"}])").find("expected true or false"),
+              std::string::npos);
+    EXPECT_NE(error(R"([{"builtins": "some"}])").find("methods[0].builtins"), std::string::npos);
+    EXPECT_NE(error(R"([{"builtins": "all", "twin": true}])").find("twin"), std::string::npos);
+    EXPECT_EQ(error(R"([{"name": "pom", "twin": false}])"), "");
 }
 
 // Head-on (V = +z) every shader returns uv0 (docs/model.md symmetry), through the GL path.

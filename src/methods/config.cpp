@@ -153,6 +153,25 @@ MethodConfig parseMethod(const Json& entry, const std::string& file, const std::
     return cfg;
 }
 
+namespace {
+
+// `cfg` appended to `out`, and with `twin` its GLSL twin after it as the method table writes
+// the twin's entry (twinEntry: "LABEL_gl"; a built-in without a label of its own lends its
+// name), read like any shader entry.
+void addMethod(MethodConfig cfg, bool twin, const std::string& file, const std::string& at,
+               double worldPerUv, std::vector<MethodConfig>& out) {
+    out.push_back(cfg);
+    if (!twin) return;
+    if (!cfg.builtin() || !kindInfo(cfg.builtin()->kind).twin.file)
+        throw InputError(file, at + ".twin", "true",
+                         "only a built-in method has a GLSL twin (a preset or a shader entry "
+                         "runs in GL already)");
+    if (cfg.label.empty()) cfg.label = cfg.name;
+    out.push_back(parseMethod(twinEntry(cfg), file, at, worldPerUv));
+}
+
+}  // namespace
+
 std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file,
                                        const std::string& path, double worldPerUv) {
     if (!list.is_array()) throw InputError(file, path, shortDump(list), "expected an array");
@@ -160,8 +179,31 @@ std::vector<MethodConfig> parseMethods(const Json& list, const std::string& file
         throw InputError(file, path, "[]",
                          "the method list is empty; known methods: " + joinNames(methodNames()));
     std::vector<MethodConfig> out;
-    for (size_t i = 0; i < list.size(); ++i)
-        out.push_back(parseMethod(list[i], file, path + "[" + std::to_string(i) + "]", worldPerUv));
+    for (size_t i = 0; i < list.size(); ++i) {
+        const std::string at = path + "[" + std::to_string(i) + "]";
+        const Json& entry = list[i];
+        if (entry.is_object() && entry.contains("builtins")) {  // every built-in, in table order
+            JsonFields f(entry, file, at);
+            f.choice("builtins", {"all"}, "");
+            const bool twins = f.boolean("twins", false);
+            f.finish();
+            for (const MethodKindInfo& kind : methodKinds())
+                addMethod(parseMethod(Json(kind.name), file, at, worldPerUv), twins, file, at,
+                          worldPerUv, out);
+            continue;
+        }
+        // "twin": true on a built-in's entry: the entry, then its GLSL twin.
+        Json own = entry;
+        bool twin = false;
+        if (entry.is_object() && entry.contains("twin")) {
+            if (!entry.at("twin").is_boolean())
+                throw InputError(file, at + ".twin", shortDump(entry.at("twin")),
+                                 "expected true or false");
+            twin = entry.at("twin").get<bool>();
+            own.erase("twin");
+        }
+        addMethod(parseMethod(own, file, at, worldPerUv), twin, file, at, worldPerUv, out);
+    }
     assignLabels(out, file, path);
     return out;
 }
