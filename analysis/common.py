@@ -1,5 +1,6 @@
 """Shared helpers for the analysis scripts: reading pgt's CSV and study.json, method
 families, and the matplotlib setup. Runs on Debian's /usr/bin/python3."""
+import contextlib
 import json
 import math
 import os
@@ -135,14 +136,16 @@ def write_png(path, rgba, dpi):
     inch recorded (a paper's layout sizes the figure by it). PIL's encoder (matplotlib's)
     tries the row filters on every row, which these figures of flat colours and lines do not
     repay: over a 54-case report's figures it took 0.67 s of CPU against this writer's 0.37,
-    for 10 % more bytes."""
+    and wrote 10 % more bytes."""
     rows, cols = rgba.shape[:2]
     opaque = bool((rgba[:, :, 3] == 255).all())
     pixels = rgba[:, :, :3] if opaque else rgba
     raw = np.empty((rows, 1 + pixels.shape[1] * pixels.shape[2]), np.uint8)
     raw[:, 0] = 0  # each row's filter: none
+    # The pixels copied once, straight into the rows: setting .shape makes a view of them (or
+    # raises), where reshape could copy the RGB slice first.
     body = raw[:, 1:]
-    body.shape = pixels.shape  # a view of the rows (numpy refuses rather than copies)
+    body.shape = pixels.shape
     body[...] = pixels
 
     def chunk(kind, data):
@@ -164,7 +167,9 @@ def write_png(path, rgba, dpi):
 class _PngCanvas(FigureCanvasAgg):
     """The Agg canvas with its PNGs written by write_png ("pgtpng": savefig's format)."""
 
-    def print_pgtpng(self, filename_or_obj, **_):  # savefig's other arguments: Agg's draw
+    def print_pgtpng(self, filename_or_obj, **_):
+        # savefig's other arguments (facecolor, ...) took effect before this call; PIL's
+        # metadata and options have no use here (no "Software" text is written).
         FigureCanvasAgg.draw(self)
         write_png(filename_or_obj, np.asarray(self.buffer_rgba()), self.figure.dpi)
 
@@ -173,11 +178,11 @@ matplotlib.backend_bases.register_backend("pgtpng", _PngCanvas)
 
 
 class _InView(matplotlib.ticker.Locator):
-    """Another locator's ticks that fall in its axis's view. Matplotlib makes a tick object
-    (two lines and a label, their properties copied) for every location a locator gives and
-    then draws those in view; making them was most of a many-panel figure's drawing, and a
-    locator gives a step or a decade beyond each end. The inner locator keeps its own axis
-    (a log locator's spacing reads it), so the same ticks are drawn."""
+    """Another locator's ticks that fall in `axis`'s view. Matplotlib makes a tick object (two
+    lines and a label, their properties copied) for every location a locator gives and then
+    draws those in view; making them was most of a many-panel figure's drawing, and a locator
+    gives a step or a decade beyond each end. The inner locator keeps its own axis (a log
+    locator's spacing reads it)."""
 
     def __init__(self, inner, axis):
         self.inner = inner
@@ -208,14 +213,39 @@ class _InView(matplotlib.ticker.Locator):
         self.inner.set_params(**kwargs)
 
 
+# Locators whose ticks depend on nothing but the view, and formatters that label a tick by its
+# value alone: where an axis has only these, leaving out the ticks outside the view changes
+# nothing drawn (an AutoMinorLocator spaces its ticks by the major ones; a FixedFormatter
+# labels by position).
+_FREE_LOCATORS = (matplotlib.ticker.MaxNLocator, matplotlib.ticker.LogLocator,
+                  matplotlib.ticker.FixedLocator, matplotlib.ticker.MultipleLocator,
+                  matplotlib.ticker.NullLocator)
+_VALUE_FORMATTERS = (matplotlib.ticker.ScalarFormatter, matplotlib.ticker.LogFormatter,
+                     matplotlib.ticker.FuncFormatter, matplotlib.ticker.StrMethodFormatter,
+                     matplotlib.ticker.FormatStrFormatter, matplotlib.ticker.NullFormatter)
+
+
+@contextlib.contextmanager
 def _ticks_in_view(fig):
-    """Every locator of the figure's axes wrapped in _InView (shared axes share one)."""
+    """The figure's axes make tick objects only where ticks are drawn (_InView), where all
+    of an axis's locators and formatters allow it; as they were afterwards."""
+    wrapped = []
     for ax in fig.axes:
         for axis in (ax.xaxis, ax.yaxis):
-            for ticker in (axis.major, axis.minor):
-                if not isinstance(ticker.locator, (_InView, matplotlib.ticker.NullLocator)):
-                    inner = ticker.locator
-                    ticker.locator = _InView(inner, inner.axis if inner.axis else axis)
+            tickers = (axis.major, axis.minor)
+            if any(isinstance(t.locator, _InView) for t in tickers) or not all(
+                    isinstance(t.locator, _FREE_LOCATORS)
+                    and isinstance(t.formatter, _VALUE_FORMATTERS) for t in tickers):
+                continue  # wrapped already (a shared axis), or not safe to
+            for ticker in tickers:
+                if not isinstance(ticker.locator, matplotlib.ticker.NullLocator):
+                    wrapped.append((ticker, ticker.locator))
+                    ticker.locator = _InView(ticker.locator, axis)
+    try:
+        yield
+    finally:
+        for ticker, locator in wrapped:
+            ticker.locator = locator
 
 
 def save_figure(fig, path, fixed=False, **kwargs):
@@ -224,12 +254,12 @@ def save_figure(fig, path, fixed=False, **kwargs):
     margins were set to hold everything (subplots_adjust), so the canvas is not measured
     again (a second drawing pass). Ticks are made only where they are drawn (_InView); PNGs
     go through write_png."""
-    _ticks_in_view(fig)
     fmt = os.path.splitext(path)[1].lstrip(".") or "png"
     kwargs = {"dpi": FIGURE_DPI, **({} if fixed else {"bbox_inches": "tight", "pad_inches": 0.05}),
               **kwargs}
-    _replace_whole(path, lambda tmp: fig.savefig(tmp, format="pgtpng" if fmt == "png" else fmt,
-                                                 **kwargs))
+    with _ticks_in_view(fig):
+        _replace_whole(path, lambda tmp: fig.savefig(
+            tmp, format="pgtpng" if fmt == "png" else fmt, **kwargs))
 
 
 class _PlainLogFormatter(matplotlib.ticker.LogFormatter):

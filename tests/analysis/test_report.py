@@ -200,7 +200,7 @@ with tempfile.TemporaryDirectory() as d:
                             f"{im.info} against {mode} {want.shape}")
 # Ticks are made only where they are drawn (common._InView): a figure of shared log and linear
 # panels saved by save_figure has the pixels of the same figure saved by matplotlib alone, with
-# fewer tick objects made.
+# fewer tick objects made, and its locators are its own again afterwards.
 with tempfile.TemporaryDirectory() as d:
     def panels():
         fig, axes = cplt.subplots(2, 2, figsize=(4, 3), dpi=200, sharex=True, sharey=True)
@@ -220,10 +220,13 @@ with tempfile.TemporaryDirectory() as d:
     save_figure(ours, os.path.join(d, "ours.png"), fixed=True)
     a = np.asarray(Image.open(os.path.join(d, "plain.png")).convert("RGB"))
     b = np.asarray(Image.open(os.path.join(d, "ours.png")).convert("RGB"))
-    if a.shape != b.shape or (a != b).any() or not ticks(ours) < ticks(plain):
+    kept = all(not type(t.locator).__name__.startswith("_")
+               for ax in ours.axes for t in (ax.xaxis.major, ax.yaxis.major))
+    if a.shape != b.shape or (a != b).any() or not ticks(ours) < ticks(plain) or not kept:
         failures.append(f"ticks in view: {a.shape} {b.shape} "
                         f"{int((a != b).any(axis=2).sum()) if a.shape == b.shape else ''} "
-                        f"pixels differ; {ticks(ours)} tick objects against {ticks(plain)}")
+                        f"pixels differ; {ticks(ours)} tick objects against {ticks(plain)}; "
+                        f"locators restored: {kept}")
 if failures:
     print("\n".join(failures))
     sys.exit(1)
