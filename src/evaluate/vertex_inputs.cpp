@@ -49,10 +49,11 @@ VertexStageInputs vertexStageInputs(const BaseMesh& mesh, const Camera& camera) 
 
 bool hasVertexStage(const MethodConfig& cfg) { return cfg.shader() && cfg.shader()->vertexStage(); }
 
-std::optional<VertexOutputs> runMethodVertexStage(const MethodConfig& cfg, const BaseMesh& mesh,
-                                                  const Camera& camera, double scale, double bias) {
+std::optional<VertexOutputs> runMethodVertexStage(const MethodConfig& cfg,
+                                                  const VertexStageInputs& in, double scale,
+                                                  double bias) {
     if (!hasVertexStage(cfg)) return std::nullopt;
-    return runVertexStage(*cfg.shader(), vertexStageInputs(mesh, camera), scale, bias);
+    return runVertexStage(*cfg.shader(), in, scale, bias);
 }
 
 }  // namespace pgt

@@ -20,9 +20,10 @@ VertexStageInputs vertexStageInputs(const BaseMesh& mesh, const Camera& camera);
 
 // Whether `cfg` has an engine vertex stage (its shader entry's "vertex").
 bool hasVertexStage(const MethodConfig& cfg);
-// The outputs of `cfg`'s vertex stage over `mesh` as `camera` sees it at (s, b); none where
-// it has no vertex stage.
-std::optional<VertexOutputs> runMethodVertexStage(const MethodConfig& cfg, const BaseMesh& mesh,
-                                                  const Camera& camera, double scale, double bias);
+// The outputs of `cfg`'s vertex stage over a view's inputs (vertexStageInputs) at (s, b); none
+// where it has no vertex stage.
+std::optional<VertexOutputs> runMethodVertexStage(const MethodConfig& cfg,
+                                                  const VertexStageInputs& in, double scale,
+                                                  double bias);
 
 }  // namespace pgt

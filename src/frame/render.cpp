@@ -152,9 +152,9 @@ class BandPipeline {
         r_.timings.add(Stage::Raster, msSince(t0));
         t0 = Clock::now();
         if (vertexStages) {
+            const VertexStageInputs in = vertexStageInputs(mesh, r_.camera);
             for (MethodRun& m : runs_)
-                m.vertex = runMethodVertexStage(*m.config, mesh, r_.camera, m.textures->scale,
-                                                m.textures->bias);
+                m.vertex = runMethodVertexStage(*m.config, in, m.textures->scale, m.textures->bias);
             r_.timings.add(Stage::VertexStage, msSince(t0));
             t0 = Clock::now();
         }

@@ -39,7 +39,8 @@ std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpe
                                                const MethodConfig& cfg, double scale, double bias) {
     if (!hasVertexStage(cfg)) return std::nullopt;
     const Camera camera = makeCamera(scene, view);
-    return runMethodVertexStage(cfg, drawnBaseMesh(scene.base, camera), camera, scale, bias);
+    return runMethodVertexStage(cfg, vertexStageInputs(drawnBaseMesh(scene.base, camera), camera),
+                                scale, bias);
 }
 
 }  // namespace pgt

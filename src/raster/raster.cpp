@@ -388,7 +388,7 @@ void Rasterizer::rasterizeAt(PixelRect rect, Image2D<Fragment>& out,
         }
     }
     // A pixel no triangle drew is cleared here, the drawn ones having been written whole
-    // (shade, quadDerivatives and the triangle): the image is not cleared beforehand.
+    // (shadeLanes and the triangle): the image is not cleared beforehand.
     for (int y = 0; y < rect.height(); ++y)
         for (int x = 0; x < rect.width(); ++x) {
             Fragment& f = out.at(x + at.x, y + at.y);

@@ -69,9 +69,10 @@ void BM_FrameStages(benchmark::State& state) {
 }
 BENCHMARK(BM_FrameStages)->Arg(512)->Arg(2048)->Iterations(3)->Unit(benchmark::kMillisecond);
 
-// The raster stage on its own, as the pipeline runs it (the Rasterizer set up once, then each
-// band rasterised and compacted), with nothing else on the cores: in BM_FrameStages the
-// previous band's frame.exr is encoded beside it.
+// The raster stage on its own, as the pipeline runs it for this frame (the Rasterizer set up
+// once, then each band rasterised and compacted; no light, no GL method, so no light vectors
+// and no helper lanes), with nothing else on the cores: in BM_FrameStages the previous band's
+// frame.exr is encoded beside it.
 void BM_RasterStage(benchmark::State& state) {
     const Scene s = stageScene(int(state.range(0)));
     const Camera cam = makeCamera(s);
