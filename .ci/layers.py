@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """CI: the folders of src/ include only what lies below them (docs/layout.md, "The data path
 and its layers"), and above evaluate/ no file includes the GL path (methods/shader/) itself:
-the frame, the commands and the front ends reach it through evaluate/'s headers. Prints every such #include
-and exits 1 when there is one."""
+the frame, the commands and the front ends reach it through evaluate/'s headers. Prints
+every such #include and exits 1 when there is one."""
 import glob
 import os
 import re

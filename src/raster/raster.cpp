@@ -153,14 +153,16 @@ struct LanePixel {
 // Camera::viewVector at the lanes' world positions.
 Lanes3 viewLanes(const Camera& camera, const Lanes3& position) {
     Lanes3 view;
-    const Vec3d eye = camera.eye(), back = -camera.forward();
+    if (camera.isOrthographic()) {  // one direction, not normalised again
+        const Vec3d back = -camera.forward();
+        view.x.fill(back.x), view.y.fill(back.y), view.z.fill(back.z);
+        return view;
+    }
+    const Vec3d eye = camera.eye();
     for (size_t l = 0; l < kLanes; ++l)
-        if (camera.isOrthographic())
-            view.x[l] = back.x, view.y[l] = back.y, view.z[l] = back.z;
-        else
-            view.x[l] = eye.x - position.x[l], view.y[l] = eye.y - position.y[l],
-            view.z[l] = eye.z - position.z[l];
-    if (!camera.isOrthographic()) normalize(view);
+        view.x[l] = eye.x - position.x[l], view.y[l] = eye.y - position.y[l],
+        view.z[l] = eye.z - position.z[l];
+    normalize(view);
     return view;
 }
 
@@ -174,7 +176,7 @@ void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
     const auto& c = tri.c;
     const size_t count = p.size();
     PGT_CHECK(count > 0 && count <= kLanes);
-    // Lanes past `count` repeat the first pixel and are not written.
+    // Lanes past `count` repeat the first pixel and are not written (their rays not made).
     std::array<Lanes, 3> b;
     std::array<Vec2i, kLanes> pixel;
     std::array<Ray, kLanes> ray;
@@ -182,7 +184,7 @@ void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
         const LanePixel& q = p[l < count ? l : 0];
         for (size_t i = 0; i < 3; ++i) b[i][l] = q.b[i];
         pixel[l] = q.pixel;
-        ray[l] = camera.ray(q.sample.x, q.sample.y);
+        if (l < count) ray[l] = camera.ray(q.sample.x, q.sample.y);
     }
     const Lanes u = interpolate(c[0]->uv.x, c[1]->uv.x, c[2]->uv.x, b);
     const Lanes v = interpolate(c[0]->uv.y, c[1]->uv.y, c[2]->uv.y, b);

@@ -177,12 +177,6 @@ struct ScreenTriangle {
         for (int i = 0; i < 3; ++i) k[i] = edge[i].at(p) * invW[i], sum += k[i];
         return (c[0]->*attribute * k[0] + c[1]->*attribute * k[1] + c[2]->*attribute * k[2]) / sum;
     }
-    Vec2d uv(const std::array<double, 3>& b) const {
-        return c[0]->uv * b[0] + c[1]->uv * b[1] + c[2]->uv * b[2];
-    }
-    Vec3d position(const std::array<double, 3>& b) const {
-        return c[0]->world * b[0] + c[1]->world * b[1] + c[2]->world * b[2];
-    }
 
   private:
     // Screen weights divided by w, normalised.
