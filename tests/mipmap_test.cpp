@@ -4,14 +4,17 @@
 // against the neighbours' uv0 and in closed form, and a method reading a coarser level.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 #include "evaluate/evaluate.h"
+#include "frame/render.h"
 #include "heightfield/mipmaps.h"
 #include "methods/registry.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "test_util.h"
+#include "truth/builder.h"
 
 namespace pgt {
 namespace {
@@ -169,6 +172,53 @@ TEST(Mipmaps, GradMethodReadsTheCoarserLevel) {
     }
     EXPECT_GT(coarse, 50);
     EXPECT_GT(differ, 50);
+}
+
+// uv0's derivatives are made for a frame whose configurations read them (a "lod": "grad"
+// method without any GL draw here) and only then: the other methods' pixels are the same bits
+// either way. A prepared view (pgt fit) makes them for the list it is given, which may be
+// the fit's own and not the scene's.
+TEST(Mipmaps, DerivativesAreMadeWhereAConfigurationReadsThem) {
+    Texture map = test::bricks(64);
+    addMipmaps(map);
+    const std::vector<MethodConfig> both =
+        parseMethods(nlohmann::json::parse(R"(["pom", {"name": "pom", "lod": "grad"}])"), "t", "m");
+    const std::vector<MethodConfig> plain(both.begin(), both.begin() + 1);
+    Scene s = test::planeScene(std::move(map), 0.05, -0.025, 60, 30, 64, plain);
+    s.mipmaps = true;
+    EXPECT_FALSE(rasterOptions(s, s.view(), plain).uvDerivatives);
+    EXPECT_TRUE(rasterOptions(s, s.view(), both).uvDerivatives);
+    TruthBuilder builder(s);
+    TruthPair truths = builder.build(s.displacement, false);
+    MethodTextureCache textures(s.height, s.uvExtent);
+    const TimingSpec none{.repeats = 0, .maxFragments = 0, .seed = 1};
+    const RenderResult a = renderView(s, s.view(), truths, plain, textures, none);
+    const RenderResult b = renderView(s, s.view(), truths, both, textures, none);
+    ASSERT_EQ(b.methods.size(), 2u);
+    int covered = 0;
+    double lodEffect = 0;
+    for (size_t p = 0; p < a.fragments.data.size(); ++p) {
+        const Vec2d pa = a.methods[0].pixels.data[p].uv, pb = b.methods[0].pixels.data[p].uv;
+        EXPECT_EQ(std::memcmp(&pa, &pb, sizeof pa), 0) << p;
+        if (!a.fragments.data[p].covered) continue;
+        ++covered;
+        EXPECT_EQ(a.fragments.data[p].uvDx, Vec2d(0));
+        EXPECT_GT(glm::length(b.fragments.data[p].uvDx), 0);
+        lodEffect += glm::length(b.methods[1].pixels.data[p].uv - pb) * 64;
+    }
+    EXPECT_GT(covered, 1000);
+    EXPECT_GT(lodEffect / covered, 0.01);  // the grad method read levels above 0
+    const PreparedView pa = prepareView(s, s.view(), truths, plain);
+    const PreparedView pb = prepareView(s, s.view(), truths, both);
+    size_t fragments = 0;
+    for (size_t i = 0; i < pb.bands.size(); ++i) {
+        const FragmentList &fa = pa.bands[i].frags, &fb = pb.bands[i].frags;
+        fragments += fb.size();
+        EXPECT_TRUE(fa.uvDx.empty() && fa.viewExact.empty());
+        EXPECT_TRUE(fb.hasDerivatives());
+        for (size_t k = 0; k < fa.size(); ++k) EXPECT_EQ(fa.viewExactAt(k), fa.view[k]);
+    }
+    EXPECT_EQ(fragments, size_t(covered));
 }
 
 // Lengyel FGED 2's derived maps of a mipmapped map get their own chains (each level the box mean of

@@ -244,7 +244,7 @@ std::vector<To> toFloat(const std::vector<From>& values) {
 // ("V": "per_vertex", where the list has it) or per pixel.
 const std::vector<Vec3d>& methodViews(const MethodConfig& cfg, const FragmentList& frags,
                                       bool exactFrame) {
-    if (exactFrame) return frags.viewExact;
+    if (exactFrame) return frags.viewExact.size() == frags.size() ? frags.viewExact : frags.view;
     if (cfg.viewPerVertex && frags.viewVertex.size() == frags.size()) return frags.viewVertex;
     return frags.view;
 }

@@ -201,7 +201,7 @@ class BandPipeline {
             raster->rasterizeRows(band.y0, band.y1, ownFragments_, r_.raster, &ownInputs_,
                                   &ownHelpers_);
             // Pixel indices within the band.
-            compactFragments(ownFragments_, &ownInputs_, r_.view.light.has_value(), ownFrags_,
+            compactFragments(ownFragments_, &ownInputs_, raster->options(), ownFrags_,
                              quadHelpers_ ? &ownHelpers_ : nullptr);
             fragments_ = &ownFragments_;
             inputs_ = &ownInputs_;
@@ -449,8 +449,10 @@ RasterOptions rasterOptions(const Scene& scene, const ViewSpec& view,
                     .exactFrame = framesCanDiffer(scene.base),
                     .perVertexView = false,
                     .engineInputs = false,
+                    .uvDerivatives = false,
                     .light = lightToward(view).value_or(Vec3d(0))};
     for (const MethodConfig& c : configs) {
+        o.uvDerivatives = o.uvDerivatives || c.lodGrad || runsInGl(c);
         o.perVertexView = o.perVertexView || c.viewPerVertex;
         o.engineInputs = o.engineInputs || readsEngineInputs(c);
         o.quadHelpers = o.quadHelpers || runsInGl(c);
@@ -465,7 +467,8 @@ bool readsFragmentInputs(const std::vector<MethodConfig>& configs) {
     });
 }
 
-PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths) {
+PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
+                         const std::vector<MethodConfig>& configs) {
     PreparedView v;
     v.view = view;
     v.camera = makeCamera(scene, view);
@@ -474,7 +477,7 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
         truths.truth->traceFrame(v.camera, TraceMode::Coherent, lightToward(view));
     Image2D<FragmentInputs> inputs;
     std::vector<HelperLane> helpers;
-    const RasterOptions options = rasterOptions(scene, view, scene.methods);
+    const RasterOptions options = rasterOptions(scene, view, configs);
     const Image2D<Fragment> fragments = rasterize(drawnBaseMesh(scene.base, v.camera), v.camera,
                                                   options, &v.raster, &inputs, &helpers);
     const int W = v.camera.width(), H = v.camera.height(), R = bandRows(W);
@@ -493,8 +496,8 @@ PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPa
         b.truth = rowsOf(truth, band);
         b.fragments = rowsOf(fragments, band);
         if (inputs.width == W) b.inputs = rowsOf(inputs, band);
-        b.frags = compactFragments(b.fragments, &b.inputs,
-                                   options.quadHelpers ? &bandHelpers[size_t(y0 / R)] : nullptr);
+        compactFragments(b.fragments, &b.inputs, options, b.frags,
+                         options.quadHelpers ? &bandHelpers[size_t(y0 / R)] : nullptr);
         setTruthDepths(b.truth, b.fragments, scene.worldPerUv());
         v.bands.push_back(std::move(b));
     }

@@ -167,11 +167,14 @@ struct PreparedView {
     };
     std::vector<Band> bands;
 };
-PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths);
+// Rasterised for `configs` (rasterOptions): the configurations it will measure.
+PreparedView prepareView(const Scene& scene, const ViewSpec& view, const TruthPair& truths,
+                         const std::vector<MethodConfig>& configs);
 
 // What the rasteriser computes for these configurations (RasterOptions): V in the exact frame
 // where the base's frames can differ from it, V per vertex and an engine's inputs where a
-// configuration reads them; nothing else per pixel; the view's light.
+// configuration reads them, uv0's derivatives where one has "lod": "grad" or runs in GL;
+// nothing else per pixel; the view's light.
 RasterOptions rasterOptions(const Scene& scene, const ViewSpec& view,
                             const std::vector<MethodConfig>& configs);
 // Whether any of them reads V per vertex or an engine's inputs (the rasteriser then makes

@@ -30,9 +30,9 @@ FragmentList viewTimingFragments(const Scene& scene, const ViewSpec& view,
         rasterize(drawnBaseMesh(scene.base, camera), camera, options, nullptr, &inputs);
     // With an engine vertex stage, the triangles (its outputs are read there; no helper lanes).
     std::vector<HelperLane> noHelpers;
-    return sampleFragments(
-        compactFragments(frame, &inputs, options.barycentrics ? &noHelpers : nullptr),
-        timing.maxFragments, timing.seed);
+    FragmentList all;
+    compactFragments(frame, &inputs, options, all, options.barycentrics ? &noHelpers : nullptr);
+    return sampleFragments(all, timing.maxFragments, timing.seed);
 }
 
 std::optional<VertexOutputs> viewVertexOutputs(const Scene& scene, const ViewSpec& view,

@@ -14,12 +14,17 @@ namespace pgt {
 FragmentList compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
                               std::vector<HelperLane>* helpers) {
     FragmentList list;
-    compactFragments(frags, inputs, true, list, helpers);
+    RasterOptions all;
+    all.light = Vec3d(1);  // kept whatever the view's light
+    compactFragments(frags, inputs, all, list, helpers);
     return list;
 }
 
 void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
-                      bool lights, FragmentList& list, std::vector<HelperLane>* helpers) {
+                      const RasterOptions& made, FragmentList& list,
+                      std::vector<HelperLane>* helpers) {
+    const bool lights = made.light != Vec3d(0), exact = made.exactFrame,
+               derivatives = made.uvDerivatives;
     if (inputs && inputs->data.size() != frags.data.size()) inputs = nullptr;  // not made
     // Rows counted, then filled at their offsets, over all cores.
     const int W = frags.width, H = frags.height;
@@ -34,9 +39,9 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
     list.pixel.resize(total);
     list.uv0.resize(total);
     list.view.resize(total);
-    list.viewExact.resize(total);
-    list.uvDx.resize(total);
-    list.uvDy.resize(total);
+    list.viewExact.resize(exact ? total : 0);
+    list.uvDx.resize(derivatives ? total : 0);
+    list.uvDy.resize(derivatives ? total : 0);
     list.light.resize(lights ? total : 0);
     list.lightExact.resize(lights ? total : 0);
     list.viewVertex.resize(inputs ? total : 0);
@@ -53,9 +58,8 @@ void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInpu
             list.pixel[k] = y * W + x;
             list.uv0[k] = f.uv0;
             list.view[k] = f.viewTangent;
-            list.viewExact[k] = f.viewTangentExact;
-            list.uvDx[k] = f.uvDx;
-            list.uvDy[k] = f.uvDy;
+            if (exact) list.viewExact[k] = f.viewTangentExact;
+            if (derivatives) list.uvDx[k] = f.uvDx, list.uvDy[k] = f.uvDy;
             if (lights) {
                 list.light[k] = f.lightTangent;
                 list.lightExact[k] = f.lightTangentExact;
@@ -77,15 +81,21 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     const size_t before = size();
     const bool vertex = !viewVertex.empty() || !from.viewVertex.empty();
     const bool inputs = !engine.empty() || !from.engine.empty();
+    // Derivatives only where both sides have them (else none: zero, as the raster leaves them).
+    const bool derivatives = (before == 0 || hasDerivatives()) && from.hasDerivatives();
     for (size_t k = viewVertex.size(); vertex && k < before; ++k) viewVertex.push_back(view[k]);
+    for (size_t k = viewExact.size(); k < before; ++k) viewExact.push_back(view[k]);
     if (inputs) engine.resize(before);
+    if (!derivatives) uvDx.clear(), uvDy.clear();
     for (int32_t p : from.pixel) pixel.push_back(p + pixelOffset);
     uv0.insert(uv0.end(), from.uv0.begin(), from.uv0.end());
     view.insert(view.end(), from.view.begin(), from.view.end());
-    viewExact.insert(viewExact.end(), from.viewExact.begin(), from.viewExact.end());
-    uvDx.insert(uvDx.end(), from.uvDx.begin(), from.uvDx.end());
-    uvDy.insert(uvDy.end(), from.uvDy.begin(), from.uvDy.end());
+    if (derivatives) {
+        uvDx.insert(uvDx.end(), from.uvDx.begin(), from.uvDx.end());
+        uvDy.insert(uvDy.end(), from.uvDy.begin(), from.uvDy.end());
+    }
     for (size_t k = 0; k < from.size(); ++k) {
+        viewExact.push_back(from.viewExactAt(k));
         light.push_back(from.lightAt(k));
         lightExact.push_back(from.lightAt(k, true));
         if (vertex) viewVertex.push_back(from.viewVertexAt(k));
@@ -98,9 +108,8 @@ void append(FragmentList& to, const FragmentList& from, size_t k) {
     to.pixel.push_back(from.pixel[k]);
     to.uv0.push_back(from.uv0[k]);
     to.view.push_back(from.view[k]);
-    to.viewExact.push_back(from.viewExact[k]);
-    to.uvDx.push_back(from.uvDx[k]);
-    to.uvDy.push_back(from.uvDy[k]);
+    to.viewExact.push_back(from.viewExactAt(k));
+    if (from.hasDerivatives()) to.uvDx.push_back(from.uvDx[k]), to.uvDy.push_back(from.uvDy[k]);
     to.light.push_back(from.lightAt(k));
     to.lightExact.push_back(from.lightAt(k, true));
     if (!from.viewVertex.empty()) to.viewVertex.push_back(from.viewVertexAt(k));
@@ -115,9 +124,9 @@ void assign(FragmentList& to, size_t slot, const FragmentList& from, size_t k) {
     to.pixel[slot] = from.pixel[k];
     to.uv0[slot] = from.uv0[k];
     to.view[slot] = from.view[k];
-    to.viewExact[slot] = from.viewExact[k];
-    to.uvDx[slot] = from.uvDx[k];
-    to.uvDy[slot] = from.uvDy[k];
+    to.viewExact[slot] = from.viewExactAt(k);
+    if (from.hasDerivatives() && slot < to.uvDx.size())
+        to.uvDx[slot] = from.uvDx[k], to.uvDy[slot] = from.uvDy[k];
     to.light[slot] = from.lightAt(k);
     to.lightExact[slot] = from.lightAt(k, true);
     if (!from.viewVertex.empty()) to.viewVertex[slot] = from.viewVertexAt(k);

@@ -14,14 +14,19 @@ namespace pgt {
 
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
-// reads them as they are. 148 bytes per fragment, 236 with the FragmentInputs (4 more with
-// the triangles of a GL draw on the screen, and its helper lanes).
+// reads them as they are. 44 bytes per fragment on a plane without a light, where no method
+// reads uv0's derivatives; 148 with all of them, 236 with the FragmentInputs (4 more with the
+// triangles of a GL draw on the screen, and its helper lanes).
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x
     std::vector<Vec2d> uv0;
-    std::vector<Vec3d> view;        // unit tangent-space V (Lengyel FGED 2 Listing 7.8's frame)
-    std::vector<Vec3d> viewExact;   // V in the exact frame of the drawn surface (meshes)
-    std::vector<Vec2d> uvDx, uvDy;  // uv0's screen derivatives (Fragment::uvDx, uvDy)
+    std::vector<Vec3d> view;  // unit tangent-space V (Lengyel FGED 2 Listing 7.8's frame)
+    // V in the exact frame of the drawn surface (meshes; empty where the raster did not make
+    // it: it is `view` there, viewExactAt).
+    std::vector<Vec3d> viewExact;
+    // uv0's screen derivatives (Fragment::uvDx, uvDy); empty where no method of the frame
+    // reads them (RasterOptions::uvDerivatives).
+    std::vector<Vec2d> uvDx, uvDy;
     std::vector<Vec3d> light, lightExact;  // the light in each frame (Fragment::lightTangent)
     std::vector<Vec3d> viewVertex;         // V per vertex, interpolated (Fragment)
     std::vector<EngineInputs> engine;      // an engine's varyings (Fragment::engine)
@@ -34,6 +39,8 @@ struct FragmentList {
     // Fragment k's per-vertex V and engine inputs; a list made by hand (tests) that left them
     // out gives the per-pixel V and zero inputs.
     Vec3d viewVertexAt(size_t k) const { return k < viewVertex.size() ? viewVertex[k] : view[k]; }
+    Vec3d viewExactAt(size_t k) const { return k < viewExact.size() ? viewExact[k] : view[k]; }
+    bool hasDerivatives() const { return uvDx.size() == size() && uvDy.size() == size(); }
     EngineInputs engineAt(size_t k) const { return k < engine.size() ? engine[k] : EngineInputs{}; }
     // Fragment k's light in either frame; zero (no light) where a list made by hand (tests)
     // left the lights out.
@@ -51,10 +58,13 @@ struct FragmentList {
 FragmentList compactFragments(const Image2D<Fragment>& frags,
                               const Image2D<FragmentInputs>* inputs = nullptr,
                               std::vector<HelperLane>* helpers = nullptr);
-// The same into `list`, reusing its storage (a frame's bands); its lights left out (lightAt:
-// zero) unless `lights` (the view has a light).
+// The same into `list`, reusing its storage (a frame's bands), with only what the raster
+// made by `made`: its lights left out (lightAt: zero) without a light, V in the exact frame
+// without RasterOptions::exactFrame (viewExactAt: V) and uv0's derivatives without
+// RasterOptions::uvDerivatives.
 void compactFragments(const Image2D<Fragment>& frags, const Image2D<FragmentInputs>* inputs,
-                      bool lights, FragmentList& list, std::vector<HelperLane>* helpers = nullptr);
+                      const RasterOptions& made, FragmentList& list,
+                      std::vector<HelperLane>* helpers = nullptr);
 
 // A seeded random subset of at most `count` fragments of lists added one after another
 // (reservoir sampling: the same subset for the same fragments in the same order, however

@@ -215,8 +215,8 @@ void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
     const Lanes3 view = viewLanes(camera, position);
     Lanes3 viewTangent{dot(t, view), dot(bt, view), dot(n, view)};
     normalize(viewTangent);
-    Lanes3 uvDx, uvDy;
-    quadUvDerivatives(tri, pixel, !camera.jittered(), u, v, uvDx, uvDy);
+    Lanes3 uvDx{}, uvDy{};
+    if (o.uvDerivatives) quadUvDerivatives(tri, pixel, !camera.jittered(), u, v, uvDx, uvDy);
     for (size_t l = 0; l < count; ++l) {
         Fragment& f = *p[l].f;
         FragmentInputs* in = p[l].in;

@@ -72,6 +72,9 @@ struct RasterOptions {
     bool quadHelpers = false;
     // FragmentInputs::bary (an engine's vertex stage: methods/shader/vertex_stage.h).
     bool barycentrics = false;
+    // uv0's quad derivatives (Fragment::uvDx, uvDy; off: zero), read by a method with
+    // "lod": "grad" and by every GL draw.
+    bool uvDerivatives = true;
     // The unit world direction toward the view's light (scene.h lightToward), zero without
     // one: each fragment's lightTangent and lightTangentExact.
     Vec3d light{0};
@@ -130,6 +133,7 @@ class Rasterizer {
                        std::vector<HelperLane>* helpers = nullptr) const;
     // Triangles drawn and culled.
     const RasterStats& setupStats() const { return setup_; }
+    const RasterOptions& options() const { return options_; }
 
   private:
     // rasterize() into `out` at `at` (rect's top-left pixel there): every pixel of rect written,

@@ -127,7 +127,7 @@ class FitScorer {
                 v.camera.theta = th, v.camera.phi = ph;
                 v.camera.width = plan.width, v.camera.height = plan.height;
                 v.camera.jitter = plan.jitter, v.camera.jitterSeed = plan.seed;
-                views_.push_back(prepareView(scene, v, truths));
+                views_.push_back(prepareView(scene, v, truths, plan.methods));
                 if (views_.back().raster.covered == 0)  // every candidate would score nothing
                     throw InputError(scene.file, "fit.theta", formatNumber(th, 9),
                                      "the view at theta " + formatNumber(th, 9) + ", phi " +

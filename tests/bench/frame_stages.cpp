@@ -88,7 +88,7 @@ void BM_RasterStage(benchmark::State& state) {
         RasterStats stats;
         for (int y0 = 0; y0 < H; y0 += rows) {
             raster.rasterizeRows(y0, std::min(H, y0 + rows), frags, stats, &inputs, &helpers);
-            compactFragments(frags, &inputs, false, list, nullptr);
+            compactFragments(frags, &inputs, o, list, nullptr);
         }
         benchmark::DoNotOptimize(list.pixel.data());
     }
