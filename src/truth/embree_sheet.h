@@ -28,9 +28,15 @@
 
 namespace pgt {
 
-// Grids are split into blocks of at most this many segments per side (Embree's limit is
-// 32767 vertices); blocks share their boundary vertices, so the sheet stays watertight.
-constexpr int kGridBlock = 1024;
+// Grids are split into blocks of at most this many segments per side; blocks share their
+// boundary vertices, so the sheet stays watertight. Small blocks for two reasons, both measured
+// (docs/performance.md): Embree 3.13 makes a grid geometry's primitive references in tasks of
+// 1024 grids, so a sheet of fewer grids is referenced on one core (a fine truth's 4 grids of
+// 1024 segments: 175 ms of its 2-core build on one core); and a hit's u, v are floats over its
+// whole grid, so a 1024-segment grid rounds the hit's place in its cell to 1e-4 of a cell, a
+// 16-segment one to 2e-6 (the truth's rate-vs-2x-rate uncertainty fell tenfold, p50 7.6e-6 to
+// 7.3e-7 texels on a 512^2 sine frame).
+constexpr int kGridBlock = 16;
 
 struct TruthSurface::Impl {
     Impl() = default;
