@@ -1,6 +1,8 @@
 // Helpers shared by the tests: textures from functions, programmatic scenes, temp dirs.
 #pragma once
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +10,8 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include "core/data_dir.h"
 #include "heightfield/heightfield.h"
@@ -91,10 +95,26 @@ inline Fragments randomFragments(int n, uint32_t seed, double maxTheta = 85) {
     return in;
 }
 
+// The directories tempDir made, removed when the test process that made them ends (a forked
+// child leaves them: it ends by _exit, or is not their owner); PGT_KEEP_TEST_DIRS=1 keeps them
+// to look at.
+struct TempDirs {
+    std::vector<std::filesystem::path> made;
+    pid_t owner = ::getpid();
+    ~TempDirs() {
+        if (::getpid() != owner || std::getenv("PGT_KEEP_TEST_DIRS")) return;
+        std::error_code ec;
+        for (const auto& p : made) std::filesystem::remove_all(p, ec);
+    }
+};
+
+// A fresh directory under the system's temporary one, removed at the end of the test process.
 inline std::filesystem::path tempDir(const std::string& name) {
+    static TempDirs dirs;
     auto p = std::filesystem::temp_directory_path() /
              ("pgt_test_" + name + "_" + std::to_string(std::random_device{}()));
     std::filesystem::create_directories(p);
+    dirs.made.push_back(p);
     return p;
 }
 
