@@ -320,8 +320,7 @@ TEST(EngineFiles, ABodysLocalsMayTakePgtsNames) {
 // 1 - h for the normal layouts, m being the normal map of the case's s and b; "height.C" and
 // "depth.C" the value in the channels C, the others R, G, B 0 and A 1.
 TEST(OwnShader, EveryChannelOfEveryLayoutIsDefined) {
-    const auto dir = std::filesystem::temp_directory_path() / "pgt_own_shader_layouts";
-    std::filesystem::create_directories(dir);
+    const auto dir = test::tempDir("own_shader_layouts");
     const std::string file = (dir / "channels.glsl").string();
     std::ofstream(file) << "#version 330\nuniform sampler2D map;\nuniform int pair;\n"
                            "vec2 F(vec2 uv, vec3 V) {\n"
@@ -425,8 +424,7 @@ TEST(OwnShader, PackedLayoutsHaveMipmaps) {
 
 // Bad input: exit-2 errors naming the file, the field and the user's line.
 TEST(OwnShader, BadInputNamesTheFileFieldAndLine) {
-    const auto dir = std::filesystem::temp_directory_path() / "pgt_own_shader_bad";
-    std::filesystem::create_directories(dir);
+    const auto dir = test::tempDir("own_shader_bad");
     const std::string bad = (dir / "bad.hlsl").string();
     std::ofstream(bad) << "float2 F(float2 uv, float3 V) {\n    return uv + undeclared;\n}\n";
     Texture t = test::smoothTexture(8, 8);

@@ -96,8 +96,8 @@ inline Fragments randomFragments(int n, uint32_t seed, double maxTheta = 85) {
 }
 
 // The directories tempDir made, removed when the test process that made them ends (a forked
-// child leaves them: it ends by _exit, or is not their owner); PGT_KEEP_TEST_DIRS=1 keeps them
-// to look at.
+// child leaves them: it ends by _exit, or is not their owner); with PGT_KEEP_TEST_DIRS set they
+// are kept to look at.
 struct TempDirs {
     std::vector<std::filesystem::path> made;
     pid_t owner = ::getpid();

@@ -184,7 +184,9 @@ namespace {
 template <class Real>
 Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
                  size_t k) {
-    if (!cfg.lodGrad || !tex.height->mips || frags.uvDx.empty()) return Real(0);
+    if (!cfg.lodGrad || !tex.height->mips) return Real(0);
+    // The raster makes uv0's derivatives for every frame with such a method (rasterOptions).
+    PGT_CHECK(frags.hasDerivatives());
     return lodFromGradients(Vec2<Real>(frags.uvDx[k]), Vec2<Real>(frags.uvDy[k]), tex.height->width,
                             tex.height->height);
 }

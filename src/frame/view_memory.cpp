@@ -17,12 +17,12 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
     const double pixels = double(width) * height;
     // Twice with the exact-frame pass of a base whose vertex frames can differ from it.
     const double methods = double(m.configs->size()), mesh = framesCanDiffer(scene.base) ? 2 : 1;
-    // A band: truth at two rates, the raster's fragments and their list (260 bytes with the
-    // FragmentInputs' barycentrics), per
+    // A band: truth at two rates, the raster's fragments and their list (272 bytes at most:
+    // every part and the FragmentInputs, raster/fragment_list.h), per
     // method its pixels and errors (twice on meshes, the exact-frame pass), and the EXR's
     // interleaved rows (frameChannelCount floats).
     const double band = double(width) * std::min(height, bandRows(width));
-    double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 260 +
+    double perBandPixel = 2.0 * sizeof(TruthSample) + 2.0 * sizeof(Fragment) + 272 +
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     // A GL draw's triangles and helper lanes: at most 3 lanes a fragment (one alone in its
     // quad), in the raster's list and the smaller copy the draw makes.

@@ -85,6 +85,7 @@ void FragmentList::append(const FragmentList& from, int32_t pixelOffset) {
     const bool derivatives = (before == 0 || hasDerivatives()) && from.hasDerivatives();
     for (size_t k = viewVertex.size(); vertex && k < before; ++k) viewVertex.push_back(view[k]);
     for (size_t k = viewExact.size(); k < before; ++k) viewExact.push_back(view[k]);
+    light.resize(before, Vec3d(0)), lightExact.resize(before, Vec3d(0));  // none: zero
     if (inputs) engine.resize(before);
     if (!derivatives) uvDx.clear(), uvDy.clear();
     for (int32_t p : from.pixel) pixel.push_back(p + pixelOffset);

@@ -15,7 +15,7 @@ namespace pgt {
 // In double, as the rasteriser made them: a float method (and the GL) rounds uv0 and V to
 // float when it reads them, exactly once, as a GPU's varyings are; `precision: double`
 // reads them as they are. 44 bytes per fragment on a plane without a light, where no method
-// reads uv0's derivatives; 148 with all of them, 236 with the FragmentInputs (4 more with the
+// reads uv0's derivatives; 148 with all of them, 272 with the FragmentInputs (4 more with the
 // triangles of a GL draw on the screen, and its helper lanes).
 struct FragmentList {
     std::vector<int32_t> pixel;  // y * width + x

@@ -169,8 +169,8 @@ Lanes3 viewLanes(const Camera& camera, const Lanes3& position) {
 // The fragments of up to kLanes pixels of one screen triangle, each step over all of them
 // before the next (their square roots and divisions pack into vector registers and overlap),
 // with the bits one pixel at a time would give: uv0, position and V in the per-vertex tangent
-// frame (Lengyel FGED 2 Listing 7.8), uv0's quad derivatives and, when the triangle's UVs allow
-// it and the options ask, V in the exact frame, per vertex and an engine's inputs.
+// frame (Lengyel FGED 2 Listing 7.8) and, when the options ask, uv0's quad derivatives, V per
+// vertex, an engine's inputs and (where the triangle's UVs allow it) V in the exact frame.
 void shadeLanes(std::span<const LanePixel> p, const ScreenTriangle& tri,
                 const SurfaceDerivatives& d, const Camera& camera, const RasterOptions& o) {
     const auto& c = tri.c;

@@ -34,6 +34,7 @@ struct Fragment {
     // invocation) between the two pixel centres of the 2x2 quad's row (x) and column (y).
     // Quads start at even x and y; y grows downward (image rows). Non-finite where the
     // neighbour's centre is beyond a pinhole's horizon.
+    // Made only with RasterOptions::uvDerivatives (zero otherwise).
     Vec2d uvDx{0}, uvDy{0};
     // The direction toward the view's light in the per-vertex and the exact frame (zero
     // without a light, docs/model.md §6c), and the distance along the pixel's ray to the drawn
@@ -62,8 +63,8 @@ struct FragmentInputs {
 struct RasterOptions {
     bool cullBackFaces = true;
     double worldPerUv = 1;  // l (docs/model.md §2): the height axis of the exact frame
-    // What the frame's methods read beyond uv0, V and uv0's derivatives, each computed per pixel
-    // only when asked (frame/render.h rasterOptions): V in the exact frame (off:
+    // What the frame's methods read beyond uv0 and V, each computed per pixel only when asked
+    // (frame/render.h rasterOptions; uv0's derivatives: uvDerivatives below): V in the exact frame (off:
     // viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
     // FragmentInputs image a caller passes; off: not made).
     bool exactFrame = true, perVertexView = true, engineInputs = true;

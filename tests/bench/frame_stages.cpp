@@ -162,8 +162,9 @@ void BM_FrameFloors(benchmark::State& state) {
     builder.limitToView(cam, lightToward(s.view()), s.displacement);
     const TruthPair truths = builder.build(s.displacement, true);
     const BaseMesh mesh = drawnBaseMesh(s.base, cam);
-    const FragmentList frags =
-        compactFragments(rasterize(mesh, cam, rasterOptions(s, s.view(), s.methods)));
+    const RasterOptions o = rasterOptions(s, s.view(), s.methods);
+    FragmentList frags;  // as the pipeline makes it
+    compactFragments(rasterize(mesh, cam, o), nullptr, o, frags);
     MethodTextureCache textures(s.height, s.uvExtent);
     std::vector<Vec2f> uv;
     std::map<std::string, std::vector<double>> ms;
