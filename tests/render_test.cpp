@@ -266,6 +266,22 @@ TEST(Render, AFinelyTiledPlaneCountsOnlyTheWindowItBuilds) {
     EXPECT_GT(r.methods[1].stats.error.count, 2000);
 }
 
+// pgt fit runs one method at a time over views rasterised for all of them: a GL method's helper
+// lanes are estimated whichever method comes first.
+TEST(Render, AFitsEstimateHoldsTheHelperLanesOfAnyMethod) {
+    const Scene s = parseScene(nlohmann::json::parse(R"({
+        "heightmap": {"procedural": "sine", "size": [64, 64]}, "base": {"type": "plane"},
+        "camera": {"type": "orthographic", "theta": 40, "resolution": [64, 64]},
+        "methods": ["pom", {"preset": "godot"}]})"),
+                               "fit.json");
+    const std::vector<MethodConfig> pom = {s.methods[0]}, gl = {s.methods[1]};
+    const std::vector<MethodConfig> reversed = {s.methods[1], s.methods[0]};
+    const double pomFirst = estimateViewBytes(s, 64, 64, {.configs = &pom, .mapConfigs = &s.methods});
+    const double glFirst = estimateViewBytes(s, 64, 64, {.configs = &gl, .mapConfigs = &reversed});
+    EXPECT_EQ(pomFirst, glFirst);
+    EXPECT_GT(pomFirst, estimateViewBytes(s, 64, 64, {.configs = &pom}));
+}
+
 }  // namespace
 }  // namespace pgt
 

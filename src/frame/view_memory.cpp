@@ -26,7 +26,7 @@ double estimateViewBytes(const Scene& scene, int width, int height, const ViewMe
                           methods * (sizeof(MethodPixel) + sizeof(float)) * mesh;
     // A GL draw's triangles and helper lanes: at most 3 lanes a fragment (one alone in its
     // quad), in the raster's list and the smaller copy the draw makes.
-    if (rasterOptions(scene, scene.view(), *m.configs).quadHelpers)
+    if (rasterOptions(scene, scene.view(), m.mapConfigs ? *m.mapConfigs : *m.configs).quadHelpers)
         perBandPixel += 4 + 3.0 * 2 * sizeof(HelperLane);
     if (m.writesImages)
         perBandPixel +=

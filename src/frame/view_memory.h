@@ -22,7 +22,8 @@ namespace pgt {
 // (core/memory.h).
 struct ViewMemory {
     const std::vector<MethodConfig>* configs = nullptr;  // the methods run at once
-    // The methods whose maps are held (pgt fit runs one method at a time over all); null: configs.
+    // The methods whose maps are held and whose fragments the views are rasterised for (pgt fit
+    // runs one method at a time over all); null: configs.
     const std::vector<MethodConfig>* mapConfigs = nullptr;
     bool writesImages = false;  // frame.exr and the error maps
     bool keepsImages = false;   // the whole frame's images in memory (FrameOptions)
