@@ -179,14 +179,19 @@ const MethodTextures& MethodTextureCache::at(const MethodConfig& cfg,
 
 namespace {
 
-// The level of detail of a fragment for a "lod": "grad" method, 0 otherwise (and where the
-// maps have no mipmaps).
+// Whether `cfg` reads uv0's derivatives ("lod": "grad" over mipmapped maps), checked once a
+// list: the raster makes them for every frame with such a method (rasterOptions).
+bool readsDerivatives(const MethodConfig& cfg, const MethodTextures& tex,
+                      const FragmentList& frags) {
+    const bool reads = cfg.lodGrad && tex.height->mips;
+    PGT_CHECK(!reads || frags.hasDerivatives());
+    return reads;
+}
+
+// The level of detail of a fragment for a method that reads the derivatives, 0 otherwise.
 template <class Real>
-Real fragmentLod(const MethodConfig& cfg, const MethodTextures& tex, const FragmentList& frags,
-                 size_t k) {
-    if (!cfg.lodGrad || !tex.height->mips) return Real(0);
-    // The raster makes uv0's derivatives for every frame with such a method (rasterOptions).
-    PGT_CHECK(frags.hasDerivatives());
+Real fragmentLod(bool reads, const MethodTextures& tex, const FragmentList& frags, size_t k) {
+    if (!reads) return Real(0);
     return lodFromGradients(Vec2<Real>(frags.uvDx[k]), Vec2<Real>(frags.uvDy[k]), tex.height->width,
                             tex.height->height);
 }
@@ -326,14 +331,15 @@ void evaluateBuiltin(const MethodConfig& cfg, const BuiltinMethod& b, const Frag
     resetImage(out, width, height);
     const size_t n = frags.pixel.size();
     const auto& view = methodViews(cfg, frags, exactFrame);
+    const bool reads = readsDerivatives(cfg, tex, frags);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             out.data[size_t(frags.pixel[k])] =
                 b.doublePrecision ? runOne<double>(cfg, b, tex, frags.uv0[k], view[k],
-                                                   fragmentLod<double>(cfg, tex, frags, k),
+                                                   fragmentLod<double>(reads, tex, frags, k),
                                                    frags.lightAt(k, exactFrame))
                                   : runOne<float>(cfg, b, tex, Vec2f(frags.uv0[k]), Vec3f(view[k]),
-                                                  fragmentLod<float>(cfg, tex, frags, k),
+                                                  fragmentLod<float>(reads, tex, frags, k),
                                                   Vec3f(frags.lightAt(k, exactFrame)));
         }
     });
@@ -386,7 +392,8 @@ std::vector<double> cppPasses(const MethodConfig& cfg, const BuiltinMethod& b,
     const auto uv0 = toFloat<Vec2<Real>>(frags.uv0);
     const auto view = toFloat<Vec3<Real>>(methodViews(cfg, frags, false));
     std::vector<Real> lod(frags.size());
-    for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(cfg, tex, frags, k);
+    const bool reads = readsDerivatives(cfg, tex, frags);
+    for (size_t k = 0; k < lod.size(); ++k) lod[k] = fragmentLod<Real>(reads, tex, frags, k);
     std::vector<double> samples;
     volatile double sink = 0;  // keeps the results alive so the loop is not optimised away
     for (int r = 0; r < repeats; ++r) {
