@@ -276,7 +276,8 @@ TEST(Render, AFitsEstimateHoldsTheHelperLanesOfAnyMethod) {
                                "fit.json");
     const std::vector<MethodConfig> pom = {s.methods[0]}, gl = {s.methods[1]};
     const std::vector<MethodConfig> reversed = {s.methods[1], s.methods[0]};
-    const double pomFirst = estimateViewBytes(s, 64, 64, {.configs = &pom, .mapConfigs = &s.methods});
+    const double pomFirst =
+        estimateViewBytes(s, 64, 64, {.configs = &pom, .mapConfigs = &s.methods});
     const double glFirst = estimateViewBytes(s, 64, 64, {.configs = &gl, .mapConfigs = &reversed});
     EXPECT_EQ(pomFirst, glFirst);
     EXPECT_GT(pomFirst, estimateViewBytes(s, 64, 64, {.configs = &pom}));

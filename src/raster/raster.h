@@ -64,8 +64,8 @@ struct RasterOptions {
     bool cullBackFaces = true;
     double worldPerUv = 1;  // l (docs/model.md §2): the height axis of the exact frame
     // What the frame's methods read beyond uv0 and V, each computed per pixel only when asked
-    // (frame/render.h rasterOptions; uv0's derivatives: uvDerivatives below): V in the exact frame (off:
-    // viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
+    // (frame/render.h rasterOptions; uv0's derivatives: uvDerivatives below): V in the exact frame
+    // (off: viewTangentExact repeats viewTangent), V per vertex and an engine's inputs (into the
     // FragmentInputs image a caller passes; off: not made).
     bool exactFrame = true, perVertexView = true, engineInputs = true;
     // The helper lanes of the frame's 2x2 quads (HelperLane), for a GL draw that lays the
