@@ -156,7 +156,7 @@ def write_png(path, rgba, dpi):
     per_metre = round(dpi / 0.0254)
     data = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
             + chunk(b"pHYs", struct.pack(">IIB", per_metre, per_metre, 1))
-            + chunk(b"IDAT", zlib.compress(raw.tobytes(), 1)) + chunk(b"IEND", b""))
+            + chunk(b"IDAT", zlib.compress(raw, 1)) + chunk(b"IEND", b""))
     if hasattr(path, "write"):
         path.write(data)
         return
@@ -282,6 +282,14 @@ def log_axis(ax, which="y"):
     lo, hi = ax.get_ylim() if which == "y" else ax.get_xlim()
     if lo > 0 and hi >= 100 * lo:
         axis.set_minor_locator(matplotlib.ticker.NullLocator())
+
+
+def panel_legend(ax, title, **kwargs):
+    """A panel's legend (fontsize 6 unless `kwargs` says otherwise), left out where it would
+    name one line as the panel's `title` already does."""
+    labels = ax.get_legend_handles_labels()[1]
+    if len(labels) > 1 or (labels and labels[0] != title):
+        ax.legend(**{"fontsize": 6, **kwargs})
 
 
 def widen_left_margin(fig, axes, pad=0.05):

@@ -8,7 +8,7 @@ import math
 import os
 
 from common import case_keys, interval_note, log_axis, nice, np, plt, plus_minus, save_figure
-from common import seed_count
+from common import panel_legend, seed_count
 from common import seed_interval
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
@@ -123,18 +123,51 @@ def _angle_panel(ax, sub, family, labels, same):
     ax.axhline(1.0, color="k", lw=0.8, ls="--")
     ax.set_title(family, fontsize=9)
     ax.tick_params(which="both", labelsize=7)
-    if series:
-        ax.legend(fontsize=6)
+    panel_legend(ax, family)
+
+
+def _clear_angle_panel(ax):
+    """Takes out what _angle_panel drew, keeping the axes and their tick objects (making those
+    is most of a panel's cost): the next scale's figure draws into the same axes."""
+    for artist in list(ax.lines) + list(ax.collections):
+        artist.remove()
+    if ax.get_legend() is not None:
+        ax.get_legend().remove()
+    ax.relim()
+    ax.set_prop_cycle(None)  # the next lines take the colours from the first again
+
+
+def _angle_figure(fams):
+    """The axes of the angle figures, one panel per family, before any is drawn."""
+    rows, cols = _grid(len(fams))
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.1 * rows), sharex=True,
+                             sharey=True, squeeze=False)
+    for ax in list(axes.flat)[len(fams):]:
+        ax.set_visible(False)
+    for i, ax in enumerate(list(axes.flat)[:len(fams)]):
+        if i + cols >= len(fams):  # the lowest panel of its column
+            ax.set_xlabel("view angle theta [degrees]", fontsize=8)
+            ax.tick_params(labelbottom=True)
+    for ax in axes[:, 0]:
+        ax.set_ylabel("UV error [texels]", fontsize=8)
+    # Fixed margins (tight_layout over many panels costs seconds): 0.5 in below for the
+    # axis label, 0.7 in above for the title and the panels' titles.
+    height = 3.1 * rows
+    fig.subplots_adjust(left=0.07, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
+                        hspace=0.3, wspace=0.08)
+    return fig, axes
 
 
 def fig_error_vs_theta(df, figdir, scales=None):
     """One figure per scale (at the bias ratio nearest -1/2; a preset kept to its own surface
     at that surface's): a panel per family with every configuration of it; mean error, and
     the p50..p90 band where a panel has few lines. `scales`: only these (the report draws
-    each in a worker of its own)."""
+    each in a worker of its own). The scales' figures are drawn into one set of axes, one
+    after another."""
     out = []
     ratios = sorted(df["bias_ratio"].dropna().unique())
     fams = families(df)
+    fig = axes = None
     for scale in sorted(df["scale"].unique()) if scales is None else scales:
         sub = df[df["scale"] == scale]
         ratio = min(ratios, key=lambda r: abs(r + 0.5)) if ratios else float("nan")
@@ -145,31 +178,21 @@ def fig_error_vs_theta(df, figdir, scales=None):
         # Equal curves are named across the panels, not only within one.
         everything = [s for labels in fams.values() for s in _angle_series(sub, labels)]
         same = _duplicates([(l, r["mean"].values) for l, r in everything])
-        rows, cols = _grid(len(fams))
-        fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 3.1 * rows), sharex=True,
-                                 sharey=True, squeeze=False)
+        if fig is None:
+            fig, axes = _angle_figure(fams)
+        else:
+            for ax in list(axes.flat)[:len(fams)]:
+                _clear_angle_panel(ax)
         for ax, (family, labels) in zip(axes.flat, fams.items()):
             _angle_panel(ax, sub, family, labels, same)
-        for ax in list(axes.flat)[len(fams):]:
-            ax.set_visible(False)
-        for i, ax in enumerate(list(axes.flat)[:len(fams)]):
-            if i + cols >= len(fams):  # the lowest panel of its column
-                ax.set_xlabel("view angle theta [degrees]", fontsize=8)
-                ax.tick_params(labelbottom=True)
-        for ax in axes[:, 0]:
-            ax.set_ylabel("UV error [texels]", fontsize=8)
-        # Fixed margins (tight_layout over many panels costs seconds): 0.5 in below for the
-        # axis label, 0.7 in above for the title and the panels' titles.
-        height = 3.1 * rows
         fig.suptitle(f"mean error against view angle, s = {scale:g}, b/s = {ratio:g} "
                      "(band: p50..p90; '(= X)': the same curve as X)", fontsize=10,
-                     y=1 - 0.15 / height)
-        fig.subplots_adjust(left=0.07, right=0.98, bottom=0.5 / height, top=1 - 0.7 / height,
-                            hspace=0.3, wspace=0.08)
+                     y=1 - 0.15 / fig.get_figheight())
         name = f"error_vs_theta_s{scale:g}.png"
         save_figure(fig, os.path.join(figdir, name), fixed=True)
-        plt.close(fig)
         out.append((scale, ratio, name))
+    if fig is not None:
+        plt.close(fig)
     return out
 
 

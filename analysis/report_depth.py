@@ -5,7 +5,7 @@ such columns, or only empty ones: the section is left out."""
 import os
 
 from common import interval_note, label_halves, log_axis, nice, np, plt, plus_minus, save_figure
-from common import seed_count
+from common import panel_legend, seed_count
 from report_configs import families
 
 MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
@@ -52,7 +52,7 @@ def _panels(df, column, ylabel, figdir, stem):
             log_axis(ax)
         ax.set_title(family, fontsize=9)
         ax.tick_params(which="both", labelsize=7)
-        ax.legend(fontsize=6)
+        panel_legend(ax, family)
     # Fixed margins in inches (tight_layout over nine panels costs a second): the shared
     # labels' and the tick labels' room on the left and below, the panel titles' above.
     width, height = 4.2 * cols, 3.0 * rows

@@ -227,7 +227,49 @@ with tempfile.TemporaryDirectory() as d:
                         f"{int((a != b).any(axis=2).sum()) if a.shape == b.shape else ''} "
                         f"pixels differ; {ticks(ours)} tick objects against {ticks(plain)}; "
                         f"locators restored: {kept}")
+# The angle figures of a study's scales drawn into one set of axes (fig_error_vs_theta) have
+# the pixels of each scale drawn into axes of its own, in either order: panels of one, two and
+# five lines (bands only up to four), spans of many decades and of one (minor ticks kept).
+import pandas as pd  # noqa: E402
+from report_configs import fig_error_vs_theta  # noqa: E402
+from common import panel_legend  # noqa: E402
+rows = []
+for scale, spread in ((0.02, 1e4), (0.05, 3.0), (0.1, 1e2)):
+    for method, labels in (("parallax", ["parallax", "welsh"]), ("pom", ["pom"]),
+                           ("relief", [f"relief_{k}" for k in range(5)])):
+        for k, label in enumerate(labels):
+            for theta in (0, 30, 60, 80):
+                mean = 1e-3 * (1 + k) * spread ** (theta / 80) * (1 + scale)
+                rows.append({"method": method, "label": label, "scale": scale,
+                             "bias_ratio": -0.5, "theta": theta, "mean": mean,
+                             "p50": 0.7 * mean, "p90": 1.6 * mean})
+angles = pd.DataFrame(rows)
+scales = sorted(angles["scale"].unique())
+with tempfile.TemporaryDirectory() as d:
+    for name, order in (("up", scales), ("down", scales[::-1])):
+        os.makedirs(os.path.join(d, name))
+        fig_error_vs_theta(angles, os.path.join(d, name), order)
+    for scale in scales:
+        alone = os.path.join(d, f"alone{scale:g}")
+        os.makedirs(alone)
+        fig_error_vs_theta(angles, alone, [scale])
+        want = np.asarray(Image.open(os.path.join(alone, f"error_vs_theta_s{scale:g}.png")))
+        for name in ("up", "down"):
+            got = np.asarray(Image.open(os.path.join(d, name, f"error_vs_theta_s{scale:g}.png")))
+            if got.shape != want.shape or (got != want).any():
+                failures.append(f"angle figure s = {scale:g}, scales drawn {name} in one set "
+                                "of axes, differs from the figure drawn alone")
+# A panel's legend (common.panel_legend) is left out only where it would repeat the title.
+for labels, title, want in ((["pom"], "pom", False), (["pom", "pom_16"], "pom", True),
+                            (["godot [b/s -1]"], "godot", True), ([], "none", False)):
+    fig, ax = cplt.subplots()
+    for label in labels:
+        ax.plot([0, 1], [1, 2], label=label)
+    panel_legend(ax, title)
+    if (ax.get_legend() is not None) != want:
+        failures.append(f"panel_legend({labels}, {title!r}): legend {not want}, expected {want}")
+    cplt.close(fig)
 if failures:
     print("\n".join(failures))
     sys.exit(1)
-print("12 passed, 0 failed")
+print("14 passed, 0 failed")
