@@ -1,8 +1,15 @@
-// The comparison tallies, CsvTable and StagedFiles on their own, with answers known by
-// construction: a frame's statistics do not depend on how it is cut into bands; CSV written
-// and read back is the same bytes; staged files appear together or not at all.
+// The comparison tallies, CsvTable, StagedFiles and ExrWriter on their own, with answers known
+// by construction: a frame's statistics do not depend on how it is cut into bands; CSV written
+// and read back is the same bytes; staged files appear together or not at all; an EXR read back
+// by OpenEXR holds the bits written, in the compression asked for.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -11,6 +18,7 @@
 #include "compare/uncertainty.h"
 #include "core/error.h"
 #include "io/csv_table.h"
+#include "io/image_files.h"
 #include "io/staged_files.h"
 #include "test_util.h"
 
@@ -243,6 +251,60 @@ TEST(StagedFiles, AnUnwritableDirectoryIsAnOutputError) {
     } catch (const OutputError& e) {
         EXPECT_NE(std::string(e.what()).find("x.txt"), std::string::npos) << e.what();
     }
+}
+
+// "auto" compresses a row of fewer than 40,000 values (width x channels) with zip at level 1
+// and a wider one with PIZ (the level is the encoder's, not recorded in the file); "piz", "zip"
+// and "none" are taken as said; every one holds the bits written (NaN, infinities, denormals,
+// seeded random floats), read back by OpenEXR.
+TEST(ExrWriter, AutoChoosesByTheRowsWidthAndEveryChoiceIsLossless) {
+    const fs::path dir = freshDir("pgt_exr_writer");
+    struct Case {
+        const char* compression;
+        int width;
+        Imf::Compression want;
+    };
+    const Case cases[] = {{"auto", 1999, Imf::ZIP_COMPRESSION},
+                          {"auto", 2000, Imf::PIZ_COMPRESSION},
+                          {"piz", 16, Imf::PIZ_COMPRESSION},
+                          {"zip", 2000, Imf::ZIP_COMPRESSION},
+                          {"none", 16, Imf::NO_COMPRESSION}};
+    const int height = 5;
+    std::vector<std::string> channels;
+    for (int c = 0; c < 20; ++c) channels.push_back(std::string(1, char('a' + c)));
+    std::mt19937 rng(20261202);
+    std::uniform_real_distribution<float> value(-3, 3);
+    for (const Case& c : cases) {
+        const std::string name = std::string(c.compression) + std::to_string(c.width) + ".exr";
+        std::vector<float> rows(size_t(c.width) * height * channels.size());
+        for (float& v : rows) v = value(rng);
+        rows[0] = NAN, rows[1] = INFINITY, rows[2] = -INFINITY, rows[3] = 1e-42f;
+        {
+            StagedFiles files(dir.string());
+            StagedStream& out = files.stream(name);
+            ExrWriter exr(out, name, c.width, height, channels, c.compression);
+            const size_t perRow = size_t(c.width) * channels.size();
+            exr.writeRows(0, 2, rows.data());
+            exr.writeRows(2, height, rows.data() + 2 * perRow);
+            exr.close();
+            files.commit();
+        }
+        Imf::InputFile in((dir / name).string().c_str());
+        EXPECT_EQ(in.header().compression(), c.want) << name;
+        std::vector<float> back(rows.size());
+        const size_t nc = channels.size();
+        Imf::FrameBuffer fb;
+        for (size_t k = 0; k < nc; ++k)
+            fb.insert(channels[k],
+                      Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(back.data() + k),
+                                 nc * sizeof(float), size_t(c.width) * nc * sizeof(float)));
+        in.setFrameBuffer(fb);
+        in.readPixels(0, height - 1);
+        EXPECT_EQ(std::memcmp(back.data(), rows.data(), rows.size() * sizeof(float)), 0) << name;
+    }
+    StagedFiles files(dir.string());
+    StagedStream& out = files.stream("x.exr");
+    EXPECT_THROW(ExrWriter(out, "x.exr", 4, 4, channels, "lzma"), InputError);
 }
 
 }  // namespace

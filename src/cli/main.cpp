@@ -231,7 +231,7 @@ void fitCommand(const std::string& scenePath, const std::string& outDir) {
 
 // Everything the command line sets, and which command it chose.
 struct CommandLine {
-    std::string scenePath, outDir, glDevice, exrCompression = "piz", channels = "all";
+    std::string scenePath, outDir, glDevice, exrCompression = "auto", channels = "all";
     pgt::RenderOptions renderOpt;
     pgt::SweepOptions sweepOpt;
     bool noReport = false;
@@ -302,8 +302,9 @@ void defineRender(CLI::App& app, CommandLine& c) {
         ->check(CLI::Range(int64_t(1), int64_t(1) << 23));
     c.render
         ->add_option("--exr-compression", c.exrCompression,
-                     "frame.exr's compression: piz (lossless, default), zip, none (fastest)")
-        ->check(CLI::IsMember({"piz", "zip", "none"}));
+                     "frame.exr's compression: auto (default: zip for narrow frames, piz for "
+                     "wide ones, both lossless), piz, zip, none (fastest)")
+        ->check(CLI::IsMember({"auto", "piz", "zip", "none"}));
     c.render->add_option("--channels", c.channels,
                          "frame.exr's channel groups: all (default), none (no frame.exr), or a "
                          "list of uv, depth, shadow, inputs");

@@ -44,11 +44,28 @@ class StagedOStream : public Imf::OStream {
     uint64_t pos_ = 0;
 };
 
-Imf::Compression exrCompression(const std::string& name) {
-    if (name == "piz") return Imf::PIZ_COMPRESSION;
-    if (name == "zip") return Imf::ZIP_COMPRESSION;
-    if (name == "none") return Imf::NO_COMPRESSION;
-    throw InputError("command line", "--exr-compression", name, "expected piz, zip or none");
+// "auto": zip at level 1 where a row holds fewer than kPizRowValues values (width x channels),
+// PIZ from there. PIZ builds its Huffman and lookup tables (65,536 entries each) once a block
+// of 32 rows: wide rows share that cost, narrow ones pay it per pixel. Measured on pgt's frames
+// (docs/performance.md, 2 threads): at 512^2 x 19 channels zip level 1 took 79 ms against
+// PIZ's 123 and wrote 5.1 MB against 6.6; at 1536^2 x 29, PIZ 1.19 s against 1.32; at
+// 2048^2 x 29, PIZ 1.96 s against 2.33. Both are lossless.
+constexpr size_t kPizRowValues = 40000;
+
+void setCompression(Imf::Header& header, const std::string& name, size_t rowValues) {
+    if (name == "piz" || (name == "auto" && rowValues >= kPizRowValues)) {
+        header.compression() = Imf::PIZ_COMPRESSION;
+    } else if (name == "auto") {
+        header.compression() = Imf::ZIP_COMPRESSION;
+        header.zipCompressionLevel() = 1;
+    } else if (name == "zip") {
+        header.compression() = Imf::ZIP_COMPRESSION;
+    } else if (name == "none") {
+        header.compression() = Imf::NO_COMPRESSION;
+    } else {
+        throw InputError("command line", "--exr-compression", name,
+                         "expected auto, piz, zip or none");
+    }
 }
 
 }  // namespace
@@ -79,7 +96,7 @@ ExrWriter::ExrWriter(StagedStream& out, const std::string& name, int width, int 
         Imf::setGlobalThreadCount(int(std::max(1u, std::thread::hardware_concurrency())));
     });
     Imf::Header header(width, height);
-    header.compression() = exrCompression(compression);
+    setCompression(header, compression, size_t(width) * channels.size());
     for (const std::string& c : channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
     for (const auto& [key, value] : attributes) header.insert(key, Imf::StringAttribute(value));
     try {

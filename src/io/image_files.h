@@ -17,8 +17,9 @@ namespace pgt {
 // A float EXR written row band by row band into a staged stream.
 class ExrWriter {
   public:
-    // `compression`: "piz", "zip" or "none"; `attributes`: string attributes of the header
-    // (provenance). Throws OutputError naming `name`.
+    // `compression`: "auto" (zip at level 1 for narrow rows, PIZ for wide ones: the cheaper
+    // of the two, image_files.cpp), "piz", "zip" or "none"; `attributes`: string attributes
+    // of the header (provenance). Throws OutputError naming `name`.
     ExrWriter(StagedStream& out, const std::string& name, int width, int height,
               const std::vector<std::string>& channels, const std::string& compression,
               const std::map<std::string, std::string>& attributes = {});

@@ -40,10 +40,10 @@ FrameChannelSet parseFrameChannels(const std::string& list, const std::string& f
 class RenderWriter : public FrameSink {
   public:
     // Creates DIR and opens DIR/frame.exr for a width x height frame of these methods, with
-    // OpenEXR's `exrCompression` ("piz", "zip" or "none"; docs/outputs.md).
+    // OpenEXR's `exrCompression` ("auto", "piz", "zip" or "none"; docs/outputs.md).
     RenderWriter(const Scene& scene, const std::string& dir, int width, int height,
                  const std::vector<MethodConfig>& configs,
-                 const std::string& exrCompression = "piz", const FrameChannelSet& channels = {});
+                 const std::string& exrCompression = "auto", const FrameChannelSet& channels = {});
     ~RenderWriter() override;
     void band(const RenderResult& frame, const FrameBand& band) override;
     nlohmann::json finish(const RenderResult& result);
