@@ -127,18 +127,29 @@ with tempfile.TemporaryDirectory() as d:
     # A report killed while it draws leaves no zero-byte or cut figure: each is written to a
     # hidden temporary and renamed. Killed at 24 times across its run.
     figdir = os.path.join(out, "figures")
+    def gone_meanwhile(f, *args):
+        """f(*args), or None where the file went (a killed report's worker gets its SIGKILL
+        from the kernel a moment after the report: it may still rename or remove a temporary)."""
+        try:
+            return f(*args)
+        except FileNotFoundError:
+            return None
+
     for k in range(24):
         for name in os.listdir(figdir):
-            os.remove(os.path.join(figdir, name))
+            gone_meanwhile(os.remove, os.path.join(figdir, name))
         p = subprocess.Popen(["/usr/bin/python3", os.path.join(source, "analysis", "report.py"),
                               out], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(0.5 + 0.1 * k)
         p.kill()
         p.wait()
         for name in os.listdir(figdir):
-            data = open(os.path.join(figdir, name), "rb").read()
             if name.startswith("."):
                 continue  # a temporary the kill left; hidden, never a figure's name
+            data = gone_meanwhile(lambda path: open(path, "rb").read(),
+                                  os.path.join(figdir, name))
+            if data is None:
+                continue
             whole = (data.rstrip().endswith(b"</svg>") if name.endswith(".svg") else
                      data.startswith(b"\x89PNG") and data.endswith(b"IEND\xaeB`\x82"))
             if not whole:
