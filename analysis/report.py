@@ -6,10 +6,7 @@ against fetches with the Pareto front, bias-ratio x scale heat maps with the min
 and a table of recommended scale/bias defaults beside the source documents' advice.
 Usage: /usr/bin/python3 analysis/report.py DIR"""
 import gc
-
-# No collections while the modules load: they make hundreds of thousands of objects and no
-# garbage (see gc.freeze below).
-gc.disable()
+gc.disable()  # while the modules load: no garbage among their objects (gc.freeze below)
 import argparse  # noqa: E402
 import concurrent.futures  # noqa: E402
 import ctypes  # noqa: E402
@@ -30,10 +27,8 @@ from report_configs import families, fig_heatmaps, own_surface, storage_lines  #
 from report_depth import depth_shadow_lines  # noqa: E402
 from report_engines import engine_lines  # noqa: E402
 
-# What the imports made lives as long as the process: collections leave it out (gc.freeze,
-# which forked workers share), and run every 50,000 new objects instead of every 700. A figure
-# makes hundreds of thousands of small objects; with the default thresholds collections took
-# 8 % of the report's drawing.
+# What the imports made lives as long as the process (and its forked workers): collections
+# leave it out and run every 50,000 new objects, not 700 (they took 8 % of the drawing).
 gc.freeze()
 gc.set_threshold(50000, 20, 100)
 gc.enable()
@@ -560,7 +555,6 @@ def main():
     pool = figure_pool()
     # One view angle draws no curve against it (a panel of single points): the tables say it.
     curves = common["theta"].nunique() > 1
-    # The scales' angle figures in one job: they share their axes (fig_error_vs_theta).
     theta_job = pool.submit(fig_error_vs_theta, common, figdir) if curves else None
     depth_job = pool.submit(depth_shadow_lines, common, figdir)
     pareto_job = pool.submit(fig_pareto, common, figdir)
@@ -600,8 +594,7 @@ def main():
 
 if __name__ == "__main__":
     main()
-    # Every file is written and closed, the workers are gone: the interpreter's own teardown
-    # of matplotlib, pandas and numpy (0.1 s) is left out.
+    # Every file written and closed, the workers gone: no 0.1 s teardown of the modules.
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(0)

@@ -253,7 +253,7 @@ TEST(StagedFiles, AnUnwritableDirectoryIsAnOutputError) {
     }
 }
 
-// "auto" compresses a row of fewer than 40,000 values (width x channels) with zip at level 1
+// "auto" compresses a row of fewer than kPizRowValues values (width x channels) with zip at level 1
 // and a wider one with PIZ (the level is the encoder's, not recorded in the file); "piz", "zip"
 // and "none" are taken as said; every one holds the bits written (NaN, infinities, denormals,
 // seeded random floats), read back by OpenEXR.
@@ -264,8 +264,9 @@ TEST(ExrWriter, AutoChoosesByTheRowsWidthAndEveryChoiceIsLossless) {
         int width;
         Imf::Compression want;
     };
-    const Case cases[] = {{"auto", 1999, Imf::ZIP_COMPRESSION},
-                          {"auto", 2000, Imf::PIZ_COMPRESSION},
+    const int edge = int(kPizRowValues / 20);  // the narrowest PIZ row of 20 channels
+    const Case cases[] = {{"auto", edge - 1, Imf::ZIP_COMPRESSION},
+                          {"auto", edge, Imf::PIZ_COMPRESSION},
                           {"piz", 16, Imf::PIZ_COMPRESSION},
                           {"zip", 2000, Imf::ZIP_COMPRESSION},
                           {"none", 16, Imf::NO_COMPRESSION}};

@@ -17,6 +17,7 @@
 #include "core/memory.h"
 #include "evaluate/evaluate.h"
 #include "frame/render.h"
+#include "io/image_files.h"
 #include "io/staged_files.h"
 #include "methods/presets/presets.h"
 #include "methods/registry.h"
@@ -304,7 +305,7 @@ void defineRender(CLI::App& app, CommandLine& c) {
         ->add_option("--exr-compression", c.exrCompression,
                      "frame.exr's compression: auto (default: zip for narrow frames, piz for "
                      "wide ones, both lossless), piz, zip, none (fastest)")
-        ->check(CLI::IsMember({"auto", "piz", "zip", "none"}));
+        ->check(CLI::IsMember(pgt::exrCompressionNames()));
     c.render->add_option("--channels", c.channels,
                          "frame.exr's channel groups: all (default), none (no frame.exr), or a "
                          "list of uv, depth, shadow, inputs");

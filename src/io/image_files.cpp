@@ -44,31 +44,44 @@ class StagedOStream : public Imf::OStream {
     uint64_t pos_ = 0;
 };
 
-// "auto": zip at level 1 where a row holds fewer than kPizRowValues values (width x channels),
-// PIZ from there. PIZ builds its Huffman and lookup tables (65,536 entries each) once a block
-// of 32 rows: wide rows share that cost, narrow ones pay it per pixel. Measured on pgt's frames
+// "auto": PIZ builds its Huffman and lookup tables (65,536 entries each) once a block of 32
+// rows: wide rows share that cost, narrow ones pay it per pixel. Measured on pgt's frames
 // (docs/performance.md, 2 threads): at 512^2 x 19 channels zip level 1 took 79 ms against
 // PIZ's 123 and wrote 5.1 MB against 6.6; at 1536^2 x 29, PIZ 1.19 s against 1.32; at
 // 2048^2 x 29, PIZ 1.96 s against 2.33. Both are lossless.
-constexpr size_t kPizRowValues = 40000;
+struct NamedCompression {
+    const char* name;
+    Imf::Compression compression;
+    int zipLevel;  // 0: OpenEXR's default
+};
+constexpr NamedCompression kCompressions[] = {{"auto", Imf::ZIP_COMPRESSION, 1},
+                                              {"piz", Imf::PIZ_COMPRESSION, 0},
+                                              {"zip", Imf::ZIP_COMPRESSION, 0},
+                                              {"none", Imf::NO_COMPRESSION, 0}};
 
 void setCompression(Imf::Header& header, const std::string& name, size_t rowValues) {
-    if (name == "piz" || (name == "auto" && rowValues >= kPizRowValues)) {
-        header.compression() = Imf::PIZ_COMPRESSION;
-    } else if (name == "auto") {
-        header.compression() = Imf::ZIP_COMPRESSION;
-        header.zipCompressionLevel() = 1;
-    } else if (name == "zip") {
-        header.compression() = Imf::ZIP_COMPRESSION;
-    } else if (name == "none") {
-        header.compression() = Imf::NO_COMPRESSION;
-    } else {
-        throw InputError("command line", "--exr-compression", name,
-                         "expected auto, piz, zip or none");
+    for (const NamedCompression& c : kCompressions) {
+        if (name != c.name) continue;
+        const bool wide = name == "auto" && rowValues >= kPizRowValues;
+        header.compression() = wide ? Imf::PIZ_COMPRESSION : c.compression;
+        if (!wide && c.zipLevel) header.zipCompressionLevel() = c.zipLevel;
+        return;
     }
+    std::string names;
+    for (const std::string& n : exrCompressionNames()) names += (names.empty() ? "" : ", ") + n;
+    throw InputError("command line", "--exr-compression", name, "expected one of " + names);
 }
 
 }  // namespace
+
+const std::vector<std::string>& exrCompressionNames() {
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (const NamedCompression& c : kCompressions) out.push_back(c.name);
+        return out;
+    }();
+    return names;
+}
 
 struct ExrWriter::Impl {
     StagedStream& out;

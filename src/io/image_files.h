@@ -14,12 +14,17 @@
 
 namespace pgt {
 
+// frame.exr's compressions by name (`--exr-compression`), "auto" first: zip at level 1 where
+// a row holds fewer than kPizRowValues values (width x channels), PIZ from there (the cheaper
+// of the two: image_files.cpp); then "piz", "zip" and "none".
+const std::vector<std::string>& exrCompressionNames();
+inline constexpr size_t kPizRowValues = 40000;
+
 // A float EXR written row band by row band into a staged stream.
 class ExrWriter {
   public:
-    // `compression`: "auto" (zip at level 1 for narrow rows, PIZ for wide ones: the cheaper
-    // of the two, image_files.cpp), "piz", "zip" or "none"; `attributes`: string attributes
-    // of the header (provenance). Throws OutputError naming `name`.
+    // `compression`: one of exrCompressionNames() (else InputError); `attributes`: string
+    // attributes of the header (provenance). Throws OutputError naming `name`.
     ExrWriter(StagedStream& out, const std::string& name, int width, int height,
               const std::vector<std::string>& channels, const std::string& compression,
               const std::map<std::string, std::string>& attributes = {});
